@@ -1,0 +1,17 @@
+"""slipstick solver: pure numerics for elastic(-plastic) frictional contact.
+
+Public entry point::
+
+    case = solver.Case.from_dict(table)   # or Case.from_toml(path)
+    result = solver.solve(case)
+    dataset = result.to_xarray()
+
+No MPI, no file output: the study layer (``study``) does both.
+"""
+
+from .case import Case, SpecError
+from .loops import solve
+from .result import Result
+
+__all__ = ["Case", "Result", "SpecError", "solve"]
+__version__ = "0.1.0"

@@ -1,0 +1,505 @@
+"""Case specification: a frozen, validated description of one contact simulation.
+
+A case is built from a TOML table or a dict (SI units) with :meth:`Case.from_dict` /
+:meth:`Case.from_toml`; every rule is checked at this boundary and a violation raises
+:class:`SpecError` naming the field and what to change.  :meth:`Case.to_dict` gives the
+normalised table (floats where floats are meant, defaults filled in), whose hash is the case id,
+so ``1`` and ``1.0`` give the same id.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .grid import SurfaceGrid, VolumeGrid
+from .materials import Body, Hardening, Pair
+from .reference import HertzContact, hertz, hertz_force_for_pressure
+
+#: Smallest number of cells the contact diameter may span.
+MIN_CELLS_ACROSS = 10
+#: Largest grid side (cells) accepted.
+MAX_CELLS = 8192
+
+
+class SpecError(ValueError):
+    """An invalid case specification; the message names the field and what to change."""
+
+
+def _fail(path: str, message: str) -> None:
+    raise SpecError(f"{path}: {message}")
+
+
+def _check_keys(table: Any, path: str, allowed: set[str], required: set[str] = frozenset()):
+    if not isinstance(table, dict):
+        _fail(path, f"must be a table, got {type(table).__name__}")
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        _fail(
+            f"{path}.{unknown[0]}" if path else unknown[0],
+            f"unknown key; allowed keys are {', '.join(sorted(allowed))}",
+        )
+    for key in sorted(required):
+        if key not in table:
+            _fail(f"{path}.{key}" if path else key, "missing required field")
+    return table
+
+
+def _number(value: Any, path: str, *, positive: bool = False, allow_inf: bool = False) -> float:
+    if isinstance(value, str) and value.lower() in ("inf", "infinity") and allow_inf:
+        return math.inf
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        hint = ' (or "inf")' if allow_inf else ""
+        _fail(path, f"must be a number{hint}, got {value!r}")
+    value = float(value)
+    if math.isnan(value) or (math.isinf(value) and not allow_inf):
+        _fail(path, f"must be finite, got {value!r}")
+    if positive and not value > 0:
+        _fail(path, f"must be > 0, got {value!r}")
+    return value
+
+
+def _integer(value: Any, path: str, low: int, high: int) -> int:
+    if isinstance(value, float) and value.is_integer():
+        value = int(value)
+    if isinstance(value, bool) or not isinstance(value, int):
+        _fail(path, f"must be an integer, got {value!r}")
+    if not low <= value <= high:
+        _fail(path, f"must be between {low} and {high}, got {value}")
+    return value
+
+
+HARDENING_KEYS = {
+    "swift": {"B", "C", "n"},
+    "linear": {"yield_stress", "modulus"},
+    "perfect": {"yield_stress"},
+}
+
+
+def _parse_hardening(table: Any, path: str) -> Hardening:
+    _check_keys(table, path, {"law", "B", "C", "n", "yield_stress", "modulus"}, {"law"})
+    law = table["law"]
+    if law not in HARDENING_KEYS:
+        _fail(f"{path}.law", f"must be one of {', '.join(HARDENING_KEYS)}, got {law!r}")
+    _check_keys(table, path, HARDENING_KEYS[law] | {"law"}, HARDENING_KEYS[law])
+    values = {}
+    for key in HARDENING_KEYS[law]:
+        values[key] = _number(table[key], f"{path}.{key}", positive=key != "modulus")
+        if key == "modulus" and values[key] < 0:
+            _fail(f"{path}.modulus", f"must be >= 0, got {values[key]}")
+    return Hardening(law=law, **values)
+
+
+def _parse_body(table: Any, path: str) -> Body:
+    allowed = {"behaviour", "radius", "radius_x", "radius_y", "E", "nu", "hardening"}
+    _check_keys(table, path, allowed, {"behaviour"})
+    behaviour = table["behaviour"]
+    if behaviour not in ("rigid", "elastic", "elastic-plastic"):
+        _fail(f"{path}.behaviour", f"must be rigid, elastic or elastic-plastic, got {behaviour!r}")
+    if "radius" in table and ("radius_x" in table or "radius_y" in table):
+        _fail(f"{path}.radius", "give either radius or radius_x/radius_y, not both")
+    if "radius" in table:
+        rx = ry = _number(table["radius"], f"{path}.radius", positive=True, allow_inf=True)
+    else:
+        rx = _number(table.get("radius_x", "inf"), f"{path}.radius_x", positive=True, allow_inf=True)
+        ry = _number(table.get("radius_y", "inf"), f"{path}.radius_y", positive=True, allow_inf=True)
+    if behaviour == "rigid":
+        for key in ("E", "nu", "hardening"):
+            if key in table:
+                _fail(f"{path}.{key}", "a rigid body takes no elastic or hardening data; remove it")
+        return Body("rigid", rx, ry)
+    for key in ("E", "nu"):
+        if key not in table:
+            _fail(f"{path}.{key}", f"missing required field for a {behaviour} body")
+    young = _number(table["E"], f"{path}.E", positive=True)
+    nu = _number(table["nu"], f"{path}.nu")
+    if not -1.0 < nu <= 0.5:
+        _fail(f"{path}.nu", f"Poisson's ratio must be in (-1, 0.5], got {nu}")
+    hardening = None
+    if behaviour == "elastic-plastic":
+        if "hardening" not in table:
+            _fail(f"{path}.hardening", "missing: an elastic-plastic body needs a hardening table")
+        hardening = _parse_hardening(table["hardening"], f"{path}.hardening")
+    elif "hardening" in table:
+        _fail(f"{path}.hardening", "only elastic-plastic bodies take a hardening law")
+    return Body(behaviour, rx, ry, young, nu, hardening)
+
+
+@dataclass(frozen=True)
+class LoadStage:
+    """One stage of the load path, ramping linearly from the previous state.
+
+    Attributes
+    ----------
+    normal_force : float
+        Target normal force W (N) at the end of the stage.
+    tangential_force : (float, float)
+        Target tangential force (Q_x, Q_y) (N) on body 2 at the end of the stage.
+    steps : int
+        Number of load increments of the stage.
+    """
+
+    normal_force: float
+    tangential_force: tuple[float, float]
+    steps: int
+
+
+def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool) -> tuple:
+    allowed = {"hertz_pressure", "normal_force", "tangential_force", "steps"}
+    _check_keys(table, path, allowed)
+    if "hertz_pressure" in table and "normal_force" in table:
+        _fail(f"{path}.hertz_pressure", "give either hertz_pressure or normal_force, not both")
+    given = {}
+    if "hertz_pressure" in table:
+        p_h = _number(table["hertz_pressure"], f"{path}.hertz_pressure", positive=True)
+        given["hertz_pressure"] = p_h
+        force = hertz_force_for_pressure(p_h, pair.composite_modulus, pair.curvature)
+    elif "normal_force" in table:
+        force = _number(table["normal_force"], f"{path}.normal_force", positive=True)
+        given["normal_force"] = force
+    elif first:
+        _fail(path, "missing load: give hertz_pressure (Pa) or normal_force (N)")
+    else:
+        force = previous[0]
+    if "tangential_force" in table:
+        value = table["tangential_force"]
+        if isinstance(value, list):
+            if len(value) != 2:
+                _fail(f"{path}.tangential_force", f"must be [Qx, Qy] (N), got {value!r}")
+            q = tuple(_number(v, f"{path}.tangential_force", allow_inf=False) for v in value)
+        else:
+            q = (_number(value, f"{path}.tangential_force"), 0.0)
+        given["tangential_force"] = list(q)
+    else:
+        q = previous[1]
+    steps = _integer(table.get("steps", 1), f"{path}.steps", 1, 100000)
+    given["steps"] = steps
+    return LoadStage(force, q, steps), given
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Tolerances and caps of the iterative loops (all dimensionless)."""
+
+    normal_tolerance: float = 1e-8
+    normal_max_iterations: int = 2000
+    slip_tolerance: float = 1e-8
+    slip_max_iterations: int = 2000
+    coupling_tolerance: float = 1e-6
+    coupling_max_iterations: int = 100
+    goodman: bool = False
+    fft_threads: int = 1
+
+
+_SOLVER_RULES = {
+    "normal_tolerance": ("tol",),
+    "normal_max_iterations": ("int",),
+    "slip_tolerance": ("tol",),
+    "slip_max_iterations": ("int",),
+    "coupling_tolerance": ("tol",),
+    "coupling_max_iterations": ("int",),
+    "goodman": ("bool",),
+    "fft_threads": ("threads",),
+}
+
+
+def _parse_solver(table: Any) -> SolverOptions:
+    _check_keys(table, "solver", set(_SOLVER_RULES))
+    values = {}
+    for key, value in table.items():
+        rule = _SOLVER_RULES[key][0]
+        path = f"solver.{key}"
+        if rule == "tol":
+            values[key] = _number(value, path, positive=True)
+            if values[key] >= 0.1:
+                _fail(path, f"tolerance must be < 0.1, got {value}")
+        elif rule == "int":
+            values[key] = _integer(value, path, 1, 10_000_000)
+        elif rule == "threads":
+            values[key] = _integer(value, path, 1, 256)
+        elif not isinstance(value, bool):
+            _fail(path, f"must be true or false, got {value!r}")
+        else:
+            values[key] = value
+    return SolverOptions(**values)
+
+
+@dataclass(frozen=True)
+class GridSpec:
+    """Requested discretisation: cells and domain size in units of the Hertz radius."""
+
+    nx: int
+    ny: int
+    nz: int = 0
+    half_width: float = 1.5
+    depth: float = 1.2
+
+
+#: Field outputs a case may request.
+FIELD_OUTPUTS = ("displacement", "stress")
+
+
+@dataclass(frozen=True)
+class Case:
+    """One validated contact simulation.  Build it with :meth:`from_dict` or :meth:`from_toml`.
+
+    Attributes
+    ----------
+    body1, body2 : Body
+        Upper (indenter) and lower bodies.
+    stages : tuple of LoadStage
+        Load path.
+    friction_coefficient : float
+        Coulomb coefficient mu (dimensionless).
+    grid : GridSpec
+        Discretisation.
+    solver : SolverOptions
+        Tolerances and iteration caps.
+    fields : tuple of str
+        Optional field outputs.
+    spec : dict
+        The normalised table (SI units); its hash is :attr:`case_id`.
+    """
+
+    body1: Body
+    body2: Body
+    stages: tuple[LoadStage, ...]
+    friction_coefficient: float
+    grid: GridSpec
+    solver: SolverOptions
+    fields: tuple[str, ...] = ()
+    spec: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
+
+    # -- construction -----------------------------------------------------------------------
+    @classmethod
+    def from_toml(cls, path: str | Path) -> Case:
+        """Read and validate a case file (TOML)."""
+        with open(path, "rb") as handle:
+            return cls.from_dict(tomllib.load(handle))
+
+    @classmethod
+    def from_dict(cls, table: dict) -> Case:
+        """Validate a case table (see the README for the format) and build the case.
+
+        Raises
+        ------
+        SpecError
+            If any field is missing, unknown, of the wrong type or non-physical.
+        """
+        allowed = {"body1", "body2", "load", "friction", "grid", "solver", "output"}
+        _check_keys(table, "", allowed, {"body1", "body2", "load", "grid"})
+        body1 = _parse_body(table["body1"], "body1")
+        body2 = _parse_body(table["body2"], "body2")
+        if body1.rigid and body2.rigid:
+            _fail("body2.behaviour", "both bodies are rigid; make at least one elastic")
+        pair = Pair(body1, body2)
+        kx, ky = pair.curvature
+        if not (kx > 0 and ky > 0):
+            _fail("body1.radius", "both bodies are flat in x or y; give a finite radius")
+        if max(kx, ky) / min(kx, ky) > 100:
+            _fail("body1.radius_x", "contact ellipse too slender (R_x/R_y beyond 1:100)")
+
+        load = table["load"]
+        if not isinstance(load, dict):
+            _fail("load", "must be a table")
+        if "path" in load:
+            _check_keys(load, "load", {"path"})
+            raw_stages = load["path"]
+            if not isinstance(raw_stages, list) or not raw_stages:
+                _fail("load.path", "must be a non-empty array of tables ([[load.path]])")
+            paths = [f"load.path[{i}]" for i in range(len(raw_stages))]
+        else:
+            raw_stages, paths = [load], ["load"]
+        stages, given = [], []
+        previous = (0.0, (0.0, 0.0))
+        for i, (raw, path) in enumerate(zip(raw_stages, paths, strict=True)):
+            stage, spec = _parse_stage(raw, path, previous, pair, i == 0)
+            stages.append(stage)
+            given.append(spec)
+            previous = (stage.normal_force, stage.tangential_force)
+
+        friction = _check_keys(table.get("friction", {}), "friction", {"coefficient"})
+        mu = _number(friction.get("coefficient", 0.0), "friction.coefficient")
+        if mu < 0:
+            _fail("friction.coefficient", f"must be >= 0, got {mu}")
+        for stage, path in zip(stages, paths, strict=True):
+            q = math.hypot(*stage.tangential_force)
+            if q > 0 and q >= mu * stage.normal_force:
+                _fail(
+                    f"{path}.tangential_force",
+                    f"|Q| = {q:g} N reaches mu W = {mu * stage.normal_force:g} N: gross sliding; "
+                    "lower the tangential force or raise friction.coefficient",
+                )
+
+        grid = _parse_grid(table["grid"])
+        solver = _parse_solver(table.get("solver", {}))
+        output = _check_keys(table.get("output", {}), "output", {"fields"})
+        fields = output.get("fields", [])
+        if not isinstance(fields, list) or any(f not in FIELD_OUTPUTS for f in fields):
+            _fail("output.fields", f"must be a list drawn from {list(FIELD_OUTPUTS)}")
+
+        spec = {
+            "body1": _body_spec(body1),
+            "body2": _body_spec(body2),
+            "load": {"path": given},
+            "friction": {"coefficient": mu},
+            "grid": {
+                "n": [grid.nx, grid.ny] + ([grid.nz] if grid.nz else []),
+                "half_width": grid.half_width,
+                **({"depth": grid.depth} if grid.nz else {}),
+            },
+            "solver": {k: getattr(solver, k) for k in _SOLVER_RULES},
+            "output": {"fields": sorted(fields)},
+        }
+        case = cls(body1, body2, tuple(stages), mu, grid, solver, tuple(sorted(fields)), spec)
+        case._check_resolution()
+        return case
+
+    def _check_resolution(self) -> None:
+        reference = self.hertz
+        semi_min = min(reference.semi_axis_x, reference.semi_axis_y)
+        half_x, half_y = self.domain_half_widths
+        if half_x < 1.05 * reference.semi_axis_x or half_y < 1.05 * reference.semi_axis_y:
+            _fail(
+                "grid.half_width",
+                f"domain cannot hold the contact: half_width = {self.grid.half_width:g} a_H; "
+                "use half_width >= 1.1 (1.5 recommended)",
+            )
+        surface = self.surface_grid
+        across = 2 * semi_min / max(surface.dx, surface.dy)
+        if across < MIN_CELLS_ACROSS:
+            need = math.ceil(max(self.grid.nx, self.grid.ny) * MIN_CELLS_ACROSS / across)
+            _fail(
+                "grid.n",
+                f"mesh too coarse: the contact spans {across:.1f} cells, "
+                f"use n >= {need} (or a smaller half_width)",
+            )
+
+    # -- derived quantities ------------------------------------------------------------------
+    @property
+    def pair(self) -> Pair:
+        """The two bodies."""
+        return Pair(self.body1, self.body2)
+
+    @property
+    def max_normal_force(self) -> float:
+        """Largest normal force along the load path (N)."""
+        return max(stage.normal_force for stage in self.stages)
+
+    @property
+    def hertz(self) -> HertzContact:
+        """Hertz reference at the largest normal force of the path."""
+        pair = self.pair
+        return hertz(self.max_normal_force, pair.composite_modulus, pair.curvature)
+
+    @property
+    def domain_half_widths(self) -> tuple[float, float]:
+        """Half-widths (m) of the surface domain along x and y (square cells)."""
+        half = self.grid.half_width * self.hertz.max_semi_axis
+        if self.grid.nx == self.grid.ny:
+            return half, half
+        cell = 2 * half / max(self.grid.nx, self.grid.ny)
+        return 0.5 * cell * self.grid.nx, 0.5 * cell * self.grid.ny
+
+    @property
+    def surface_grid(self) -> SurfaceGrid:
+        """The surface grid."""
+        hx, hy = self.domain_half_widths
+        return SurfaceGrid.centred(self.grid.nx, self.grid.ny, hx, hy)
+
+    @property
+    def volume_grid(self) -> VolumeGrid | None:
+        """The volume grid below the surface, or None when nz = 0."""
+        if not self.grid.nz:
+            return None
+        depth = self.grid.depth * self.hertz.max_semi_axis
+        return VolumeGrid(self.surface_grid, self.grid.nz, depth / self.grid.nz)
+
+    @property
+    def total_steps(self) -> int:
+        """Number of load increments over the whole path."""
+        return sum(stage.steps for stage in self.stages)
+
+    def step_targets(self) -> list[tuple[float, float, float]]:
+        """(W, Q_x, Q_y) (N) at the end of every load increment, in order."""
+        out = []
+        w0, (qx0, qy0) = 0.0, (0.0, 0.0)
+        for stage in self.stages:
+            w1, (qx1, qy1) = stage.normal_force, stage.tangential_force
+            for k in range(1, stage.steps + 1):
+                f = k / stage.steps
+                out.append((w0 + f * (w1 - w0), qx0 + f * (qx1 - qx0), qy0 + f * (qy1 - qy0)))
+            w0, qx0, qy0 = w1, qx1, qy1
+        return out
+
+    @property
+    def has_tangential_load(self) -> bool:
+        """True when any stage prescribes a tangential force."""
+        return any(any(stage.tangential_force) for stage in self.stages)
+
+    @property
+    def case_id(self) -> str:
+        """Content hash of the normalised specification (16 hex digits)."""
+        text = json.dumps(self.spec, sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+    def to_dict(self) -> dict:
+        """The normalised case table (a deep copy); ``Case.from_dict(c.to_dict()) == c``."""
+        return json.loads(json.dumps(self.spec))
+
+    def memory_estimate(self) -> int:
+        """Peak memory (bytes) the solve is expected to need, for the study scheduler."""
+        nx, ny = self.grid.nx, self.grid.ny
+        padded = 4 * nx * ny
+        spectra = 1 + (6 if self.friction_coefficient > 0 else 0)
+        operator = 8 * padded * 2 + 16 * (padded // 2) * (spectra + 1)
+        work = 8 * nx * ny * 40
+        history = 8 * 16 * self.total_steps
+        return operator + work + history
+
+    def cost_estimate(self) -> float:
+        """Relative cost (arbitrary units ~ FFT work) for ordering cases costliest first."""
+        n = 4 * self.grid.nx * self.grid.ny
+        per_solve = n * math.log2(n)
+        factor = 4.0 if (self.friction_coefficient > 0 or self.has_tangential_load) else 1.0
+        return per_solve * self.total_steps * factor
+
+
+def _parse_grid(table: Any) -> GridSpec:
+    _check_keys(table, "grid", {"n", "half_width", "depth"}, {"n"})
+    n = table["n"]
+    if isinstance(n, list):
+        if len(n) not in (2, 3):
+            _fail("grid.n", f"must be an integer or [nx, ny] or [nx, ny, nz], got {n!r}")
+        sizes = [_integer(v, "grid.n", 4, MAX_CELLS) for v in n]
+    else:
+        size = _integer(n, "grid.n", 4, MAX_CELLS)
+        sizes = [size, size]
+    nz = sizes[2] if len(sizes) == 3 else 0
+    half_width = _number(table.get("half_width", 1.5), "grid.half_width", positive=True)
+    depth = _number(table.get("depth", 1.2), "grid.depth", positive=True)
+    if "depth" in table and not nz:
+        _fail("grid.depth", "a depth needs a volume grid: give grid.n = [nx, ny, nz]")
+    return GridSpec(sizes[0], sizes[1], nz, half_width, depth)
+
+
+def _body_spec(body: Body) -> dict:
+    def radius(value: float):
+        return "inf" if math.isinf(value) else value
+
+    out: dict[str, Any] = {"behaviour": body.behaviour}
+    if body.radius_x == body.radius_y:
+        out["radius"] = radius(body.radius_x)
+    else:
+        out["radius_x"], out["radius_y"] = radius(body.radius_x), radius(body.radius_y)
+    if not body.rigid:
+        out["E"], out["nu"] = body.E, body.nu
+    if body.hardening is not None:
+        h = body.hardening
+        out["hardening"] = {"law": h.law} | {k: getattr(h, k) for k in HARDENING_KEYS[h.law]}
+    return out

@@ -1,0 +1,155 @@
+"""Bodies, their constitutive behaviour, and the composite elastic constants of a pair.
+
+Body 1 is the upper body (the indenter), body 2 the lower one; ``z`` points down, into body 2.
+A rigid body contributes nothing to the compliances.  All quantities are SI (Pa, m).
+
+Composite constants (DESIGN §3.1, seed eq. 1)::
+
+    A     = (1 - nu1^2)/E1 + (1 - nu2^2)/E2              = 1/E*
+    beta  = [(1+nu1)(1-2nu1)/(2E1) - (1+nu2)(1-2nu2)/(2E2)] / A
+    C     = (1+nu1) nu1/E1 + (1+nu2) nu2/E2               (tangential x^2/r^3 term)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Literal
+
+Behaviour = Literal["rigid", "elastic", "elastic-plastic"]
+
+
+@dataclass(frozen=True)
+class Hardening:
+    """Isotropic hardening law of an elastic-plastic body (used by the plasticity loop).
+
+    Parameters
+    ----------
+    law : {"swift", "linear", "perfect"}
+        ``swift``: sigma_Y(e_p) = B (C + 1e6 e_p)^n;  ``linear``: sigma_Y0 + H e_p;
+        ``perfect``: sigma_Y0.
+    B : float
+        Swift coefficient (Pa).
+    C : float
+        Swift offset (micro-strain, dimensionless).
+    n : float
+        Swift exponent (dimensionless).
+    yield_stress : float
+        Initial yield stress sigma_Y0 (Pa) for ``linear`` and ``perfect``.
+    modulus : float
+        Linear hardening modulus H (Pa) for ``linear``.
+    """
+
+    law: Literal["swift", "linear", "perfect"]
+    B: float = 0.0
+    C: float = 0.0
+    n: float = 0.0
+    yield_stress: float = 0.0
+    modulus: float = 0.0
+
+    def flow_stress(self, plastic_strain: float) -> float:
+        """Yield stress (Pa) at an equivalent plastic strain (dimensionless)."""
+        if self.law == "swift":
+            return self.B * (self.C + 1e6 * plastic_strain) ** self.n
+        if self.law == "linear":
+            return self.yield_stress + self.modulus * plastic_strain
+        return self.yield_stress
+
+    @property
+    def initial_yield_stress(self) -> float:
+        """sigma_Y at zero plastic strain (Pa)."""
+        return self.flow_stress(0.0)
+
+
+@dataclass(frozen=True)
+class Body:
+    """One contacting body.
+
+    Parameters
+    ----------
+    behaviour : {"rigid", "elastic", "elastic-plastic"}
+        Constitutive behaviour.
+    radius_x, radius_y : float
+        Principal radii of curvature (m) in the x-z and y-z planes; ``math.inf`` for flat.
+    E : float
+        Young's modulus (Pa); ignored for rigid bodies.
+    nu : float
+        Poisson's ratio; ignored for rigid bodies.
+    hardening : Hardening or None
+        Hardening law, required for ``elastic-plastic``.
+    """
+
+    behaviour: Behaviour
+    radius_x: float = math.inf
+    radius_y: float = math.inf
+    E: float = math.inf
+    nu: float = 0.0
+    hardening: Hardening | None = None
+
+    @property
+    def rigid(self) -> bool:
+        """True when the body does not deform."""
+        return self.behaviour == "rigid"
+
+    @property
+    def compliance(self) -> float:
+        """(1 - nu^2)/E (1/Pa); zero for a rigid body."""
+        return 0.0 if self.rigid else (1.0 - self.nu**2) / self.E
+
+    @property
+    def dilatational_compliance(self) -> float:
+        """(1 + nu)(1 - 2 nu)/(2 E) (1/Pa); zero for a rigid body."""
+        return 0.0 if self.rigid else (1.0 + self.nu) * (1.0 - 2.0 * self.nu) / (2.0 * self.E)
+
+    @property
+    def shear_compliance(self) -> float:
+        """(1 + nu) nu/E (1/Pa), the x^2/r^3 coefficient of the Cerruti solution."""
+        return 0.0 if self.rigid else (1.0 + self.nu) * self.nu / self.E
+
+    @property
+    def shear_modulus(self) -> float:
+        """G = E/(2(1 + nu)) (Pa); infinite for a rigid body."""
+        return math.inf if self.rigid else self.E / (2.0 * (1.0 + self.nu))
+
+
+@dataclass(frozen=True)
+class Pair:
+    """The two contacting bodies and their composite constants."""
+
+    body1: Body
+    body2: Body
+
+    @property
+    def compliance(self) -> float:
+        """A = 1/E* (1/Pa)."""
+        return self.body1.compliance + self.body2.compliance
+
+    @property
+    def composite_modulus(self) -> float:
+        """E* = 1/A (Pa)."""
+        return 1.0 / self.compliance
+
+    @property
+    def dundurs_beta(self) -> float:
+        """Dundurs' beta (seed eq. 1), positive when body 2 is the stiffer in dilatation."""
+        return (
+            self.body1.dilatational_compliance - self.body2.dilatational_compliance
+        ) / self.compliance
+
+    @property
+    def shear_coupling(self) -> float:
+        """C = sum (1 + nu_i) nu_i / E_i (1/Pa), tangential-tangential cross coefficient."""
+        return self.body1.shear_compliance + self.body2.shear_compliance
+
+    @property
+    def curvature(self) -> tuple[float, float]:
+        """Composite curvatures (1/R_x, 1/R_y) (1/m) of the initial gap."""
+        return (
+            1.0 / self.body1.radius_x + 1.0 / self.body2.radius_x,
+            1.0 / self.body1.radius_y + 1.0 / self.body2.radius_y,
+        )
+
+    @property
+    def symmetric(self) -> bool:
+        """True for identical deformable bodies (seed's eq. 2 scene)."""
+        return (not self.body1.rigid) and self.body1 == self.body2

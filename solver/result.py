@@ -1,0 +1,125 @@
+"""Result of a case: final fields, per-step histories, status, and the xarray view."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .case import Case
+from .grid import SurfaceGrid
+
+#: CF metadata of every history variable: name -> (units, long_name).
+HISTORY_META = {
+    "normal_force": ("N", "normal force"),
+    "approach": ("m", "rigid-body approach"),
+    "max_pressure": ("Pa", "maximum contact pressure"),
+    "contact_area": ("m2", "contact area"),
+    "tangential_force_x": ("N", "tangential force on body 2 along x"),
+    "tangential_force_y": ("N", "tangential force on body 2 along y"),
+    "tangential_shift_x": ("m", "rigid tangential shift of body 2 relative to body 1 along x"),
+    "tangential_shift_y": ("m", "rigid tangential shift of body 2 relative to body 1 along y"),
+    "stick_area": ("m2", "stick area"),
+    "normal_iterations": ("1", "normal-solver CG iterations (summed over the slip-stick loop)"),
+    "slip_iterations": ("1", "tangential-solver CG iterations (summed over the slip-stick loop)"),
+    "coupling_iterations": ("1", "slip-stick (normal-tangential) loop iterations"),
+    "residual": ("1", "largest final relative residual of the step's solves"),
+    "step_converged": ("1", "1 when every solve of the step converged"),
+}
+
+#: Values of ``contact_state``.
+SEPARATED, STICK, SLIP = 0, 1, 2
+
+
+@dataclass
+class Result:
+    """Outcome of :func:`solver.solve`.
+
+    Attributes
+    ----------
+    case : Case
+        The case that was solved.
+    grid : SurfaceGrid
+        Its surface grid.
+    pressure, shear_x, shear_y : ndarray
+        Final tractions on body 2 (Pa), shape (nx, ny).
+    contact_state : ndarray of int8
+        0 separated, 1 stick, 2 slip.
+    history : dict of ndarray
+        Per-step histories, keys of :data:`HISTORY_META`.
+    loops : tuple of str
+        The loops that ran (``load_steps``, ``normal``, ``slip_stick``).
+    converged : bool
+        True when every solve of every step converged.
+    notes : list of str
+        Warnings and status messages (non-convergence, path dependence...).
+    wall_time : float
+        Solve time (s).
+    """
+
+    case: Case
+    grid: SurfaceGrid
+    pressure: np.ndarray
+    shear_x: np.ndarray
+    shear_y: np.ndarray
+    contact_state: np.ndarray
+    history: dict[str, np.ndarray]
+    loops: tuple[str, ...]
+    converged: bool
+    notes: list[str] = field(default_factory=list)
+    wall_time: float = 0.0
+
+    @property
+    def status(self) -> str:
+        """``"converged"`` or ``"not_converged"``."""
+        return "converged" if self.converged else "not_converged"
+
+    def to_xarray(self):
+        """The result as an :class:`xarray.Dataset` with CF attributes (SI units)."""
+        import xarray as xr
+
+        case, reference = self.case, self.case.hertz
+        pair = case.pair
+        steps = np.arange(1, len(self.history["normal_force"]) + 1)
+        coords = {
+            "x": ("x", self.grid.x, {"units": "m", "long_name": "x coordinate of cell centre"}),
+            "y": ("y", self.grid.y, {"units": "m", "long_name": "y coordinate of cell centre"}),
+            "step": ("step", steps, {"units": "1", "long_name": "load step"}),
+        }
+        data = {
+            "pressure": (("x", "y"), self.pressure, {"units": "Pa", "long_name": "contact pressure"}),
+            "shear_x": (("x", "y"), self.shear_x, {"units": "Pa", "long_name": "shear traction x"}),
+            "shear_y": (("x", "y"), self.shear_y, {"units": "Pa", "long_name": "shear traction y"}),
+            "contact_state": (
+                ("x", "y"),
+                self.contact_state.astype(np.int8),
+                {
+                    "long_name": "contact state",
+                    "flag_values": np.array([SEPARATED, STICK, SLIP], dtype=np.int8),
+                    "flag_meanings": "separated stick slip",
+                },
+            ),
+        }
+        for name, values in self.history.items():
+            units, long_name = HISTORY_META[name]
+            data[name] = ("step", np.asarray(values), {"units": units, "long_name": long_name})
+        attrs = {
+            "Conventions": "CF-1.8",
+            "title": "slipstick contact solution",
+            "case_id": case.case_id,
+            "hertz_radius": reference.radius,
+            "hertz_semi_axis_x": reference.semi_axis_x,
+            "hertz_semi_axis_y": reference.semi_axis_y,
+            "hertz_pressure": reference.max_pressure,
+            "hertz_approach": reference.approach,
+            "hertz_normal_force": reference.normal_force,
+            "composite_modulus": pair.composite_modulus,
+            "dundurs_beta": pair.dundurs_beta,
+            "friction_coefficient": case.friction_coefficient,
+            "loops": " ".join(self.loops),
+            "converged": int(self.converged),
+            "status": self.status,
+            "notes": "; ".join(self.notes),
+            "wall_time": self.wall_time,
+        }
+        return xr.Dataset(data, coords=coords, attrs=attrs)
