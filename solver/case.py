@@ -106,8 +106,12 @@ def _parse_body(table: Any, path: str) -> Body:
     if "radius" in table:
         rx = ry = _number(table["radius"], f"{path}.radius", positive=True, allow_inf=True)
     else:
-        rx = _number(table.get("radius_x", "inf"), f"{path}.radius_x", positive=True, allow_inf=True)
-        ry = _number(table.get("radius_y", "inf"), f"{path}.radius_y", positive=True, allow_inf=True)
+        rx = _number(
+            table.get("radius_x", "inf"), f"{path}.radius_x", positive=True, allow_inf=True
+        )
+        ry = _number(
+            table.get("radius_y", "inf"), f"{path}.radius_y", positive=True, allow_inf=True
+        )
     if behaviour == "rigid":
         for key in ("E", "nu", "hardening"):
             if key in table:

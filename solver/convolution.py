@@ -72,7 +72,7 @@ class SurfaceOperator:
         self._kernels: dict[str, np.ndarray] = {}
 
     def kernel_spectrum(self, name: str) -> np.ndarray:
-        """Normalised spectrum of kernel block ``name`` (see :data:`solver.influence.COMPONENTS`)."""
+        """Normalised spectrum of kernel block ``name`` (:data:`solver.influence.COMPONENTS`)."""
         if name not in self._kernels:
             ox, oy = self.grid.offsets()
             kernels = surface_kernels(self.pair, ox, oy, self.grid.dx, self.grid.dy)
@@ -124,9 +124,7 @@ class SurfaceOperator:
         uz = self.inverse(s * (k("xp") * sx + k("yp") * sy) + k("zz") * sp)
         return ux, uy, uz
 
-    def tangential(
-        self, shear_x: np.ndarray, shear_y: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray]:
+    def tangential(self, shear_x: np.ndarray, shear_y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(u_x, u_y) (m) from shear tractions (q_x, q_y) (Pa), the tangential block only."""
         sx, sy = self.spectrum(shear_x), self.spectrum(shear_y)
         k = self.kernel_spectrum

@@ -41,7 +41,7 @@ class SurfaceGrid:
 
     @property
     def cell_area(self) -> float:
-        """dx * dy (m^2)."""
+        """Dx * dy (m^2)."""
         return self.dx * self.dy
 
     @property

@@ -43,7 +43,7 @@ COMPONENTS = ("zz", "xx", "yy", "xy", "xp", "yp")
 
 
 def _xasinh(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """x asinh(y/|x|), continuous with value 0 at x = 0."""
+    """X asinh(y/|x|), continuous with value 0 at x = 0."""
     ax = np.abs(x)
     with np.errstate(divide="ignore", invalid="ignore"):
         out = x * np.arcsinh(y / ax)
@@ -51,14 +51,14 @@ def _xasinh(x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 
 def _xatan(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """x atan(y/x), continuous with value 0 at x = 0."""
+    """X atan(y/x), continuous with value 0 at x = 0."""
     with np.errstate(divide="ignore", invalid="ignore"):
         out = x * np.arctan(y / x)
     return np.where(x != 0.0, out, 0.0)
 
 
 def _ylnr(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """y ln r, with value 0 at r = 0."""
+    """Y ln r, with value 0 at r = 0."""
     r2 = x * x + y * y
     with np.errstate(divide="ignore", invalid="ignore"):
         out = 0.5 * y * np.log(r2)

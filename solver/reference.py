@@ -106,7 +106,10 @@ def hertz(normal_force: float, composite_modulus: float, curvature: tuple[float,
     e = 0.5 * (lo + hi)
     big_k, big_e = complete_elliptic_integrals(e)
     a_long = (
-        3.0 * normal_force * (big_k - big_e) / (2.0 * math.pi * composite_modulus * e * e * 0.5 * k_small)
+        3.0
+        * normal_force
+        * (big_k - big_e)
+        / (2.0 * math.pi * composite_modulus * e * e * 0.5 * k_small)
     ) ** (1.0 / 3.0)
     b_short = a_long * math.sqrt(1.0 - e * e)
     p0 = 3.0 * normal_force / (2.0 * math.pi * a_long * b_short)

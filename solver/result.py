@@ -87,7 +87,11 @@ class Result:
             "step": ("step", steps, {"units": "1", "long_name": "load step"}),
         }
         data = {
-            "pressure": (("x", "y"), self.pressure, {"units": "Pa", "long_name": "contact pressure"}),
+            "pressure": (
+                ("x", "y"),
+                self.pressure,
+                {"units": "Pa", "long_name": "contact pressure"},
+            ),
             "shear_x": (("x", "y"), self.shear_x, {"units": "Pa", "long_name": "shear traction x"}),
             "shear_y": (("x", "y"), self.shear_y, {"units": "Pa", "long_name": "shear traction y"}),
             "contact_state": (
