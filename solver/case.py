@@ -192,11 +192,12 @@ class SolverOptions:
 
     normal_tolerance: float = 1e-8
     normal_max_iterations: int = 2000
-    slip_tolerance: float = 1e-8
-    slip_max_iterations: int = 2000
+    slip_tolerance: float = 1e-6
+    slip_max_iterations: int = 5000
     coupling_tolerance: float = 1e-6
     coupling_max_iterations: int = 100
     goodman: bool = False
+    max_load_ratio: float = 1.25
     fft_threads: int = 1
 
 
@@ -208,6 +209,7 @@ _SOLVER_RULES = {
     "coupling_tolerance": ("tol",),
     "coupling_max_iterations": ("int",),
     "goodman": ("bool",),
+    "max_load_ratio": ("ratio",),
     "fft_threads": ("threads",),
 }
 
@@ -224,6 +226,10 @@ def _parse_solver(table: Any) -> SolverOptions:
                 _fail(path, f"tolerance must be < 0.1, got {value}")
         elif rule == "int":
             values[key] = _integer(value, path, 1, 10_000_000)
+        elif rule == "ratio":
+            values[key] = _number(value, path, positive=True, allow_inf=True)
+            if values[key] <= 1.0:
+                _fail(path, f'must be > 1 (or "inf" to disable sub-stepping), got {value}')
         elif rule == "threads":
             values[key] = _integer(value, path, 1, 256)
         elif not isinstance(value, bool):
@@ -357,7 +363,7 @@ class Case:
                 "half_width": grid.half_width,
                 **({"depth": grid.depth} if grid.nz else {}),
             },
-            "solver": {k: getattr(solver, k) for k in _SOLVER_RULES},
+            "solver": {k: _json_number(getattr(solver, k)) for k in _SOLVER_RULES},
             "output": {"fields": sorted(fields)},
         }
         case = cls(body1, body2, tuple(stages), mu, grid, solver, tuple(sorted(fields)), spec)
@@ -492,9 +498,13 @@ def _parse_grid(table: Any) -> GridSpec:
     return GridSpec(sizes[0], sizes[1], nz, half_width, depth)
 
 
+def _json_number(value):
+    """Infinity as the string "inf" (valid JSON and TOML), everything else unchanged."""
+    return "inf" if isinstance(value, float) and math.isinf(value) else value
+
+
 def _body_spec(body: Body) -> dict:
-    def radius(value: float):
-        return "inf" if math.isinf(value) else value
+    radius = _json_number
 
     out: dict[str, Any] = {"behaviour": body.behaviour}
     if body.radius_x == body.radius_y:

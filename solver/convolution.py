@@ -105,7 +105,13 @@ class SurfaceOperator:
 
     def apply(self, name: str, field: np.ndarray) -> np.ndarray:
         """Convolve ``field`` (Pa) with kernel block ``name``; returns displacements (m)."""
-        return self.inverse(self.spectrum(field) * self.kernel_spectrum(name))
+        kernel = self.kernel_spectrum(name)
+        nx, ny = self.grid.shape
+        self._padded[:nx, :ny] = field
+        self._forward.execute()
+        np.multiply(self._spectrum, kernel, out=self._spectrum)  # in place: no temporaries
+        self._backward.execute()
+        return self._output[:nx, :ny].copy()
 
     def normal(self, pressure: np.ndarray) -> np.ndarray:
         """u_z (m) from pressure ``p`` (Pa)."""
@@ -143,6 +149,14 @@ class SurfaceOperator:
         return self.inverse(self.kernel_spectrum("xp") * sp), self.inverse(
             self.kernel_spectrum("yp") * sp
         )
+
+    def tangential_norm(self) -> float:
+        """Largest eigenvalue (m/Pa) of the circulant tangential block, >= that of K_t."""
+        k = self.kernel_spectrum
+        a, b, d = k("xx"), k("xy"), k("yy")
+        half = 0.5 * (a.real + d.real)
+        radius = np.sqrt((0.5 * (a.real - d.real)) ** 2 + np.abs(b) ** 2)
+        return float((np.abs(half) + radius).max()) * 4 * self.grid.nx * self.grid.ny
 
     @staticmethod
     def memory_bytes(grid: SurfaceGrid, tangential: bool) -> int:

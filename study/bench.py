@@ -1,0 +1,189 @@
+"""Benchmarks: speed against error, ours and the peers' in the same run.
+
+``python -m study bench hertz [--peers]`` solves the rigid-sphere Hertz case (R = 15 mm, steel,
+p_H = 6 GPa, domain side 3.2 a_H) at several grid sizes.  Every row runs in a fresh child
+process, so its memory figure is that process's peak resident-set growth during the solve
+(``ru_maxrss`` after the solve minus before it, imports and inputs excluded) and is comparable
+between codes written in C++ and in Python.  Times are wall-clock seconds, best of ``repeat``
+solves; ``setup`` (kernel and FFT-plan construction, reused across load steps and cases) is
+reported apart from ``solve``.
+"""
+
+from __future__ import annotations
+
+import math
+import multiprocessing
+import resource
+import time
+
+import numpy as np
+
+HERTZ_TABLE = {
+    "body1": {"radius": 0.015, "behaviour": "rigid"},
+    "body2": {"radius": "inf", "behaviour": "elastic", "E": 210e9, "nu": 0.3},
+    "load": {"hertz_pressure": 6e9, "steps": 1},
+    "friction": {"coefficient": 0.0},
+    "grid": {"n": 128, "half_width": 1.6},
+}
+
+DEFAULT_SIZES = {"hertz": [64, 128, 256, 512], "cattaneo": [64, 128, 256]}
+
+
+def _rss_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def _ours_hertz(n: int, repeat: int) -> dict:
+    import solver
+    from solver.convolution import surface_operator
+
+    table = {**HERTZ_TABLE, "grid": {"n": n, "half_width": 1.6}}
+    case = solver.Case.from_dict(table)
+    rss0 = _rss_mb()
+    t0 = time.perf_counter()
+    surface_operator(case.surface_grid, case.pair, 1).kernel_spectrum("zz")
+    setup = time.perf_counter() - t0
+    best, cpu, result = math.inf, math.inf, None
+    for _ in range(repeat):
+        c0, t0 = time.process_time(), time.perf_counter()
+        result = solver.solve(case)
+        best = min(best, time.perf_counter() - t0)
+        cpu = min(cpu, time.process_time() - c0)
+    return {
+        "pressure": result.pressure,
+        "dx": case.surface_grid.dx,
+        "time": best,
+        "cpu": cpu,
+        "setup": setup,
+        "iterations": int(result.history["normal_iterations"][-1]),
+        "approach": result.history["approach"][-1],
+        "memory": _rss_mb() - rss0,
+        "converged": result.converged,
+    }
+
+
+def _peer_hertz(name: str, n: int, repeat: int) -> dict:
+    from solver import Case
+
+    from .peers import hertz_peer
+
+    case = Case.from_dict({**HERTZ_TABLE, "grid": {"n": n, "half_width": 1.6}})
+    grid, reference = case.surface_grid, case.hertz
+    rss0 = _rss_mb()
+    best = None
+    for _ in range(repeat):
+        out = hertz_peer(
+            name,
+            n=n,
+            radius=0.015,
+            contact_modulus=case.pair.composite_modulus,
+            normal_force=reference.normal_force,
+            side=grid.nx * grid.dx,
+        )
+        if best is None or out["time"] < best["time"]:
+            best = out
+    best["memory"] = _rss_mb() - rss0
+    best["dx"] = grid.dx
+    best["setup"] = float("nan")
+    best["converged"] = True
+    return best
+
+
+def _child(target, args, queue) -> None:
+    try:
+        queue.put(("ok", target(*args)))
+    except Exception as error:  # reported as a row, the benchmark goes on
+        queue.put(("error", f"{type(error).__name__}: {error}"))
+
+
+def _isolated(target, *args, timeout: float = 1800.0):
+    context = multiprocessing.get_context("spawn")
+    queue = context.Queue()
+    process = context.Process(target=_child, args=(target, args, queue))
+    process.start()
+    try:
+        status, payload = queue.get(timeout=timeout)
+    except Exception:
+        status, payload = "error", f"no answer within {timeout:.0f} s"
+    process.join(5)
+    if process.is_alive():
+        process.kill()
+    return status, payload
+
+
+def _hertz_row(code: str, n: int, out: dict) -> dict:
+    from solver import Case
+
+    case = Case.from_dict({**HERTZ_TABLE, "grid": {"n": n, "half_width": 1.6}})
+    reference = case.hertz
+    pressure = np.asarray(out["pressure"])
+    in_contact = pressure > 1e-9 * pressure.max()
+    radius = math.sqrt(np.count_nonzero(in_contact) * out["dx"] ** 2 / math.pi)
+    approach = out.get("approach")
+    return {
+        "code": code,
+        "n": n,
+        "setup_s": out["setup"],
+        "solve_s": out["time"],
+        "cpu_s": out["cpu"],
+        "pmax_err_%": 100 * abs(pressure.max() / reference.max_pressure - 1),
+        "radius_err_cells": abs(radius - reference.radius) / out["dx"],
+        "approach_err_%": (
+            100 * abs(approach / reference.approach - 1) if approach is not None else float("nan")
+        ),
+        "iterations": out.get("iterations"),
+        "peak_MB": out["memory"],
+    }
+
+
+def format_table(rows: list[dict]) -> str:
+    """Render benchmark rows as a Markdown table."""
+    if not rows:
+        return "(no rows)"
+    columns = list(rows[0])
+    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
+    for row in rows:
+        cells = []
+        for column in columns:
+            value = row.get(column)
+            if isinstance(value, float):
+                cells.append("nan" if math.isnan(value) else f"{value:.4g}")
+            else:
+                cells.append("-" if value is None else str(value))
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def run_benchmark(
+    scene: str, sizes: list[int] | None = None, peers: bool = False, repeat: int = 3
+) -> int:
+    """Run a benchmark scene, print its table, and return an exit status."""
+    sizes = sizes or DEFAULT_SIZES[scene]
+    if scene == "cattaneo":
+        from .bench_cattaneo import run_cattaneo
+
+        return run_cattaneo(sizes, peers=peers, repeat=repeat)
+    peer_names = []
+    if peers:
+        from .peers import available_peers
+
+        found = available_peers()
+        print("peers:", ", ".join(f"{k} {v}" for k, v in found.items()) or "none installed")
+        peer_names = list(found)
+    rows, failures = [], 0
+    for n in sizes:
+        status, out = _isolated(_ours_hertz, n, repeat)
+        if status == "ok":
+            rows.append(_hertz_row("slipstick", n, out))
+        else:
+            failures += 1
+            print(f"slipstick n={n}: {out}")
+        for name in peer_names:
+            status, out = _isolated(_peer_hertz, name, n, repeat)
+            if status == "ok":
+                rows.append(_hertz_row(name, n, out))
+            else:
+                print(f"{name} n={n}: {out}")
+    print("Hertz: rigid sphere R = 15 mm on steel, p_H = 6 GPa, domain 3.2 a_H, one thread")
+    print(format_table(rows))
+    return 1 if failures else 0
