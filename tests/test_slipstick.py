@@ -1,0 +1,212 @@
+"""Slip-stick friction: Cattaneo-Mindlin, Spence, zero shear for beta = 0, stability."""
+
+import copy
+import math
+
+import numpy as np
+import pytest
+
+import solver
+from solver.convolution import surface_operator
+from solver.loops import initial_gap
+from solver.slipstick import FrictionState, load_substeps, slip_stick_step
+
+STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
+
+
+def cattaneo_table(n, fraction, mu=0.3, force=1000.0):
+    return {
+        "body1": {"radius": 0.015, **STEEL},
+        "body2": {"radius": 0.015, **STEEL},
+        "load": {
+            "path": [
+                {"normal_force": force, "steps": 1},
+                {"tangential_force": [fraction * mu * force, 0.0], "steps": 1},
+            ]
+        },
+        "friction": {"coefficient": mu},
+        "grid": {"n": n, "half_width": 1.5},
+    }
+
+
+def spence_table(n, mu=0.2986, steps=20, nu=0.0):
+    return {
+        "body1": {"radius": 0.015, "behaviour": "rigid"},
+        "body2": {"radius": "inf", "behaviour": "elastic", "E": 210e9, "nu": nu},
+        "load": {"normal_force": 1000.0, "steps": steps},
+        "friction": {"coefficient": mu},
+        "grid": {"n": n, "half_width": 1.3},
+    }
+
+
+def radius(area):
+    return np.sqrt(np.asarray(area) / math.pi)
+
+
+def cattaneo_errors(result, fraction, mu=0.3):
+    h = result.history
+    a = radius(h["contact_area"][-1])
+    c = radius(h["stick_area"][-1])
+    force = h["normal_force"][-1]
+    q = fraction * mu * force
+    shear_modulus = 210e9 / 2.6
+    # two identical bodies: twice the single-body compliance (Johnson 1985, eq. 7.42)
+    ref_a = result.case.hertz.radius
+    compliance = 2 * 3 * mu * force * (2 - 0.3) / (16 * shear_modulus * ref_a)
+    shift = compliance * (1 - (1 - q / (mu * force)) ** (2 / 3))
+    return {
+        "c_over_a": c / a,
+        "c_ref": (1 - fraction) ** (1 / 3),
+        "shift_error": abs(h["tangential_shift_x"][-1] / shift - 1),
+    }
+
+
+@pytest.mark.parametrize("fraction", [0.25, 0.5, 0.75])
+def test_cattaneo_mindlin(fraction):
+    result = solver.solve(solver.Case.from_dict(cattaneo_table(128, fraction)))
+    assert result.converged, result.notes
+    assert "slip_stick" in result.loops
+    e = cattaneo_errors(result, fraction)
+    assert abs(e["c_over_a"] - e["c_ref"]) < 0.02
+    assert e["shift_error"] < 0.02
+    # slip annulus: |q| = mu p; stick: |q| < mu p; force exactly Q
+    magnitude = np.hypot(result.shear_x, result.shear_y)
+    bound = 0.3 * result.pressure
+    slip = result.contact_state == 2
+    assert slip.sum() > 0
+    assert np.abs(magnitude[slip] - bound[slip]).max() < 1e-9 * bound.max()
+    stick = result.contact_state == 1
+    assert (magnitude[stick] < bound[stick]).all()
+    q = result.history["tangential_force_x"][-1]
+    assert q == pytest.approx(fraction * 0.3 * 1000.0, rel=1e-10)
+    assert result.history["tangential_force_y"][-1] == pytest.approx(0.0, abs=1e-9 * q)
+
+
+def test_cattaneo_stick_radius_converges_with_mesh():
+    errors = []
+    for n in (32, 64, 128):
+        e = cattaneo_errors(solver.solve(solver.Case.from_dict(cattaneo_table(n, 0.5))), 0.5)
+        errors.append(abs(e["c_over_a"] - e["c_ref"]) + e["shift_error"])
+    assert errors[2] < errors[0]
+
+
+def test_beta_zero_normal_loading_gives_no_shear():
+    case = solver.Case.from_dict(
+        {**cattaneo_table(48, 0.5, mu=0.5), "load": {"normal_force": 1000.0, "steps": 4}}
+    )
+    assert case.pair.dundurs_beta == 0.0
+    assert not solver.loops.needs_slip_stick(case)  # the scene skips the loop ...
+    operator = surface_operator(case.surface_grid, case.pair)
+    gap = initial_gap(case)
+    state = FrictionState.unloaded(gap.shape)
+    for target in case.step_targets():  # ... and running it anyway changes nothing
+        state, info = slip_stick_step(case, operator, gap, target, state)
+        assert info["converged"]
+    scale = 0.5 * state.pressure.max()
+    assert np.abs(state.shear_x).max() < 1e-10 * scale
+    assert np.abs(state.shear_y).max() < 1e-10 * scale
+
+
+def test_spence_self_similar_stick_zone():
+    result = solver.solve(solver.Case.from_dict(spence_table(64)))
+    assert result.converged, result.notes
+    assert abs(result.case.pair.dundurs_beta) == pytest.approx(0.5)
+    h = result.history
+    ratio = radius(h["stick_area"]) / radius(h["contact_area"])
+    assert ratio[-1] == pytest.approx(0.50, abs=0.03)
+    assert np.abs(ratio - 0.5).max() < 0.03  # self-similar over all 20 steps
+    x, y = result.grid.mesh()
+    centre = np.unravel_index(np.argmin(x * x + y * y), x.shape)
+    hertz_centre = result.case.hertz.pressure(x[centre], y[centre])
+    assert result.pressure[centre] / hertz_centre == pytest.approx(1.31, abs=0.03)
+    assert not result.notes
+
+
+@pytest.mark.slow
+def test_spence_fine_mesh_and_mu_curve(capsys):
+    result = solver.solve(solver.Case.from_dict(spence_table(128)))
+    h = result.history
+    ratio = radius(h["stick_area"]) / radius(h["contact_area"])
+    assert np.abs(ratio - 0.5).max() < 0.03
+    curve = []
+    for mu in (0.05, 0.1, 0.2, 0.3, 0.5, 0.8):
+        r = solver.solve(solver.Case.from_dict(spence_table(64, mu=mu, nu=0.3)))
+        h = r.history
+        curve.append(float(radius(h["stick_area"][-1]) / radius(h["contact_area"][-1])))
+    with capsys.disabled():
+        print("\nSpence nu=0.3, c/a over mu:", dict(zip((0.05, 0.1, 0.2, 0.3, 0.5, 0.8), curve)))
+    assert all(b >= a - 0.03 for a, b in zip(curve, curve[1:]))  # grows with mu
+
+
+def test_single_step_spence_is_flagged():
+    result = solver.solve(solver.Case.from_dict(spence_table(32, steps=1)))
+    assert any("path dependence" in note for note in result.notes)
+    assert "path dependence" in result.to_xarray().attrs["notes"]
+
+
+def test_load_substeps_are_geometric_and_exclusive():
+    subs = load_substeps((0.0, 0.0, 0.0), (64.0, 6.4, 0.0), 2.0)
+    assert [s[0] for s in subs] == pytest.approx([1, 2, 4, 8, 16, 32])
+    assert [s[1] for s in subs] == pytest.approx([0.1, 0.2, 0.4, 0.8, 1.6, 3.2])
+    assert load_substeps((10.0, 0, 0), (11.0, 0, 0), 1.25) == []
+    assert load_substeps((10.0, 0, 0), (5.0, 0, 0), 1.25) == []  # unloading: none
+
+
+@pytest.mark.parametrize(
+    "mu,nu,steps,n",
+    [(0.01, 0.0, 8, 32), (2.0, 0.0, 8, 32), (0.5, 0.3, 200, 32), (2.0, 0.49, 8, 48)],
+)
+def test_stability_hard_cases(mu, nu, steps, n):
+    result = solver.solve(solver.Case.from_dict(spence_table(n, mu=mu, steps=steps, nu=nu)))
+    ds = result.to_xarray()
+    for name in ("pressure", "shear_x", "shear_y"):
+        assert np.isfinite(ds[name]).all()
+    assert ds.attrs["status"] in ("converged", "not_converged")
+    assert len(ds.step) == steps
+    if mu == 2.0:  # high friction: almost all stick
+        assert ds.stick_area[-1] / ds.contact_area[-1] > 0.8
+
+
+def test_extreme_beta_with_tangential_load_and_unloading():
+    table = spence_table(32, mu=0.4, nu=0.0)
+    table["load"] = {
+        "path": [
+            {"normal_force": 1000.0, "steps": 8},
+            {"tangential_force": [300.0, 100.0], "steps": 4},
+            {"tangential_force": [-300.0, 0.0], "steps": 4},
+            {"normal_force": 800.0, "steps": 2},
+        ]
+    }
+    result = solver.solve(solver.Case.from_dict(table))
+    h = result.history
+    assert len(h["normal_force"]) == 18
+    assert h["tangential_force_x"][11] == pytest.approx(300.0, rel=1e-8)
+    assert h["tangential_force_y"][11] == pytest.approx(100.0, rel=1e-8)
+    assert h["tangential_force_x"][15] == pytest.approx(-300.0, rel=1e-8)
+    assert h["normal_force"][-1] == pytest.approx(800.0, rel=1e-10)
+    # reversal: the shift changes sign with the force
+    assert h["tangential_shift_x"][11] > 0 > h["tangential_shift_x"][15]
+    assert np.isfinite(result.pressure).all() and result.converged, result.notes
+
+
+def test_goodman_drops_the_normal_coupling():
+    table = spence_table(32, steps=4)
+    table["solver"] = {"goodman": True}
+    result = solver.solve(solver.Case.from_dict(table))
+    frictionless = copy.deepcopy(table)
+    frictionless["friction"]["coefficient"] = 0.0
+    reference = solver.solve(solver.Case.from_dict(frictionless))
+    np.testing.assert_allclose(result.pressure, reference.pressure, atol=1e-6 * reference.pressure.max())
+    assert np.abs(result.shear_x).max() > 0.01 * result.pressure.max()
+
+
+def test_friction_dataset_layout():
+    ds = solver.solve(solver.Case.from_dict(cattaneo_table(32, 0.5))).to_xarray()
+    for name in ("shear_x", "shear_y", "contact_state", "tangential_force_x", "tangential_force_y",
+                 "tangential_shift_x", "tangential_shift_y", "stick_area", "slip_iterations"):
+        assert name in ds and "long_name" in ds[name].attrs
+    assert ds.contact_state.dtype == np.int8
+    assert list(ds.contact_state.attrs["flag_values"]) == [0, 1, 2]
+    assert ds.contact_state.attrs["flag_meanings"] == "separated stick slip"
+    assert "slip_stick" in ds.attrs["loops"]
+    assert ds.shear_x.attrs["units"] == "Pa"
