@@ -70,6 +70,7 @@ class SurfaceOperator:
         )
         self._padded[...] = 0.0
         self._kernels: dict[str, np.ndarray] = {}
+        self._precondition = None
 
     def kernel_spectrum(self, name: str) -> np.ndarray:
         """Normalised spectrum of kernel block ``name`` (:data:`solver.influence.COMPONENTS`)."""
@@ -112,6 +113,32 @@ class SurfaceOperator:
         np.multiply(self._spectrum, kernel, out=self._spectrum)  # in place: no temporaries
         self._backward.execute()
         return self._output[:nx, :ny].copy()
+
+    def inverse_normal(self, displacement: np.ndarray) -> np.ndarray:
+        """Approximate inverse of :meth:`normal` (a preconditioner): pressure (Pa) from u_z (m).
+
+        Applies the inverse Boussinesq symbol |k|/(2A) with a periodic FFT on the unpadded grid,
+        a quarter of the cost of :meth:`normal`; exact for periodic data and point tractions.
+        """
+        if self._precondition is None:
+            nx, ny = self.grid.shape
+            real = pyfftw.empty_aligned((nx, ny), dtype="float64")
+            spectrum = pyfftw.empty_aligned((nx, ny // 2 + 1), dtype="complex128")
+            forward = pyfftw.FFTW(real, spectrum, axes=(0, 1), flags=("FFTW_MEASURE",))
+            backward = pyfftw.FFTW(
+                spectrum, real, axes=(0, 1), direction="FFTW_BACKWARD",
+                flags=("FFTW_MEASURE", "FFTW_DESTROY_INPUT"),
+            )  # fmt: skip
+            kx = 2 * np.pi * np.fft.fftfreq(nx, self.grid.dx)
+            ky = 2 * np.pi * np.fft.rfftfreq(ny, self.grid.dy)
+            symbol = np.hypot(kx[:, None], ky[None, :]) / (2 * self.pair.compliance * nx * ny)
+            self._precondition = (real, spectrum, forward, backward, symbol)
+        real, spectrum, forward, backward, symbol = self._precondition
+        real[...] = displacement
+        forward.execute()
+        np.multiply(spectrum, symbol, out=spectrum)
+        backward.execute()
+        return real.copy()
 
     def normal(self, pressure: np.ndarray) -> np.ndarray:
         """u_z (m) from pressure ``p`` (Pa)."""

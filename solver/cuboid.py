@@ -282,7 +282,8 @@ def cuboid_stress(x, y, z, half_sizes, shear_modulus: float, nu: float, eigenstr
     Parameters
     ----------
     x, y, z : array_like
-        Field points relative to the cuboid centre (m), off the face planes.
+        Field points relative to the cuboid centre (m).  On a face plane the limit from the
+        side of larger coordinate is returned (the lower faces count as inside).
     half_sizes : (float, float, float)
         Half-sides (m).
     shear_modulus, nu : float
@@ -299,9 +300,10 @@ def cuboid_stress(x, y, z, half_sizes, shear_modulus: float, nu: float, eigenstr
     base = potentials(x, y, z, half_sizes, STRESS_BASE)
     e = np.asarray(eigenstrain, dtype=float)
     x, y, z = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (x, y, z)))
-    is_inside = (
-        (np.abs(x) < half_sizes[0]) & (np.abs(y) < half_sizes[1]) & (np.abs(z) < half_sizes[2])
-    )
+    # half-open cell [-a, a): consistent with the limit c -> 0+ taken on the face planes
+    is_inside = np.ones(x.shape, dtype=bool)
+    for v, a in zip((x, y, z), half_sizes, strict=True):
+        is_inside &= (v >= -a) & (v < a)
     out = np.zeros((6,) + x.shape)
     for ij in range(6):
         for b, name in enumerate(STRESS_BASE):

@@ -70,6 +70,7 @@ def solve_normal(
     initial_pressure: np.ndarray | None = None,
     tolerance: float = 1e-8,
     max_iterations: int = 1000,
+    precondition: bool = True,
 ) -> NormalSolution:
     """Solve the frictionless normal contact problem under a prescribed normal force.
 
@@ -129,10 +130,19 @@ def solve_normal(
             converged = True
             iterations -= 1
             break
-        t *= 0.0 if reset else g_norm / g_norm_old
-        t += g_contact
+        if precondition:
+            # z = M^-1 g: the inverse of the circulant kernel, applied on the contact set and
+            # kept force-neutral; PCG with beta = <g, z>/<g_old, z_old>
+            z = operator.inverse_normal(g_contact)
+            z *= mask
+            z -= mask * (_dot(z, mask) / n_contact)
+            gz = _dot(g_contact, z)
+        else:
+            z, gz = g_contact, g_norm
+        t *= 0.0 if reset else gz / g_norm_old
+        t += z
         t *= mask
-        g_norm_old = g_norm
+        g_norm_old = gz
         raw = operator.normal(t)
         r = raw - _dot(raw, mask) / n_contact
         denominator = float(_dot(r, t))

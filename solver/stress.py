@@ -551,6 +551,16 @@ class SubsurfaceStressOperator:
             self._surface_in, self._surface_out, axes=(0, 1), flags=(planner,), threads=threads
         )
         self._surface_in[...] = 0.0
+        self._surface_spec = pyfftw.empty_aligned((2 * nx, ny + 1), dtype="complex128")
+        self._surface_real = pyfftw.empty_aligned((2 * nx, 2 * ny), dtype="float64")
+        self._surface_ifft = pyfftw.FFTW(
+            self._surface_spec,
+            self._surface_real,
+            axes=(0, 1),
+            direction="FFTW_BACKWARD",
+            flags=(planner, "FFTW_DESTROY_INPUT"),
+            threads=threads,
+        )
         self._spectra: dict[str, np.ndarray] = {}
         self._batched: dict[int, tuple] = {}
 
@@ -573,7 +583,7 @@ class SubsurfaceStressOperator:
             for k0 in range(0, nz, chunk):
                 layers = range(k0, min(nz, k0 + chunk))
                 kernels = layer_kernels(self.grid, self.nu, traction, layers)
-                forward = self._plan(len(layers))[0]
+                forward = self.batched_transforms(len(layers))[0]
                 for c, comp in enumerate(STRESS_COMPONENTS):
                     forward.input_array[...] = kernels[c]
                     forward.execute()
@@ -583,8 +593,12 @@ class SubsurfaceStressOperator:
             self._spectra[traction] = spectra
         return self._spectra[traction]
 
-    def _plan(self, nlayers: int) -> tuple[pyfftw.FFTW, pyfftw.FFTW]:
-        """Batched forward and backward 2-D transforms over ``nlayers`` layers (cached)."""
+    def batched_transforms(self, nlayers: int) -> tuple[pyfftw.FFTW, pyfftw.FFTW]:
+        """Batched forward and backward 2-D transforms over ``nlayers`` layers (cached).
+
+        Arrays: real ``(2nx, 2ny, nlayers)`` (the forward input and the backward output share
+        it) and complex ``(2nx, ny + 1, nlayers)``; the transforms run over the first two axes.
+        """
         if nlayers not in self._batched:
             nx, ny = self.grid.surface.shape
             real = pyfftw.empty_aligned((2 * nx, 2 * ny, nlayers), dtype="float64")
@@ -603,11 +617,27 @@ class SubsurfaceStressOperator:
         return self._batched[nlayers]
 
     def surface_spectrum(self, field: np.ndarray) -> np.ndarray:
-        """Forward transform of a zero-padded ``(nx, ny)`` surface field (a new array)."""
+        """Forward transform of a surface field (a new ``(2nx, ny + 1)`` complex array).
+
+        ``field`` is either an ``(nx, ny)`` field, zero-padded here, or a full ``(2nx, 2ny)``
+        array (a kernel in wrap-around order).
+        """
         nx, ny = self.grid.surface.shape
-        self._surface_in[:nx, :ny] = field
-        self._surface_fft.execute()
+        if field.shape == (2 * nx, 2 * ny):
+            self._surface_in[...] = field
+            self._surface_fft.execute()
+            self._surface_in[...] = 0.0
+        else:
+            self._surface_in[:nx, :ny] = field
+            self._surface_fft.execute()
         return self._surface_out.copy()
+
+    def surface_inverse(self, spectrum: np.ndarray) -> np.ndarray:
+        """Backward transform of a normalised ``(2nx, ny + 1)`` spectrum, cut to ``(nx, ny)``."""
+        nx, ny = self.grid.surface.shape
+        self._surface_spec[...] = spectrum
+        self._surface_ifft.execute()
+        return self._surface_real[:nx, :ny].copy()
 
     # -- application -----------------------------------------------------------------------
 
@@ -619,13 +649,14 @@ class SubsurfaceStressOperator:
         box.validate(self.grid)
         k0, k1 = box.z
         sx, sy, _ = box.slices
+        kernels = {traction: self.kernel_spectra(traction) for traction in spectra}  # build first
         out = np.empty((6,) + box.shape)
-        _, backward = self._plan(k1 - k0)
+        _, backward = self.batched_transforms(k1 - k0)
         acc = backward.input_array
         tmp = np.empty(acc.shape, dtype=complex) if len(spectra) > 1 else None
         for c, comp in enumerate(STRESS_COMPONENTS):
             for n, (traction, spectrum) in enumerate(spectra.items()):
-                kernel = self.kernel_spectra(traction)[c, :, :, k0:k1]
+                kernel = kernels[traction][c, :, :, k0:k1]
                 px, py = kernel_parity(comp, traction)
                 factor = (1j * spectrum if (px + py) % 2 else spectrum)[:, :, None]
                 if n == 0:

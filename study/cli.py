@@ -1,9 +1,27 @@
-"""Command line: ``python -m study {bench} ...``."""
+"""Command line: ``python -m study {run,validate,status,assemble,bench} ...``.
+
+``run`` works serially (``python -m study run FILE``) and under MPI
+(``mpiexec -n N python -m study run FILE``); ``validate``, ``status`` and ``assemble`` never
+import mpi4py.  Exit status: 0 success; 1 failed cases (or an early stop); 2 a bad campaign
+file or command line (one message, no traceback); 3 the time limit left cases pending.
+"""
 
 from __future__ import annotations
 
 import argparse
 import os
+import sys
+
+#: Environment variables that show the process was started by an MPI launcher.
+_LAUNCHER_VARIABLES = (
+    "PMI_RANK",
+    "PMI_SIZE",
+    "PMIX_RANK",
+    "OMPI_COMM_WORLD_SIZE",
+    "MV2_COMM_WORLD_SIZE",
+    "MPI_LOCALNRANKS",
+    "SLURM_STEP_NUM_TASKS",
+)
 
 
 def _single_threaded_blas() -> None:
@@ -18,6 +36,74 @@ def build_parser() -> argparse.ArgumentParser:
         prog="python -m study", description="slipstick parametric studies and benchmarks"
     )
     sub = parser.add_subparsers(dest="command", required=True)
+
+    run = sub.add_parser(
+        "run",
+        help="run a campaign (serially, or under mpiexec/srun)",
+        description="Run every unfinished case of a campaign, then assemble the dataset. "
+        "Finished cases are skipped and failed ones retried, so re-running resumes. "
+        "Exit status 0 done, 1 failed cases, 2 bad campaign, 3 time limit left cases pending.",
+    )
+    run.add_argument("campaign", help="campaign file (.toml)")
+    run.add_argument("--out", help="output folder (default: [campaign] output or out/<name>)")
+    run.add_argument("--fft-threads", type=int, help="FFTW threads per rank (run-time only)")
+    run.add_argument(
+        "--time-limit",
+        type=float,
+        metavar="SECONDS",
+        help="start no case predicted to end after this many seconds (also honours "
+        "SLURM_JOB_END_TIME); unstarted cases stay pending",
+    )
+    run.add_argument(
+        "--time-reserve",
+        type=float,
+        default=10.0,
+        metavar="SECONDS",
+        help="seconds kept free before the time limit (default 10)",
+    )
+    run.add_argument(
+        "--max-initial-failures",
+        type=int,
+        metavar="K",
+        help="stop when the first K cases all fail (0: never; default [campaign] setting or 5)",
+    )
+    run.add_argument(
+        "--mpi",
+        choices=["auto", "on", "off"],
+        default="auto",
+        help="use MPI (auto: when started by an MPI launcher)",
+    )
+    run.add_argument(
+        "--dedicated-root", action="store_true", help="rank 0 only dispatches, computes nothing"
+    )
+    run.add_argument("--no-assemble", action="store_true", help="do not assemble at the end")
+    run.add_argument("-v", "--verbose", action="store_true", help="debug output on every rank")
+
+    validate = sub.add_parser(
+        "validate",
+        help="expand and validate a campaign without running it (no MPI)",
+        description="Expand and validate every case; print the axes, the case count and the "
+        "estimated cost and memory per case.  Exit status 2 for a bad campaign.",
+    )
+    validate.add_argument("campaign", help="campaign file (.toml)")
+    validate.add_argument("--list", action="store_true", help="list every case")
+
+    status = sub.add_parser(
+        "status",
+        help="show how far a campaign is",
+        description="Count pending, converged, not converged and failed cases.",
+    )
+    status.add_argument("target", metavar="FILE_OR_OUT", help="campaign file or output folder")
+    status.add_argument("--out", help="output folder (with a campaign file)")
+
+    assemble = sub.add_parser(
+        "assemble",
+        help="(re)build OUT/<campaign>.nc from the case files",
+        description="Assemble the campaign dataset from the per-case files.",
+    )
+    assemble.add_argument("target", metavar="FILE_OR_OUT", help="campaign file or output folder")
+    assemble.add_argument("--out", help="output folder (with a campaign file)")
+
     bench = sub.add_parser("bench", help="benchmarks against closed forms and peer codes")
     bench.add_argument("scene", choices=["hertz", "cattaneo"], help="benchmark scene")
     bench.add_argument("--sizes", type=int, nargs="+", help="grid sizes n (cells per side)")
@@ -34,4 +120,182 @@ def main(argv: list[str] | None = None) -> int:
         from .bench import run_benchmark
 
         return run_benchmark(args.scene, sizes=args.sizes, peers=args.peers, repeat=args.repeat)
-    return 2
+
+    from .campaign import CampaignError
+
+    handlers = {"run": _run, "validate": _validate, "status": _status, "assemble": _assemble}
+    try:
+        return handlers[args.command](args)
+    except CampaignError as error:
+        if not getattr(error, "quiet", False):
+            print(f"error: {error}", file=sys.stderr)
+        return 2
+
+
+# -- run -----------------------------------------------------------------------------------------
+def _launched_by_mpi() -> bool:
+    return any(name in os.environ for name in _LAUNCHER_VARIABLES)
+
+
+def _communicator(mode: str):
+    from .campaign import CampaignError
+
+    if mode == "off" or (mode == "auto" and not _launched_by_mpi()):
+        return None
+    try:
+        from mpi4py import MPI
+    except ImportError:
+        if mode == "on":
+            raise CampaignError("--mpi on: mpi4py is not installed") from None
+        return None
+    return MPI.COMM_WORLD
+
+
+def _run(args: argparse.Namespace) -> int:
+    os.environ.setdefault("HDF5_USE_FILE_LOCKING", "FALSE")  # one writer per file
+    from pathlib import Path
+
+    from .campaign import CampaignError, load_campaign
+    from .driver import RunOptions, broadcast_campaign, run_campaign
+    from .progress import configure_logging
+
+    comm = _communicator(args.mpi)
+    rank = comm.Get_rank() if comm is not None else 0
+    size = comm.Get_size() if comm is not None else 1
+    logger = configure_logging(rank, size, args.verbose)
+    _check_options(args)
+    try:
+        campaign = broadcast_campaign(lambda: load_campaign(args.campaign), comm)
+        out = Path(args.out or campaign.settings.output)
+        options = RunOptions(
+            fft_threads=args.fft_threads,
+            max_initial_failures=args.max_initial_failures,
+            time_limit=args.time_limit,
+            time_reserve=args.time_reserve,
+            root_computes=not args.dedicated_root,
+        )
+        summary = run_campaign(campaign, out, comm, options, logger)
+    except CampaignError as error:
+        if rank != 0:
+            error.quiet = True  # rank 0 prints the one message
+        raise
+    if rank == 0 and not args.no_assemble:
+        from .assemble import assemble_to_file
+
+        logger.info("assembled %s", assemble_to_file(out, campaign))
+    return summary.exit_status
+
+
+def _check_options(args: argparse.Namespace) -> None:
+    from .campaign import CampaignError
+
+    if args.fft_threads is not None and not 1 <= args.fft_threads <= 256:
+        raise CampaignError(f"--fft-threads must be 1..256, got {args.fft_threads}")
+    if args.time_limit is not None and args.time_limit <= 0:
+        raise CampaignError(f"--time-limit must be > 0 seconds, got {args.time_limit}")
+    if args.time_reserve < 0:
+        raise CampaignError(f"--time-reserve must be >= 0 seconds, got {args.time_reserve}")
+    if args.max_initial_failures is not None and args.max_initial_failures < 0:
+        raise CampaignError(f"--max-initial-failures must be >= 0, got {args.max_initial_failures}")
+
+
+# -- validate ------------------------------------------------------------------------------------
+def _validate(args: argparse.Namespace) -> int:
+    from .campaign import load_campaign
+
+    campaign = load_campaign(args.campaign)
+    print(describe_campaign(campaign, list_cases=args.list))
+    return 0
+
+
+def describe_campaign(campaign, list_cases: bool = False) -> str:
+    """Text summary of a campaign: axes, case count, estimated cost and memory."""
+    from .campaign import _format_value
+
+    cases = campaign.cases
+    lines = [
+        f"campaign {campaign.name} ({campaign.source or 'table'}): {len(cases)} cases, "
+        f"shape {' x '.join(map(str, campaign.shape))}, output {campaign.settings.output}",
+        "axes:",
+    ]
+    for axis in campaign.axes:
+        kind = "zip" if axis.zipped else "sweep"
+        lines.append(f"  {axis.name} ({kind}, {axis.size} values)")
+        for c in axis.coordinates:
+            values = ", ".join(_format_value(v) for v in c.values)
+            units = f" [{c.units}]" if c.units else ""
+            lines.append(f"    {c.name} = {c.key}{units}: {values}")
+    costs = [c.cost for c in cases]
+    memory = [c.memory for c in cases]
+    lines.append(
+        f"estimated cost per case (relative FFT work, ~ n^2 log n x steps x 4 with friction): "
+        f"min {min(costs):.3g}, max {max(costs):.3g}, total {sum(costs):.3g}"
+    )
+    lines.append(
+        f"estimated memory per case: min {min(memory) / 2**20:.1f} MiB, "
+        f"max {max(memory) / 2**20:.1f} MiB"
+    )
+    shown = sorted(cases, key=lambda c: -c.cost)
+    if not list_cases and len(shown) > 20:
+        lines.append("costliest 20 cases (--list for all):")
+        shown = shown[:20]
+    else:
+        lines.append("cases, costliest first:")
+    for c in shown:
+        lines.append(
+            f"  {c.case_id}  cost {c.cost:9.3g}  memory {c.memory / 2**20:7.1f} MiB  {c.label}"
+        )
+    lines.append("valid")
+    return "\n".join(lines)
+
+
+# -- status and assemble -------------------------------------------------------------------------
+def _resolve(args: argparse.Namespace):
+    """(campaign, out) from a campaign file or an output folder."""
+    from pathlib import Path
+
+    from . import storage
+    from .campaign import load_campaign
+
+    target = Path(args.target)
+    if target.is_dir():
+        out = Path(args.out) if args.out else target
+        return storage.read_campaign(out), out
+    campaign = load_campaign(target)
+    return campaign, Path(args.out or campaign.settings.output)
+
+
+def _status(args: argparse.Namespace) -> int:
+    from . import storage
+
+    campaign, out = _resolve(args)
+    states = storage.case_states(out, campaign)
+    counts = {s: 0 for s in ("converged", "not_converged", "failed", "pending")}
+    for state in states.values():
+        counts[state] = counts.get(state, 0) + 1
+    total = len(campaign.cases)
+    done = counts["converged"] + counts["not_converged"]
+    print(
+        f"campaign {campaign.name} in {out}: {done}/{total} finished "
+        f"({counts['converged']} converged, {counts['not_converged']} not converged), "
+        f"{counts['failed']} failed, {counts['pending']} pending"
+    )
+    for case in campaign.cases:
+        if states[case.case_id] == "failed":
+            record = storage.read_failure(out, case.case_id)
+            print(
+                f"  failed {case.case_id} [{case.label}] on rank {record.get('rank', '?')} "
+                f"({record.get('host', '?')}): {record.get('error', '?').splitlines()[0]}"
+            )
+    path = storage.dataset_path(out, campaign.name)
+    print(f"dataset: {path}" + ("" if path.exists() else " (not assembled yet)"))
+    return 1 if counts["failed"] else 0
+
+
+def _assemble(args: argparse.Namespace) -> int:
+    from .assemble import assemble_to_file
+
+    campaign, out = _resolve(args)
+    path = assemble_to_file(out, campaign)
+    print(f"assembled {path}")
+    return 0

@@ -1,0 +1,522 @@
+r"""Residual stress and surface displacement of an eigenstrain (plastic strain) field.
+
+The half-space ``z > 0`` (z into body 2) holds a piecewise-constant eigenstrain on the cells of
+a :class:`~solver.grid.VolumeGrid`, components (xx, yy, zz, yz, xz, xy), tensor values.  Chiu's
+(1978) construction, applied with FFTs as Liu & Wang (2005):
+
+1. *Source*: every cell is a cuboid of uniform eigenstrain in an infinite body
+   (:mod:`solver.cuboid`).
+2. *Image*: the mirror cuboid at ``-z`` with ``e_xz`` and ``e_yz`` negated.  Source plus image is
+   symmetric about ``z = 0``: there ``u_z = 0``, ``sigma_xz = sigma_yz = 0``, and the normal
+   stress ``S_zz(x, y, 0) = 2 sigma_zz^source(x, y, 0)`` remains.
+3. *Boussinesq correction*: the half-space solution of a surface pressure ``p = S_zz(x, y, 0)``
+   (piecewise constant on the surface cells) cancels it (:mod:`solver.stress` kernels).
+
+Source and image are one 3-D convolution: the eigenstrain is laid out on ``2 nz`` layers (the
+image, flipped in z, then the source), zero-padded to ``(2nx, 2ny, L)`` with ``L >= 3 nz - 1``, and
+convolved with the cuboid kernels in wrap-around order (offsets ``-(nz - 1) .. 2nz - 1`` along
+z), so the image term is the correlation in z of Liu & Wang's recipe.  Cost: 6 forward and 6
+backward real 3-D FFTs of ``4 L nx ny`` points, 36 complex multiply-adds per frequency.
+
+Surface residual displacements (body-2 frame, z into the body; a uniform layer of thickness h
+with ``e_zz > 0`` gives ``u_z = -h e_zz``), two routes:
+
+* ``"direct"``: ``u_x, u_y = 2 u^source(z = 0)`` plus the Boussinesq displacement of ``p``;
+  ``u_z`` = the Boussinesq part only.  Point values at the surface cell centres.
+* ``"reciprocal"`` (DESIGN §3.7): ``u_k = sum_cells sigma^(k)_ij e_ij dV / dA``, with
+  ``sigma^(k)`` the stress of a unit traction on one surface cell in direction k (the
+  :class:`~solver.stress.SubsurfaceStressOperator` kernels, a 2-D correlation per layer).  This is
+  the surface-cell average of u with the volume integral taken by the midpoint rule per cell;
+  the two routes differ by the discretisation error (tested).
+
+FFT normalisation as :mod:`solver.convolution`: forward transforms unnormalised, the factor
+``1/size`` folded into the stored kernel spectra.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pyfftw
+
+from .cuboid import (
+    DISPLACEMENT_BASE,
+    STRESS_BASE,
+    corner_functions,
+    displacement_coefficients,
+    stress_coefficients,
+)
+from .grid import VolumeGrid
+from .influence import cell_integral
+from .stress import (
+    STRESS_COMPONENTS,
+    SubsurfaceStressOperator,
+    kernel_parity,
+    wrap_layout,
+)
+
+#: Tensor weights of the six components in ``sigma : e`` (off-diagonal terms count twice).
+COMPONENT_WEIGHTS = np.array([1.0, 1.0, 1.0, 2.0, 2.0, 2.0])
+#: Sign of each eigenstrain component in the mirror image (xz and yz flip).
+IMAGE_SIGNS = np.array([1.0, 1.0, 1.0, -1.0, -1.0, 1.0])
+
+_TRACTION_OF_DIRECTION = {"x": "shear_x", "y": "shear_y", "z": "pressure"}
+
+
+def fft_size(n: int) -> int:
+    """Smallest integer >= n whose prime factors are 2, 3, 5 and 7 (fast FFTW sizes)."""
+    m = max(1, n)
+    while True:
+        k = m
+        for p in (2, 3, 5, 7):
+            while k % p == 0:
+                k //= p
+        if k == 1:
+            return m
+        m += 1
+
+
+def _parity(indices: str) -> tuple[int, int]:
+    return indices.count("x") % 2, indices.count("y") % 2
+
+
+def _is_imaginary(indices: str) -> bool:
+    px, py = _parity(indices)
+    return bool((px + py) % 2)
+
+
+def _lattice_corner_sums(cx, cy, cz, names, chunk: int = 16) -> dict:
+    """Corner sums of the cuboid corner functions over a lattice of corner coordinates.
+
+    ``cx``, ``cy``, ``cz`` are increasing 1-D corner coordinates ``x - x'_corner``.  Entry
+    ``(i, j, k)`` of each result, shape ``(len(cx) - 1, len(cy) - 1, len(cz) - 1)``, is the
+    alternating sum over the corners ``(cx[i:i+2], cy[j:j+2], cz[k:k+2])``: the field of a
+    cuboid of one lattice cell at the offset of that cell's centre.  Computed in slabs of
+    ``chunk`` x-rows to bound the temporaries.
+    """
+    out = {name: np.empty((len(cx) - 1, len(cy) - 1, len(cz) - 1)) for name in names}
+    for i0 in range(0, len(cx) - 1, chunk):
+        i1 = min(len(cx) - 1, i0 + chunk)
+        f = corner_functions(
+            cx[i0 : i1 + 1, None, None], cy[None, :, None], cz[None, None, :], names
+        )
+        for name in names:
+            v = f[name]
+            out[name][i0:i1] = np.diff(np.diff(np.diff(v, axis=0), axis=1), axis=2)
+    return out
+
+
+class EigenstrainOperator:
+    """Residual stress and surface displacement of a cell-wise eigenstrain in a half-space.
+
+    Parameters
+    ----------
+    grid : VolumeGrid
+        Cells carrying the eigenstrain; stresses are returned at their centres, surface
+        displacements at the centres of the surface cells.
+    E : float
+        Young's modulus of the half-space (Pa).
+    nu : float
+        Poisson's ratio.
+    threads : int
+        FFTW threads.
+    planner : str
+        FFTW planner effort.
+
+    Notes
+    -----
+    Kernels are built on first use (:meth:`prepare` builds them explicitly):
+    21 complex 3-D spectra of ``(2nx, 2ny, L/2 + 1)`` for the stress, float per-layer 2-D
+    spectra for the surface traction (6) and displacement (12) of the direct route, and the
+    :class:`SubsurfaceStressOperator` kernels (pressure for the correction, all three
+    tractions for the reciprocal route).  :meth:`memory_bytes` states the total.
+    """
+
+    def __init__(
+        self,
+        grid: VolumeGrid,
+        E: float,
+        nu: float,
+        threads: int = 1,
+        planner: str = "FFTW_MEASURE",
+    ):
+        self.grid = grid
+        self.E = float(E)
+        self.nu = float(nu)
+        self.shear_modulus = self.E / (2.0 * (1.0 + self.nu))
+        self.threads = threads
+        self.planner = planner
+        nx, ny, nz = grid.shape
+        self.length_z = fft_size(3 * nz - 1)
+        self.surface_stress = SubsurfaceStressOperator(grid, nu, threads=threads, planner=planner)
+        self._volume: tuple | None = None
+        self._stress_spectra: dict | None = None
+        self._surface_kernels: dict | None = None
+
+    # -- setup -----------------------------------------------------------------------------
+
+    def prepare(self, stress: bool = True, displacement: bool = True, direct: bool = False):
+        """Build kernels and FFT plans now rather than on first use.
+
+        Parameters
+        ----------
+        stress : bool
+            Kernels of :meth:`stress` (3-D cuboid spectra, surface traction, pressure kernels).
+        displacement : bool
+            Kernels of the reciprocal surface-displacement route (all traction kernels).
+        direct : bool
+            Kernels of the direct surface-displacement route.
+        """
+        if stress:
+            self._stress_kernels()
+            self._surface_layer_kernels()
+            self.surface_stress.kernel_spectra("pressure")
+        if displacement:
+            for traction in ("pressure", "shear_x", "shear_y"):
+                self.surface_stress.kernel_spectra(traction)
+        if direct:
+            self._surface_layer_kernels(displacement=True)
+
+    def _volume_plans(self):
+        if self._volume is None:
+            nx, ny, _ = self.grid.shape
+            shape = (2 * nx, 2 * ny, self.length_z)
+            spec_shape = (2 * nx, 2 * ny, self.length_z // 2 + 1)
+            real_in = pyfftw.empty_aligned(shape, dtype="float64")
+            spec = pyfftw.empty_aligned(spec_shape, dtype="complex128")
+            real_out = pyfftw.empty_aligned(shape, dtype="float64")
+            flags = (self.planner,)
+            forward = pyfftw.FFTW(real_in, spec, axes=(0, 1, 2), flags=flags, threads=self.threads)
+            backward = pyfftw.FFTW(
+                spec,
+                real_out,
+                axes=(0, 1, 2),
+                direction="FFTW_BACKWARD",
+                flags=(*flags, "FFTW_DESTROY_INPUT"),
+                threads=self.threads,
+            )
+            real_in[...] = 0.0
+            self._volume = (forward, backward)
+        return self._volume
+
+    def _stress_kernels(self) -> dict:
+        """Spectra ``S[(ij, mn)] = w_ij D_ij,mn`` (symmetric), ij <= mn, normalised."""
+        if self._stress_spectra is not None:
+            return self._stress_spectra
+        g = self.grid.surface
+        nx, ny, nz = self.grid.shape
+        length = self.length_z
+        forward, _ = self._volume_plans()
+        coef, inside = stress_coefficients(self.shear_modulus, self.nu)
+        weighted = COMPONENT_WEIGHTS[:, None, None] * coef
+        scale = 1.0 / (4 * nx * ny * length)
+        spectra = {}
+        for ij in range(6):
+            for mn in range(ij, 6):
+                spectra[ij, mn] = np.zeros(forward.output_array.shape, dtype=complex)
+                # the eigenstress inside the source cell: a delta at offset 0 (flat spectrum)
+                spectra[ij, mn] -= COMPONENT_WEIGHTS[ij] * inside[ij, mn] * scale
+        cx = (np.arange(-nx, nx) + 0.5) * g.dx
+        cy = (np.arange(-ny, ny) + 0.5) * g.dy
+        first = 2 * nz - length  # most negative z offset (in layers)
+        cz = (np.arange(first - 1, 2 * nz) + 0.5) * self.grid.dz
+        groups = _base_groups(STRESS_BASE)
+        for group in groups:
+            sums = _lattice_corner_sums(cx, cy, cz, group)
+            for name in group:
+                b = STRESS_BASE.index(name)
+                kernel = wrap_layout(wrap_layout(sums.pop(name), 0), 1)
+                forward.input_array[...] = np.roll(kernel, first, axis=2)
+                forward.execute()
+                spectrum = forward.output_array
+                for ij in range(6):
+                    for mn in range(ij, 6):
+                        c = weighted[ij, mn, b]
+                        if c != 0.0:
+                            spectra[ij, mn] += (c * scale) * spectrum
+        forward.input_array[...] = 0.0
+        self._stress_spectra = spectra
+        return spectra
+
+    def _surface_layer_kernels(self, displacement: bool = False) -> dict:
+        """Per-layer 2-D spectra of the surface fields of source + image (normalised).
+
+        ``"zz"``: ``S_zz = 2 sigma_zz^source(z = 0)`` per unit e_mn, shape
+        ``(6, 2nx, ny + 1, nz)`` (float, parity-typed), always built.  With ``displacement``
+        also ``"x"``, ``"y"``: ``2 u_x``, ``2 u_y`` of the source at z = 0, and ``"bx"``,
+        ``"by"``, ``"bz"``: the Boussinesq surface displacement per unit pressure on a cell
+        (complex ``(2nx, ny + 1)``) - the kernels of the direct route.
+        """
+        kernels = self._surface_kernels if self._surface_kernels is not None else {}
+        if "zz" in kernels and (not displacement or "x" in kernels):
+            return kernels
+        g = self.grid.surface
+        nx, ny, nz = self.grid.shape
+        gmod, nu = self.shear_modulus, self.nu
+        cx = (np.arange(-nx, nx) + 0.5) * g.dx
+        cy = (np.arange(-ny, ny) + 0.5) * g.dy
+        cz = -np.arange(nz, -1, -1) * self.grid.dz  # -nz dz .. 0, increasing
+        coef, inside = stress_coefficients(gmod, nu)
+        ucoef = displacement_coefficients(gmod, nu)
+        zz = STRESS_COMPONENTS.index("zz")
+        names = []
+        if "zz" not in kernels:
+            names += [n for n in STRESS_BASE if np.any(coef[zz, :, STRESS_BASE.index(n)] != 0.0)]
+        if displacement:
+            names += list(DISPLACEMENT_BASE)
+        sums = _lattice_corner_sums(cx, cy, cz, names)
+        # z offsets ascending: -(nz - 1/2) dz .. -dz/2, i.e. layers nz-1 .. 0: flip to layer order
+        sums = {k: v[:, :, ::-1] for k, v in sums.items()}
+        forward, _ = self.surface_stress.batched_transforms(nz)
+        scale = 1.0 / (4 * nx * ny)
+
+        def spectrum_of(field: np.ndarray, indices: str) -> np.ndarray:
+            forward.input_array[...] = wrap_layout(wrap_layout(field, 0), 1)
+            forward.execute()
+            out = forward.output_array
+            part = out.imag if _is_imaginary(indices) else out.real
+            return part * scale
+
+        if "zz" not in kernels:
+            kernels["zz"] = np.empty((6, 2 * nx, ny + 1, nz))
+            for mn, comp in enumerate(STRESS_COMPONENTS):
+                field = 2.0 * sum(
+                    coef[zz, mn, STRESS_BASE.index(n)] * sums[n]
+                    for n in STRESS_BASE
+                    if n in sums and coef[zz, mn, STRESS_BASE.index(n)] != 0.0
+                )
+                # the field point z = 0+ lies inside the first layer's source cell
+                field[nx - 1, ny - 1, 0] -= 2.0 * inside[zz, mn]
+                kernels["zz"][mn] = spectrum_of(field, "zz" + comp)
+        if displacement:
+            for i, axis in enumerate("xy"):
+                kernels[axis] = np.empty((6, 2 * nx, ny + 1, nz))
+                for mn, comp in enumerate(STRESS_COMPONENTS):
+                    field = 2.0 * sum(
+                        ucoef[i, mn, b] * sums[n]
+                        for b, n in enumerate(DISPLACEMENT_BASE)
+                        if ucoef[i, mn, b] != 0.0
+                    )
+                    kernels[axis][mn] = spectrum_of(field, axis + comp)
+            # Boussinesq surface displacement of a unit pressure on one cell (single body)
+            ox, oy = g.offsets()
+            b_z = (1.0 - nu * nu) / (math.pi * self.E) * cell_integral("inv_r", ox, oy, g.dx, g.dy)
+            b_t = -(1.0 + nu) * (1.0 - 2.0 * nu) / (2.0 * math.pi * self.E)
+            b_x = b_t * cell_integral("x_r2", ox, oy, g.dx, g.dy)
+            b_y = b_t * cell_integral("y_r2", ox, oy, g.dx, g.dy)
+            for key, field in (("bz", b_z), ("bx", b_x), ("by", b_y)):
+                field = field.copy()
+                field[nx, :] = 0.0
+                field[:, ny] = 0.0
+                kernels[key] = self.surface_stress.surface_spectrum(field) * scale
+        forward.input_array[...] = 0.0
+        self._surface_kernels = kernels
+        return kernels
+
+    # -- application -----------------------------------------------------------------------
+
+    def _check(self, eigenstrain: np.ndarray) -> np.ndarray:
+        eigenstrain = np.asarray(eigenstrain, dtype=float)
+        if eigenstrain.shape != (6,) + self.grid.shape:
+            raise ValueError(
+                f"eigenstrain must have shape (6, nx, ny, nz) = {(6,) + self.grid.shape}, "
+                f"got {eigenstrain.shape}"
+            )
+        return eigenstrain
+
+    def layer_spectra(self, eigenstrain: np.ndarray) -> np.ndarray:
+        """Per-layer 2-D transforms of the zero-padded eigenstrain: ``(6, 2nx, ny + 1, nz)``."""
+        eigenstrain = self._check(eigenstrain)
+        nx, ny, nz = self.grid.shape
+        forward, _ = self.surface_stress.batched_transforms(nz)
+        out = np.empty((6,) + forward.output_array.shape, dtype=complex)
+        buffer = forward.input_array
+        buffer[...] = 0.0
+        for mn in range(6):
+            buffer[:nx, :ny, :] = eigenstrain[mn]
+            forward.execute()
+            out[mn] = forward.output_array
+        buffer[...] = 0.0
+        return out
+
+    def _correction_pressure(self, layers: np.ndarray) -> np.ndarray:
+        """Pressure ``S_zz(x, y, 0)`` (Pa) that the Boussinesq correction must carry."""
+        kernels = self._surface_layer_kernels()["zz"]
+        total = None
+        for mn, comp in enumerate(STRESS_COMPONENTS):
+            factor = 1j if _is_imaginary("zz" + comp) else 1.0
+            term = (layers[mn] * kernels[mn]).sum(axis=-1) * factor
+            total = term if total is None else total + term
+        return self._inverse_surface(total)
+
+    def _inverse_surface(self, spectrum: np.ndarray) -> np.ndarray:
+        """Backward 2-D transform of a normalised spectrum, cut to ``(nx, ny)``."""
+        return self.surface_stress.surface_inverse(spectrum)
+
+    def stress(self, eigenstrain: np.ndarray) -> np.ndarray:
+        """Residual stress at the cell centres.
+
+        Parameters
+        ----------
+        eigenstrain : ndarray
+            ``(6, nx, ny, nz)`` eigenstrain (plastic strain) tensor components, order
+            (xx, yy, zz, yz, xz, xy).
+
+        Returns
+        -------
+        ndarray
+            ``(6, nx, ny, nz)`` residual stress (Pa), same component order.
+        """
+        eigenstrain = self._check(eigenstrain)
+        return self._stress(eigenstrain, self.layer_spectra(eigenstrain))
+
+    def surface_displacement(
+        self, eigenstrain: np.ndarray, method: str = "reciprocal"
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Residual surface displacements ``(u_x, u_y, u_z)`` (m) at the surface cell centres.
+
+        Parameters
+        ----------
+        eigenstrain : ndarray
+            ``(6, nx, ny, nz)`` eigenstrain tensor components.
+        method : {"reciprocal", "direct"}
+            ``"reciprocal"`` (default): Betti's theorem with the surface-traction stress kernels
+            (surface-cell averages, midpoint rule in the volume; exact lateral sums, nothing
+            truncated).  ``"direct"``: source + image at z = 0 plus the Boussinesq displacement
+            of the correction pressure, which is only known on the grid: the pressure outside
+            the grid is missing, an error that decays with the window size (a cross-check).
+
+        Returns
+        -------
+        tuple of ndarray
+            Three ``(nx, ny)`` arrays, body-2 frame (z into the body).
+        """
+        eigenstrain = self._check(eigenstrain)
+        layers = self.layer_spectra(eigenstrain)
+        if method == "reciprocal":
+            return self._reciprocal_displacement(layers)
+        if method != "direct":
+            raise ValueError(f"unknown method {method!r}; use 'reciprocal' or 'direct'")
+        return self._direct_displacement(layers, self._correction_pressure(layers))
+
+    def evaluate(
+        self, eigenstrain: np.ndarray
+    ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """Residual stress and surface displacement (reciprocal route), sharing transforms.
+
+        Returns
+        -------
+        stress : ndarray
+            ``(6, nx, ny, nz)`` (Pa).
+        displacement : tuple of ndarray
+            ``(u_x, u_y, u_z)``, each ``(nx, ny)`` (m).
+        """
+        eigenstrain = self._check(eigenstrain)
+        layers = self.layer_spectra(eigenstrain)
+        return self._stress(eigenstrain, layers), self._reciprocal_displacement(layers)
+
+    def _stress(self, eigenstrain: np.ndarray, layers: np.ndarray) -> np.ndarray:
+        nx, ny, nz = self.grid.shape
+        forward, backward = self._volume_plans()
+        spectra = self._stress_kernels()
+        # source and image in one padded array: image layers 0..nz-1 (flipped), source nz..2nz-1
+        inputs = []
+        buffer = forward.input_array
+        for mn in range(6):
+            buffer[:nx, :ny, nz : 2 * nz] = eigenstrain[mn]
+            buffer[:nx, :ny, :nz] = IMAGE_SIGNS[mn] * eigenstrain[mn, :, :, ::-1]
+            forward.execute()
+            inputs.append(forward.output_array.copy())
+        acc = backward.input_array
+        tmp = np.empty(acc.shape, dtype=complex)
+        out = np.empty((6, nx, ny, nz))
+        for ij in range(6):
+            for mn in range(6):
+                key = (ij, mn) if ij <= mn else (mn, ij)
+                if mn == 0:
+                    np.multiply(spectra[key], inputs[mn], out=acc)
+                else:
+                    np.multiply(spectra[key], inputs[mn], out=tmp)
+                    acc += tmp
+            backward.execute()
+            out[ij] = backward.output_array[:nx, :ny, nz : 2 * nz]
+            out[ij] /= COMPONENT_WEIGHTS[ij]
+        del inputs, tmp
+        pressure = self._correction_pressure(layers)
+        p_spec = self.surface_stress.surface_spectrum(pressure)
+        out += self.surface_stress.stress_from_spectra({"pressure": p_spec})
+        return out
+
+    def _direct_displacement(self, layers: np.ndarray, pressure: np.ndarray) -> tuple:
+        kernels = self._surface_layer_kernels(displacement=True)
+        p_spec = self.surface_stress.surface_spectrum(pressure)
+        result = []
+        for axis in "xyz":
+            total = kernels["b" + axis] * p_spec
+            if axis != "z":
+                for mn, comp in enumerate(STRESS_COMPONENTS):
+                    factor = 1j if _is_imaginary(axis + comp) else 1.0
+                    total = total + factor * (layers[mn] * kernels[axis][mn]).sum(axis=-1)
+            result.append(self._inverse_surface(total))
+        return tuple(result)
+
+    def _reciprocal_displacement(self, layers: np.ndarray) -> tuple:
+        dz = self.grid.dz
+        result = []
+        for axis in "xyz":
+            traction = _TRACTION_OF_DIRECTION[axis]
+            kernels = self.surface_stress.kernel_spectra(traction)
+            total = None
+            for mn, comp in enumerate(STRESS_COMPONENTS):
+                px, py = kernel_parity(comp, traction)
+                # correlation: conjugate kernel spectrum (i K -> -i K)
+                factor = -1j if (px + py) % 2 else 1.0
+                term = (layers[mn] * kernels[mn]).sum(axis=-1) * (
+                    factor * COMPONENT_WEIGHTS[mn] * dz
+                )
+                total = term if total is None else total + term
+            result.append(self._inverse_surface(total))
+        return tuple(result)
+
+    # -- bookkeeping -----------------------------------------------------------------------
+
+    @staticmethod
+    def memory_bytes(grid: VolumeGrid, displacement: bool = True) -> int:
+        """Approximate bytes held by an operator in use (kernels, FFT buffers, work arrays).
+
+        Stress: 21 complex 3-D spectra, 6 transformed inputs and 3 buffers of the padded
+        ``(2nx, 2ny, L)`` grid, the surface-traction and pressure kernels, layer spectra and the
+        output; ``displacement`` adds the two shear-traction kernel sets.
+        """
+        nx, ny, nz = grid.shape
+        length = fft_size(3 * nz - 1)
+        spec3 = 16 * 4 * nx * ny * (length // 2 + 1)
+        real3 = 8 * 4 * nx * ny * length
+        layer = 8 * 2 * nx * (ny + 1) * nz  # one float per-layer spectrum
+        volume = (21 + 6 + 1) * spec3 + 2 * real3
+        surface = 6 * layer + 2 * 6 * layer  # traction kernels, complex layer spectra
+        stress_cache = SubsurfaceStressOperator.memory_bytes(grid, 3 if displacement else 1)
+        return volume + surface + stress_cache + 8 * 6 * nx * ny * nz
+
+
+def _base_groups(names) -> list[list[str]]:
+    """Group base functions that share a transcendental (one asinh or atan) to evaluate once."""
+    groups: dict[str, list[str]] = {}
+    for name in names:
+        letters = name[1:]
+        counts = {a: letters.count(a) for a in "xyz"}
+        if name[0] == "d" and len(letters) == 2:
+            key = (
+                ("t" + letters[0])
+                if letters[0] == letters[1]
+                else "a" + (set("xyz") - set(letters)).pop()
+            )
+        elif sorted(counts.values()) == [0, 1, 3]:
+            key = "a" + next(a for a in "xyz" if counts[a] == 0)
+        elif max(counts.values()) == 4:
+            key = "t" + next(a for a in "xyz" if counts[a] == 4)
+        else:
+            key = "rational"
+        groups.setdefault(key, []).append(name)
+    return list(groups.values())

@@ -1,0 +1,272 @@
+"""Assembly: one CF netCDF dataset for a campaign, built from its per-case files.
+
+Dimensions are the campaign axes (in file order), ``step`` (load increments; shorter histories
+are padded with NaN) and ``r_over_a`` (radial profiles).  For an axis from ``[sweep]`` the
+dimension coordinate holds the swept values; a ``[zip]`` dimension carries one coordinate per
+zipped key (the one with the dimension's name, if any, indexes it).
+
+Variables (all with ``units`` and ``long_name``):
+
+- ``status`` (axes): int8 flags 0 pending, 1 converged, 2 not_converged, 3 failed;
+  ``case_id`` and ``error`` (axes): strings;
+- per-case scalars (axes), from the last load step unless stated: :data:`SCALARS`;
+- histories ``<name>_history`` (axes, step) for every history the solver returned;
+- ``pressure_profile``, ``shear_x_profile`` (axes, r_over_a): tractions along y = 0, x >= 0,
+  at ``x = r_over_a * a_x`` (``a_x`` the Hertz semi-axis along x, the Hertz radius for a
+  circular contact), interpolated linearly between cell centres (cell values up to the domain
+  edge, NaN beyond it), so that cases on different meshes share one coordinate.
+
+The full 2-D fields stay in the per-case files.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+import solver
+from solver.result import HISTORY_META
+
+from . import storage
+from .campaign import Axis, Campaign
+
+#: Status flags of the assembled dataset.
+STATUS_FLAGS = {"pending": 0, "converged": 1, "not_converged": 2, "failed": 3}
+
+#: Per-case scalars: name -> (units, long_name).
+SCALARS = {
+    "max_pressure": ("Pa", "maximum contact pressure"),
+    "normal_force": ("N", "normal force"),
+    "approach": ("m", "rigid-body approach"),
+    "contact_radius": ("m", "equivalent contact radius sqrt(contact_area / pi)"),
+    "contact_area": ("m2", "contact area"),
+    "stick_radius": ("m", "equivalent stick-zone radius sqrt(stick_area / pi)"),
+    "tangential_force_x": ("N", "tangential force on body 2 along x"),
+    "tangential_shift_x": ("m", "rigid tangential shift along x"),
+    "max_residual": ("1", "largest final relative residual over the steps"),
+    "steps": ("1", "number of load steps"),
+    "normal_iterations": ("1", "normal-solver CG iterations, summed over the steps"),
+    "slip_iterations": ("1", "tangential-solver CG iterations, summed over the steps"),
+    "coupling_iterations": ("1", "slip-stick loop iterations, summed over the steps"),
+    "wall_time": ("s", "solve wall time"),
+    "case_time": ("s", "wall time of the case on its rank before writing (set-up, solve, checks)"),
+    "peak_rss": ("byte", "peak resident memory of the computing process after the case"),
+    "rank": ("1", "MPI rank that computed the case (-1: none)"),
+    "hertz_radius": ("m", "Hertz contact radius sqrt(a b) at the largest normal force"),
+    "hertz_semi_axis_x": ("m", "Hertz semi-axis along x at the largest normal force"),
+    "hertz_pressure": ("Pa", "Hertz peak pressure at the largest normal force"),
+    "hertz_normal_force": ("N", "largest normal force of the load path"),
+    "hertz_approach": ("m", "Hertz approach at the largest normal force"),
+    "composite_modulus": ("Pa", "composite modulus E*"),
+    "dundurs_beta": ("1", "Dundurs' second constant beta"),
+}
+_LAST = ("max_pressure", "normal_force", "approach", "tangential_force_x", "tangential_shift_x")
+_SUMS = ("normal_iterations", "slip_iterations", "coupling_iterations")
+_ATTRS = (
+    "hertz_radius",
+    "hertz_semi_axis_x",
+    "hertz_pressure",
+    "hertz_normal_force",
+    "hertz_approach",
+    "composite_modulus",
+    "dundurs_beta",
+    "wall_time",
+    "peak_rss",
+)
+
+
+def _case_steps(spec: dict) -> int:
+    return int(sum(stage.get("steps", 1) for stage in spec["load"]["path"]))
+
+
+def profile(x: np.ndarray, line: np.ndarray, radius: float, r_over_a: np.ndarray) -> np.ndarray:
+    """A line of cell values along x sampled at ``x = r_over_a * radius``.
+
+    Linear between cell centres, the edge cells' values out to the domain edge (half a cell
+    beyond the last centre), NaN beyond.
+    """
+    dx = x[1] - x[0] if len(x) > 1 else 1.0
+    xp = np.concatenate([[x[0] - 0.5 * dx], x, [x[-1] + 0.5 * dx]])
+    fp = np.concatenate([[line[0]], line, [line[-1]]])
+    target = r_over_a * radius
+    target = np.where((target > xp[-1]) & (target <= xp[-1] * (1 + 1e-9)), xp[-1], target)
+    return np.interp(target, xp, fp, left=np.nan, right=np.nan)
+
+
+def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
+    import xarray as xr
+
+    with xr.open_dataset(path, engine=storage.ENGINE) as dataset:
+        attrs = dict(dataset.attrs)
+        histories = {
+            name: dataset[name].values.astype(float)
+            for name in HISTORY_META
+            if name in dataset.variables
+        }
+        x = dataset["x"].values
+        lines = {name: dataset[f"{name}_y0"].values for name in ("pressure", "shear_x")}
+    radius = float(attrs["hertz_semi_axis_x"])
+    scalars = {name: float(attrs[name]) for name in _ATTRS if name in attrs}
+    for name in _LAST:
+        if name in histories:
+            scalars[name] = histories[name][-1]
+    for name in _SUMS:
+        if name in histories:
+            scalars[name] = float(np.sum(histories[name]))
+    if "contact_area" in histories:
+        scalars["contact_area"] = histories["contact_area"][-1]
+        scalars["contact_radius"] = math.sqrt(histories["contact_area"][-1] / math.pi)
+    if "stick_area" in histories:
+        scalars["stick_radius"] = math.sqrt(histories["stick_area"][-1] / math.pi)
+    if "residual" in histories:
+        scalars["max_residual"] = float(np.max(histories["residual"]))
+    scalars["steps"] = float(len(histories.get("normal_force", [])))
+    scalars["case_time"] = float(attrs.get("time_before_write", math.nan))
+    scalars["rank"] = float(attrs.get("rank", -1))
+    return {
+        "status": attrs.get("status", "converged"),
+        "scalars": scalars,
+        "histories": histories,
+        "profiles": {name: profile(x, line, radius, r_over_a) for name, line in lines.items()},
+    }
+
+
+def _coordinates(axis: Axis) -> dict:
+    coords = {}
+    for coordinate in axis.coordinates:
+        attrs = {"long_name": coordinate.long_name, "campaign_key": coordinate.key}
+        if coordinate.units:
+            attrs["units"] = coordinate.units
+        coords[coordinate.name] = (axis.name, np.asarray(coordinate.array_values()), attrs)
+    return coords
+
+
+def assemble(out: str | Path, campaign: Campaign | None = None):
+    """Build the campaign dataset from the files in ``out``.
+
+    Parameters
+    ----------
+    out : str or Path
+        Campaign output folder (with ``campaign.json`` and ``cases/``).
+    campaign : Campaign, optional
+        Default: read from ``out/campaign.json``.
+
+    Returns
+    -------
+    xarray.Dataset
+        See the module docstring for the layout.
+    """
+    import xarray as xr
+
+    out = Path(out)
+    campaign = campaign or storage.read_campaign(out)
+    settings = campaign.settings
+    dims, shape = campaign.dims, campaign.shape
+    r_over_a = np.linspace(0.0, settings.profile_extent, settings.profile_points)
+    steps = max(_case_steps(case.spec) for case in campaign.cases)
+    finished, failed = storage.finished_ids(out), storage.failed_ids(out)
+
+    status = np.zeros(shape, dtype=np.int8)
+    case_ids = np.empty(shape, dtype=object)
+    errors = np.full(shape, "", dtype=object)
+    scalars = {name: np.full(shape, np.nan) for name in SCALARS}
+    histories: dict[str, np.ndarray] = {}
+    profiles = {name: np.full((*shape, len(r_over_a)), np.nan) for name in ("pressure", "shear_x")}
+    for case in campaign.cases:
+        index = tuple(case.index)
+        case_ids[index] = case.case_id
+        if case.case_id in finished:
+            data = _read_case(storage.case_path(out, case.case_id), r_over_a)
+            status[index] = STATUS_FLAGS.get(data["status"], STATUS_FLAGS["converged"])
+            for name, value in data["scalars"].items():
+                scalars[name][index] = value
+            for name, values in data["histories"].items():
+                if name not in histories:
+                    histories[name] = np.full((*shape, steps), np.nan)
+                histories[name][index][: len(values)] = values
+            for name, values in data["profiles"].items():
+                profiles[name][index] = values
+        elif case.case_id in failed:
+            status[index] = STATUS_FLAGS["failed"]
+            errors[index] = storage.read_failure(out, case.case_id).get("error", "")
+    ranks = scalars.pop("rank")
+    rank = np.where(np.isnan(ranks), -1, ranks).astype(np.int32)
+
+    coords: dict = {
+        "step": ("step", np.arange(1, steps + 1), {"units": "1", "long_name": "load step"}),
+        "r_over_a": (
+            "r_over_a",
+            r_over_a,
+            {
+                "units": "1",
+                "long_name": "distance from the centre along +x (y = 0) over the Hertz "
+                "semi-axis a_x",
+            },
+        ),
+    }
+    for axis in campaign.axes:
+        coords.update(_coordinates(axis))
+    data_vars: dict = {
+        "status": (
+            dims,
+            status,
+            {
+                "long_name": "case status",
+                "flag_values": np.array(list(STATUS_FLAGS.values()), dtype=np.int8),
+                "flag_meanings": " ".join(STATUS_FLAGS),
+            },
+        ),
+        "case_id": (dims, case_ids.astype(str), {"long_name": "case id (file cases/<id>.nc)"}),
+        "error": (dims, errors.astype(str), {"long_name": "error of a failed case"}),
+        "rank": (dims, rank, {"units": "1", "long_name": SCALARS["rank"][1]}),
+    }
+    for name, values in scalars.items():
+        units, long_name = SCALARS[name]
+        data_vars[name] = (dims, values, {"units": units, "long_name": long_name})
+    for name in HISTORY_META:
+        if name in histories:
+            units, long_name = HISTORY_META[name]
+            data_vars[f"{name}_history"] = (
+                (*dims, "step"),
+                histories[name],
+                {"units": units, "long_name": f"{long_name} per load step"},
+            )
+    for name, long_name in (("pressure", "contact pressure"), ("shear_x", "shear traction x")):
+        data_vars[f"{name}_profile"] = (
+            (*dims, "r_over_a"),
+            profiles[name],
+            {"units": "Pa", "long_name": f"{long_name} along y = 0, x >= 0"},
+        )
+    counts = {flag: int(np.sum(status == value)) for flag, value in STATUS_FLAGS.items()}
+    attrs = {
+        "Conventions": "CF-1.8",
+        "title": f"slipstick campaign {campaign.name}",
+        "summary": settings.description or f"parametric study over {', '.join(dims)}",
+        "source": f"slipstick {solver.__version__}",
+        "slipstick_version": solver.__version__,
+        "git_hash": storage.git_hash(),
+        "history": (
+            f"{time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())}: assembled from {len(finished)}"
+            f" case files ({storage.command_line() or 'study.assemble'})"
+        ),
+        "campaign": campaign.name,
+        "campaign_source": campaign.source,
+        "campaign_axes": json.dumps(campaign.to_dict()["axes"]),
+        "campaign_base": json.dumps(campaign.base),
+        "cases_total": len(campaign.cases),
+        **{f"cases_{flag}": count for flag, count in counts.items()},
+    }
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def assemble_to_file(out: str | Path, campaign: Campaign | None = None) -> Path:
+    """Assemble and write ``OUT/<campaign name>.nc`` atomically; returns its path."""
+    campaign = campaign or storage.read_campaign(out)
+    dataset = assemble(out, campaign)
+    path = storage.dataset_path(out, campaign.name)
+    storage.write_netcdf(dataset, path)
+    return path

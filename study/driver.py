@@ -1,0 +1,618 @@
+"""Campaign driver: dynamic distribution of cases over MPI ranks, failure isolation, restarts.
+
+Rank 0 expands and validates the campaign (:func:`broadcast_campaign`) and broadcasts it, or
+the error that stops every rank.  :func:`run_campaign` then hands out the unfinished cases
+costliest first (:meth:`solver.Case.cost_estimate`) with a root/worker loop over point-to-point
+messages: a worker sends a request carrying the report of its previous case and receives the
+next case number, or None to stop.  On rank 0 a dispatcher thread answers the requests (polling
+with short sleeps, so it costs no core) while the main thread computes cases too, so the root is
+not idle on small runs; the dispatcher's MPI calls are the only ones while it runs
+(``MPI_THREAD_SERIALIZED`` suffices).
+
+Each case is solved, checked for NaN/inf, and written by the rank that computed it
+(:mod:`study.storage`).  An exception or a non-finite result makes the case *failed*: its
+traceback, rank and host go to ``cases/<id>.failed.json`` and the campaign goes on;
+non-convergence is a result (status ``not_converged``).  When the first k cases of a run all
+fail (k = ``max_initial_failures``) no new case starts.  With a time limit (or Slurm's
+``SLURM_JOB_END_TIME``) a case is only started when it is predicted to finish in time; the
+others stay pending for the next run.
+
+The communicator is an argument (None: serial); only the command line names COMM_WORLD.
+"""
+
+from __future__ import annotations
+
+import copy
+import logging
+import math
+import os
+import socket
+import threading
+import time
+import traceback
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import solver
+
+from . import storage
+from .campaign import Campaign, CampaignCase, CampaignError
+from .progress import LOGGER_NAME, Progress, format_duration
+
+_REQUEST, _TASK = 71, 72
+
+#: Exit status of a run that stopped at its time limit with cases left (re-run to resume).
+EXIT_INCOMPLETE = 3
+
+
+class NonFiniteResult(RuntimeError):
+    """A solve returned NaN or infinite values."""
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """How to run a campaign.
+
+    Attributes
+    ----------
+    fft_threads : int, optional
+        FFTW threads per rank; overrides ``[campaign] fft_threads``.  Applied at run time only:
+        the case ids (file names) keep the campaign's specification, so a re-run with another
+        thread count resumes.
+    max_initial_failures : int, optional
+        Stop starting cases when the first k cases of this run all failed (0: never); default
+        ``[campaign] max_initial_failures``.
+    time_limit : float, optional
+        Seconds this run may take; no case is started that is predicted to end later.
+    time_reserve : float
+        Seconds kept free before the time limit (and before ``SLURM_JOB_END_TIME``) for
+        assembly and shutdown.
+    use_slurm_end_time : bool
+        Also respect ``SLURM_JOB_END_TIME`` (epoch seconds) when it is set.
+    root_computes : bool
+        Rank 0 computes cases too (in its main thread, beside the dispatcher thread).
+    poll_interval : float
+        Longest sleep (s) of the dispatcher between checks for requests.
+    solve : callable, optional
+        The solve function (default :func:`solver.solve`); tests inject failures with it.
+    """
+
+    fft_threads: int | None = None
+    max_initial_failures: int | None = None
+    time_limit: float | None = None
+    time_reserve: float = 10.0
+    use_slurm_end_time: bool = True
+    root_computes: bool = True
+    poll_interval: float = 0.005
+    solve: Callable | None = None
+
+
+@dataclass
+class RunSummary:
+    """Outcome of :func:`run_campaign` (the same on every rank).
+
+    Attributes
+    ----------
+    campaign, out : str
+        Campaign name and output folder.
+    total : int
+        Cases in the campaign.
+    skipped : int
+        Cases finished by earlier runs (not recomputed).
+    converged, not_converged, failed : int
+        Cases of this run by outcome.
+    pending : int
+        Cases with neither a result nor a failure record at the end.
+    failed_total : int
+        Cases whose latest attempt failed (this run or an earlier one), at the end.
+    stopped : str
+        Why the run stopped starting cases early ("" when it ran out of cases).
+    elapsed : float
+        Wall time of the run (s).
+    per_rank : dict
+        Cases computed by each rank.
+    overhead : float
+        Mean time (s) per case spent outside the solve on the computing rank (case set-up,
+        checks, dataset building, compressed atomic write).
+    """
+
+    campaign: str
+    out: str
+    total: int
+    skipped: int = 0
+    converged: int = 0
+    not_converged: int = 0
+    failed: int = 0
+    pending: int = 0
+    failed_total: int = 0
+    stopped: str = ""
+    elapsed: float = 0.0
+    per_rank: dict = field(default_factory=dict)
+    overhead: float = 0.0
+
+    @property
+    def exit_status(self) -> int:
+        """0 all cases finished; 1 failures or an early stop; 3 cases left by the time limit."""
+        if self.failed_total or (self.stopped and not self.stopped.startswith("time")):
+            return 1
+        if self.pending:
+            return EXIT_INCOMPLETE
+        return 0
+
+    def describe(self) -> str:
+        """One-paragraph summary for the log."""
+        ranks = ", ".join(f"rank {r}: {n}" for r, n in sorted(self.per_rank.items()))
+        text = (
+            f"campaign {self.campaign}: {self.total} cases; this run {self.converged} converged, "
+            f"{self.not_converged} not converged, {self.failed} failed; {self.skipped} finished "
+            f"earlier; {self.pending} pending, {self.failed_total} failed in all; elapsed "
+            f"{format_duration(self.elapsed)} ({ranks or 'no cases computed'}); overhead "
+            f"{self.overhead:.3f} s per case; output {self.out}"
+        )
+        if self.stopped:
+            text += f"\nstopped early: {self.stopped}"
+        return text
+
+
+# -- validation on rank 0, then broadcast --------------------------------------------------------
+def broadcast_campaign(load: Callable[[], Campaign], comm=None) -> Campaign:
+    """Load and validate a campaign on rank 0 and broadcast it (or its error) to every rank.
+
+    Parameters
+    ----------
+    load : callable
+        Returns the campaign, raising :class:`CampaignError` for a bad file; called on rank 0.
+    comm : mpi4py communicator, optional
+        None for a serial run.
+
+    Returns
+    -------
+    Campaign
+        On every rank.
+
+    Raises
+    ------
+    CampaignError
+        On every rank, with rank 0's message, when the campaign is bad.
+    """
+    if comm is None or comm.Get_size() == 1:
+        return load()
+    payload: Any = None
+    original: BaseException | None = None
+    if comm.Get_rank() == 0:
+        try:
+            payload = ("ok", load())
+        except CampaignError as error:
+            payload = ("error", str(error))
+        except Exception as error:  # a bug must not leave the other ranks waiting
+            original = error
+            payload = ("error", f"{type(error).__name__}: {error}")
+    payload = comm.bcast(payload, root=0)
+    if original is not None:
+        raise original
+    if payload[0] == "error":
+        raise CampaignError(payload[1])
+    return payload[1]
+
+
+# -- one case ------------------------------------------------------------------------------------
+def _non_finite(result: solver.Result) -> list[str]:
+    arrays = {
+        "pressure": result.pressure,
+        "shear_x": result.shear_x,
+        "shear_y": result.shear_y,
+        **{f"history {name}": values for name, values in result.history.items()},
+    }
+    return [name for name, values in arrays.items() if not np.all(np.isfinite(values))]
+
+
+def run_case(
+    campaign: Campaign,
+    case: CampaignCase,
+    out: str | Path,
+    *,
+    rank: int = 0,
+    size: int = 1,
+    fft_threads: int | None = None,
+    solve: Callable | None = None,
+) -> dict[str, Any]:
+    """Solve one case and write its file (or its failure record); never raises ``Exception``.
+
+    Parameters
+    ----------
+    campaign : Campaign
+        The campaign (settings and provenance).
+    case : CampaignCase
+        The case.
+    out : str or Path
+        Output folder.
+    rank, size : int
+        This rank and the communicator size (recorded).
+    fft_threads : int, optional
+        FFTW threads for this solve (not part of the case id).
+    solve : callable, optional
+        Solve function, default :func:`solver.solve`.
+
+    Returns
+    -------
+    dict
+        Report: number, case_id, label, status (converged, not_converged, failed), rank, host,
+        case_time and solve_time (s), error (one line, when failed).
+    """
+    start = time.perf_counter()
+    started = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+    host = socket.gethostname()
+    report: dict[str, Any] = {
+        "number": case.number,
+        "case_id": case.case_id,
+        "label": case.label,
+        "rank": rank,
+        "host": host,
+        "solve_time": 0.0,
+    }
+    logger = logging.getLogger(LOGGER_NAME)
+    logger.debug("case %s [%s] starts", case.case_id, case.label)
+    try:
+        spec = case.spec
+        threads = fft_threads or spec["solver"].get("fft_threads", 1)
+        if threads != spec["solver"].get("fft_threads", 1):
+            spec = copy.deepcopy(spec)
+            spec["solver"]["fft_threads"] = threads
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = (solve or solver.solve)(solver.Case.from_dict(spec))
+        bad = _non_finite(result)
+        if bad:
+            raise NonFiniteResult(f"NaN or inf in the result: {', '.join(bad)}")
+        report["solve_time"] = float(result.wall_time)
+        history = result.history
+        attrs = storage.provenance(
+            campaign,
+            case,
+            rank=rank,
+            size=size,
+            started=started,
+            finished=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+            solve_time=float(result.wall_time),
+            time_before_write=time.perf_counter() - start,
+            fft_threads=int(threads),
+            peak_rss=storage.peak_rss_bytes(),
+            normal_iterations_total=_total(history, "normal_iterations"),
+            slip_iterations_total=_total(history, "slip_iterations"),
+            coupling_iterations_total=_total(history, "coupling_iterations"),
+            warnings="; ".join(sorted({f"{w.category.__name__}: {w.message}" for w in caught}))[
+                :2000
+            ],
+        )
+        dataset = storage.case_dataset(result, campaign.settings.fields, attrs)
+        storage.write_case(out, case.case_id, dataset)
+        report["status"] = result.status
+    except Exception as error:
+        report["status"] = "failed"
+        report["error"] = f"{type(error).__name__}: {error}".splitlines()[0][:500]
+        record = {
+            "case_id": case.case_id,
+            "coordinates": case.coords,
+            "error": f"{type(error).__name__}: {error}",
+            "traceback": traceback.format_exc(),
+            "rank": rank,
+            "host": host,
+            "pid": os.getpid(),
+            "started": started,
+            "elapsed": time.perf_counter() - start,
+            "slipstick_version": solver.__version__,
+            "spec": case.spec,
+        }
+        try:
+            storage.write_failure(out, case.case_id, record)
+        except Exception as second:  # the report still reaches rank 0
+            report["error"] += f" (failure record not written: {second})"
+        logger.debug("case %s failed: %s", case.case_id, report["error"])
+    report["case_time"] = time.perf_counter() - start
+    return report
+
+
+def _total(history: dict, name: str) -> int:
+    return int(np.sum(history[name])) if name in history else 0
+
+
+# -- scheduling on rank 0 ------------------------------------------------------------------------
+class _Scheduler:
+    """The queue of cases (costliest first), the reports, and the stopping rules.  Thread-safe."""
+
+    def __init__(
+        self,
+        todo: list[CampaignCase],
+        options: RunOptions,
+        max_initial_failures: int,
+        logger: logging.Logger,
+    ):
+        self.queue = sorted(todo, key=lambda c: (-c.cost, c.number))
+        self.options = options
+        self.max_initial_failures = max_initial_failures
+        self.logger = logger
+        self.lock = threading.Lock()
+        self.running: dict[int, CampaignCase] = {}
+        self.reports: list[dict] = []
+        self.stopped = ""
+        self.successes = 0
+        self.failures = 0
+        self.rate = 0.0  # largest observed seconds per unit of estimated cost
+        self.progress = Progress(len(self.queue), sum(c.cost for c in self.queue), logger)
+        self.deadline = self._deadline()
+
+    def _deadline(self) -> float | None:
+        now = time.perf_counter()
+        limits = []
+        if self.options.time_limit is not None:
+            limits.append(now + self.options.time_limit)
+        end = os.environ.get("SLURM_JOB_END_TIME")
+        if self.options.use_slurm_end_time and end:
+            try:
+                limits.append(now + float(end) - time.time())
+            except ValueError:
+                self.logger.warning("ignoring SLURM_JOB_END_TIME=%r (not a number)", end)
+        return min(limits) if limits else None
+
+    def next_task(self, rank: int) -> CampaignCase | None:
+        """The next case for ``rank``, or None when there is none to start."""
+        with self.lock:
+            if self.stopped or not self.queue:
+                return None
+            pick = 0
+            if self.deadline is not None:
+                left = self.deadline - time.perf_counter() - self.options.time_reserve
+                fits = [i for i, c in enumerate(self.queue) if 1.25 * self.rate * c.cost < left]
+                if not fits:
+                    self.stopped = (
+                        f"time limit: {max(left, 0.0):.0f} s left before the reserve, too little "
+                        f"for the {len(self.queue)} remaining case(s); re-run to resume"
+                    )
+                    self.logger.warning("%s", self.stopped)
+                    return None
+                pick = fits[0]
+            case = self.queue.pop(pick)
+            self.running[case.number] = case
+            return case
+
+    def report(self, report: dict) -> None:
+        """Record the report of a finished case."""
+        with self.lock:
+            case = self.running.pop(report["number"])
+            self.reports.append(report)
+            if report["status"] == "failed":
+                self.failures += 1
+                self.logger.warning(
+                    "case %s [%s] failed on rank %s (%s): %s; details in cases/%s.failed.json",
+                    case.case_id,
+                    case.label,
+                    report["rank"],
+                    report["host"],
+                    report.get("error", ""),
+                    case.case_id,
+                )
+            else:
+                self.successes += 1
+                if case.cost > 0:
+                    self.rate = max(self.rate, report["case_time"] / case.cost)
+            self.progress.update(report, case.cost, len(self.running))
+            k = self.max_initial_failures
+            if k and not self.stopped and self.successes == 0 and self.failures >= k:
+                self.stopped = (
+                    f"the first {self.failures} cases of this run all failed (last: "
+                    f"{report.get('error', '?')}); fix the campaign and re-run "
+                    "(max_initial_failures = 0 disables this stop)"
+                )
+                self.logger.error("stopping: %s", self.stopped)
+
+
+# -- the run -------------------------------------------------------------------------------------
+def run_campaign(
+    campaign: Campaign,
+    out: str | Path,
+    comm=None,
+    options: RunOptions | None = None,
+    logger: logging.Logger | None = None,
+) -> RunSummary:
+    """Compute every unfinished case of a campaign, distributed over the ranks of ``comm``.
+
+    Call it on every rank of ``comm`` with the same campaign (see :func:`broadcast_campaign`).
+
+    Parameters
+    ----------
+    campaign : Campaign
+        The validated campaign.
+    out : str or Path
+        Output folder (shared by all ranks).
+    comm : mpi4py communicator, optional
+        None (or a size-1 communicator) runs serially.
+    options : RunOptions, optional
+        Run settings.
+    logger : logging.Logger, optional
+        Default: the ``study`` logger.
+
+    Returns
+    -------
+    RunSummary
+        The same on every rank.
+
+    Raises
+    ------
+    CampaignError
+        On every rank, when rank 0 cannot prepare the output folder.
+    """
+    options = options or RunOptions()
+    logger = logger or logging.getLogger(LOGGER_NAME)
+    rank = comm.Get_rank() if comm is not None else 0
+    size = comm.Get_size() if comm is not None else 1
+    out = Path(out)
+    start = time.perf_counter()
+    fft_threads = options.fft_threads or campaign.settings.fft_threads
+    k = options.max_initial_failures
+    if k is None:
+        k = campaign.settings.max_initial_failures
+
+    scheduler = None
+    message: tuple = ("ok", None)
+    if rank == 0:
+        try:
+            storage.prepare_output(out, campaign)
+            finished = storage.finished_ids(out)
+            todo = [c for c in campaign.cases if c.case_id not in finished]
+            scheduler = _Scheduler(todo, options, k, logger)
+            logger.info(
+                "campaign %s: %d cases, %d finished earlier, %d to run on %d rank(s)%s -> %s",
+                campaign.name,
+                len(campaign.cases),
+                len(campaign.cases) - len(todo),
+                len(todo),
+                size,
+                "" if size == 1 or options.root_computes else " (rank 0 dispatches only)",
+                out,
+            )
+        except CampaignError as error:
+            message = ("error", str(error))
+    if size > 1:
+        message = comm.bcast(message, root=0)
+    if message[0] == "error":
+        raise CampaignError(message[1])
+
+    def compute(case: CampaignCase) -> dict:
+        return run_case(
+            campaign, case, out, rank=rank, size=size, fft_threads=fft_threads, solve=options.solve
+        )
+
+    storage.warm_up()
+    if size == 1:
+        _serve_self(scheduler, compute, 0)
+    elif rank == 0:
+        root_computes = options.root_computes and _threads_allowed()
+        if not root_computes and options.root_computes:
+            logger.warning("MPI thread support below SERIALIZED: rank 0 only dispatches")
+        _root(comm, scheduler, compute, root_computes, options.poll_interval)
+    else:
+        _worker(comm, campaign, compute)
+
+    summary = None
+    if rank == 0:
+        summary = _summarise(campaign, out, scheduler, time.perf_counter() - start)
+    if size > 1:
+        _quiet_barrier(comm)
+        summary = comm.bcast(summary, root=0)
+    if rank == 0:
+        logger.info("%s", summary.describe())
+    return summary
+
+
+def _serve_self(scheduler: _Scheduler, compute: Callable, rank: int) -> None:
+    while (case := scheduler.next_task(rank)) is not None:
+        scheduler.report(compute(case))
+
+
+def _threads_allowed() -> bool:
+    try:
+        from mpi4py import MPI
+
+        return MPI.Query_thread() >= MPI.THREAD_SERIALIZED
+    except Exception:
+        return False
+
+
+def _root(comm, scheduler: _Scheduler, compute: Callable, computes: bool, poll: float) -> None:
+    workers = comm.Get_size() - 1
+    if not computes:
+        _dispatch(comm, scheduler, workers, poll)
+        return
+    failure: list[BaseException] = []
+
+    def dispatcher() -> None:
+        try:
+            _dispatch(comm, scheduler, workers, poll)
+        except BaseException as error:  # never leave the workers waiting
+            failure.append(error)
+            logging.getLogger(LOGGER_NAME).critical(
+                "dispatcher failed, aborting: %s", traceback.format_exc()
+            )
+            comm.Abort(1)
+
+    thread = threading.Thread(target=dispatcher, name="study-dispatcher", daemon=True)
+    thread.start()
+    _serve_self(scheduler, compute, 0)
+    thread.join()
+    if failure:
+        raise failure[0]
+
+
+def _dispatch(comm, scheduler: _Scheduler, workers: int, poll: float) -> None:
+    from mpi4py import MPI
+
+    status = MPI.Status()
+    active = workers
+    sleep = 0.0002
+    while active:
+        if not comm.Iprobe(source=MPI.ANY_SOURCE, tag=_REQUEST, status=status):
+            time.sleep(sleep)
+            sleep = min(2.0 * sleep, poll)
+            continue
+        sleep = 0.0002
+        source = status.Get_source()
+        report = comm.recv(source=source, tag=_REQUEST)
+        if report is not None:
+            scheduler.report(report)
+        case = scheduler.next_task(source)
+        comm.send(None if case is None else case.number, dest=source, tag=_TASK)
+        if case is None:
+            active -= 1
+
+
+def _worker(comm, campaign: Campaign, compute: Callable) -> None:
+    by_number = {case.number: case for case in campaign.cases}
+    report = None
+    while True:
+        comm.send(report, dest=0, tag=_REQUEST)
+        number = comm.recv(source=0, tag=_TASK)
+        if number is None:
+            return
+        report = compute(by_number[number])
+
+
+def _quiet_barrier(comm, interval: float = 0.01) -> None:
+    """A barrier that sleeps while it waits (a blocking one spins a core in MPICH)."""
+    request = comm.Ibarrier()
+    while not request.Test():
+        time.sleep(interval)
+
+
+def _summarise(campaign: Campaign, out: Path, scheduler: _Scheduler, elapsed: float) -> RunSummary:
+    finished, failed = storage.finished_ids(out), storage.failed_ids(out)
+    ids = {c.case_id for c in campaign.cases}
+    reports = scheduler.reports
+    per_rank: dict[int, int] = {}
+    for report in reports:
+        per_rank[report["rank"]] = per_rank.get(report["rank"], 0) + 1
+    computed = [r for r in reports if r["status"] != "failed"]
+    overhead = (
+        sum(r["case_time"] - r["solve_time"] for r in computed) / len(computed)
+        if computed
+        else math.nan
+    )
+    return RunSummary(
+        campaign=campaign.name,
+        out=str(out),
+        total=len(campaign.cases),
+        skipped=len(campaign.cases) - scheduler.progress.total,
+        converged=sum(r["status"] == "converged" for r in reports),
+        not_converged=sum(r["status"] == "not_converged" for r in reports),
+        failed=sum(r["status"] == "failed" for r in reports),
+        pending=len(ids - finished - failed),
+        failed_total=len(ids & failed),
+        stopped=scheduler.stopped,
+        elapsed=elapsed,
+        per_rank=per_rank,
+        overhead=overhead,
+    )
