@@ -89,28 +89,33 @@ def _ours_hertz(n: int, repeat: int) -> dict:
     }
 
 
-def _peer_hertz(name: str, n: int, repeat: int) -> dict:
+def _hertz_parameters(n: int) -> dict:
+    """The Hertz scene as plain numbers (peers' children must not load our FFTW build)."""
     from solver import Case
 
+    case = Case.from_dict({**HERTZ_TABLE, "grid": {"n": n, "half_width": 1.6}})
+    grid = case.surface_grid
+    return {
+        "radius": 0.015,
+        "contact_modulus": case.pair.composite_modulus,
+        "normal_force": case.hertz.normal_force,
+        "side": grid.nx * grid.dx,
+    }
+
+
+def _peer_hertz(name: str, n: int, repeat: int, parameters: dict) -> dict:
+    # Runs in a child that never imports pyfftw: Tamaas links its own FFTW, and with both
+    # loaded Tamaas stalled at 256^2 here.
     from .peers import hertz_peer
 
-    case = Case.from_dict({**HERTZ_TABLE, "grid": {"n": n, "half_width": 1.6}})
-    grid, reference = case.surface_grid, case.hertz
     best = None
     with peak_memory() as memory:
         for _ in range(repeat):
-            out = hertz_peer(
-                name,
-                n=n,
-                radius=0.015,
-                contact_modulus=case.pair.composite_modulus,
-                normal_force=reference.normal_force,
-                side=grid.nx * grid.dx,
-            )
+            out = hertz_peer(name, n=n, **parameters)
             if best is None or out["time"] < best["time"]:
                 best = out
     best["memory"] = memory["peak_MB"]
-    best["dx"] = grid.dx
+    best["dx"] = parameters["side"] / n
     return best
 
 
@@ -204,7 +209,7 @@ def run_benchmark(
             failures += 1
             print(f"slipstick n={n}: {out}")
         for name in peer_names:
-            status, out = _isolated(_peer_hertz, name, n, repeat)
+            status, out = _isolated(_peer_hertz, name, n, repeat, _hertz_parameters(n))
             if status == "ok":
                 rows.append(_hertz_row(name, n, out))
             else:
