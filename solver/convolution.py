@@ -71,6 +71,7 @@ class SurfaceOperator:
         self._padded[...] = 0.0
         self._kernels: dict[str, np.ndarray] = {}
         self._precondition = None
+        self._planner = planner
 
     def kernel_spectrum(self, name: str) -> np.ndarray:
         """Normalised spectrum of kernel block ``name`` (:data:`solver.influence.COMPONENTS`)."""
@@ -124,10 +125,10 @@ class SurfaceOperator:
             nx, ny = self.grid.shape
             real = pyfftw.empty_aligned((nx, ny), dtype="float64")
             spectrum = pyfftw.empty_aligned((nx, ny // 2 + 1), dtype="complex128")
-            forward = pyfftw.FFTW(real, spectrum, axes=(0, 1), flags=("FFTW_MEASURE",))
+            forward = pyfftw.FFTW(real, spectrum, axes=(0, 1), flags=(self._planner,))
             backward = pyfftw.FFTW(
                 spectrum, real, axes=(0, 1), direction="FFTW_BACKWARD",
-                flags=("FFTW_MEASURE", "FFTW_DESTROY_INPUT"),
+                flags=(self._planner, "FFTW_DESTROY_INPUT"),
             )  # fmt: skip
             kx = 2 * np.pi * np.fft.fftfreq(nx, self.grid.dx)
             ky = 2 * np.pi * np.fft.rfftfreq(ny, self.grid.dy)
