@@ -251,7 +251,7 @@ class GridSpec:
 
 
 #: Field outputs a case may request.
-FIELD_OUTPUTS = ("displacement", "stress")
+FIELD_OUTPUTS = ("stress",)
 
 
 @dataclass(frozen=True)
@@ -352,6 +352,10 @@ class Case:
         fields = output.get("fields", [])
         if not isinstance(fields, list) or any(f not in FIELD_OUTPUTS for f in fields):
             _fail("output.fields", f"must be a list drawn from {list(FIELD_OUTPUTS)}")
+        if "stress" in fields and not grid.nz:
+            _fail("output.fields", "stress needs a volume grid: give grid.n = [nx, ny, nz]")
+        if "stress" in fields and body2.rigid:
+            _fail("output.fields", "stress is computed in body 2, which is rigid here")
 
         spec = {
             "body1": _body_spec(body1),

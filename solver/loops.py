@@ -50,6 +50,22 @@ def solve(case: Case) -> Result:
         ``Result.converged`` and ``Result.notes``, never raised.
     """
     start = time.perf_counter()
+    result = _solve_surface(case)
+    if "stress" in case.fields:
+        from .stress import subsurface_operator, von_mises
+
+        operator = subsurface_operator(
+            case.volume_grid, case.body2.nu, threads=case.solver.fft_threads
+        )
+        result.stress = operator.stress(result.pressure, result.shear_x, result.shear_y)
+        result.von_mises = von_mises(result.stress)
+        result.depth = case.volume_grid.z
+    result.wall_time = time.perf_counter() - start
+    return result
+
+
+def _solve_surface(case: Case) -> Result:
+    """The contact solution on the surface (all load steps), without field outputs."""
     grid = case.surface_grid
     operator = surface_operator(grid, case.pair, case.solver.fft_threads)
     gap = initial_gap(case)
@@ -57,9 +73,7 @@ def solve(case: Case) -> Result:
     if needs_slip_stick(case):
         from .slipstick import run_slip_stick
 
-        result = run_slip_stick(case, operator, gap, targets)
-        result.wall_time = time.perf_counter() - start
-        return result
+        return run_slip_stick(case, operator, gap, targets)
 
     history = {k: np.zeros(len(targets)) for k in _NORMAL_HISTORY}
     notes: list[str] = []
@@ -102,7 +116,6 @@ def solve(case: Case) -> Result:
         loops=("load_steps", "normal"),
         converged=all_converged,
         notes=notes,
-        wall_time=time.perf_counter() - start,
     )
 
 

@@ -55,6 +55,10 @@ class Result:
         Warnings and status messages (non-convergence, path dependence...).
     wall_time : float
         Solve time (s).
+    stress, von_mises, depth : ndarray or None
+        With ``[output] fields = ["stress"]``: the stress in body 2 (Pa), shape
+        (6, nx, ny, nz), components xx, yy, zz, yz, xz, xy; its von Mises value (Pa); the
+        layer depths (m).
     """
 
     case: Case
@@ -68,6 +72,9 @@ class Result:
     converged: bool
     notes: list[str] = field(default_factory=list)
     wall_time: float = 0.0
+    stress: np.ndarray | None = None
+    von_mises: np.ndarray | None = None
+    depth: np.ndarray | None = None
 
     @property
     def status(self) -> str:
@@ -104,6 +111,19 @@ class Result:
                 },
             ),
         }
+        if self.stress is not None:
+            coords["z"] = ("z", self.depth, {"units": "m", "long_name": "depth into body 2"})
+            coords["component"] = ("component", ["xx", "yy", "zz", "yz", "xz", "xy"])
+            data["stress"] = (
+                ("component", "x", "y", "z"),
+                self.stress,
+                {"units": "Pa", "long_name": "stress in body 2 from the surface tractions"},
+            )
+            data["von_mises"] = (
+                ("x", "y", "z"),
+                self.von_mises,
+                {"units": "Pa", "long_name": "von Mises equivalent stress in body 2"},
+            )
         for name, values in self.history.items():
             units, long_name = HISTORY_META[name]
             data[name] = ("step", np.asarray(values), {"units": units, "long_name": long_name})

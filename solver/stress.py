@@ -58,6 +58,7 @@ Cerruti field for the tangential ones.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -703,3 +704,11 @@ class SubsurfaceStressOperator:
         spectra = tractions * 6 * 8 * 2 * nx * (ny + 1) * nz
         buffers = 8 * 4 * nx * ny * nz + 16 * 2 * nx * (ny + 1) * nz + 8 * 2 * nx * (ny + 1) * nz
         return spectra + buffers
+
+
+@functools.lru_cache(maxsize=4)
+def subsurface_operator(
+    grid: VolumeGrid, nu: float, threads: int = 1, planner: str = "FFTW_MEASURE"
+) -> SubsurfaceStressOperator:
+    """Cached :class:`SubsurfaceStressOperator` for a grid and Poisson's ratio."""
+    return SubsurfaceStressOperator(grid, nu, threads=threads, planner=planner)

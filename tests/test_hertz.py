@@ -149,3 +149,24 @@ def test_dataset_layout(hertz_table):
     assert ds.attrs["loops"] == "load_steps normal"
     assert ds.x.attrs["units"] == "m"
     assert float(ds.x.mean()) == pytest.approx(0.0, abs=1e-18)
+
+
+def test_stress_output_matches_hertz_axis(hertz_table):
+    hertz_table["grid"] = {"n": [64, 64, 24], "half_width": 1.6, "depth": 1.5}
+    hertz_table["output"] = {"fields": ["stress"]}
+    ds = solver.solve(solver.Case.from_dict(hertz_table)).to_xarray()
+    assert ds.stress.dims == ("component", "x", "y", "z") and ds.z.attrs["units"] == "m"
+    a, p0 = ds.attrs["hertz_radius"], ds.attrs["hertz_pressure"]
+    axis = ds.stress.sel(x=0, y=0, method="nearest")
+    z = ds.z.values
+    expected = -p0 / (1 + (z / a) ** 2)  # Johnson eq. 3.45, sigma_z on the axis
+    np.testing.assert_allclose(axis.sel(component="zz"), expected, atol=0.01 * p0)
+    peak = ds.von_mises.sel(x=0, y=0, method="nearest")
+    assert float(peak.max()) / p0 == pytest.approx(0.620, rel=0.01)
+    assert float(z[int(peak.argmax())]) / a == pytest.approx(0.481, abs=1.5 * 1.5 / 24)
+
+
+def test_stress_output_needs_a_volume_grid(hertz_table):
+    hertz_table["output"] = {"fields": ["stress"]}
+    with pytest.raises(solver.SpecError, match="output.fields"):
+        solver.Case.from_dict(hertz_table)

@@ -269,3 +269,21 @@ def test_hamilton_sliding_sphere(plane_offset):
     assert error.max() < 0.02, error
     deep = np.abs(plane - ref)[:, :, 3:].max()  # below z = 0.29 a
     assert deep < 0.005
+
+
+@pytest.mark.slow
+def test_hamilton_error_converges():
+    """Doubling the in-plane and depth resolution cuts the largest error below z = a/4 at least
+    threefold (the first layer, at depth dz/2, always resolves the pixelated load)."""
+    nu, mu = 0.3, 0.3
+    errors = []
+    for n, nz in ((64, 24), (128, 48)):
+        grid = hertz_grid(n, nz, 2.0)
+        p, (xc, yc) = cell_averaged_hertz(grid)
+        op = SubsurfaceStressOperator(grid, nu, planner="FFTW_ESTIMATE")
+        s = grid.surface
+        j = s.ny // 2 + int(round(0.5 / s.dy))
+        plane = op.stress(p, mu * p, box=IndexBox((0, s.nx), (j, j + 1), (0, nz)))[:, :, 0, :]
+        ref = hamilton_stress((s.x - xc)[:, None], s.y[j] - yc, grid.z[None, :], 1, 1, nu, mu)
+        errors.append(np.abs(plane - ref)[:, :, grid.z >= 0.25].max())
+    assert errors[1] < errors[0] / 3
