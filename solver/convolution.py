@@ -47,7 +47,7 @@ class SurfaceOperator:
     """
 
     def __init__(
-        self, grid: SurfaceGrid, pair: Pair, threads: int = 1, planner: str = "FFTW_MEASURE"
+        self, grid: SurfaceGrid, pair: Pair, threads: int = 1, planner: str = "FFTW_ESTIMATE"
     ):
         self.grid = grid
         self.pair = pair
@@ -197,7 +197,7 @@ class SurfaceOperator:
 
 @functools.lru_cache(maxsize=8)
 def surface_operator(
-    grid: SurfaceGrid, pair: Pair, threads: int = 1, planner: str = "FFTW_MEASURE"
+    grid: SurfaceGrid, pair: Pair, threads: int = 1, planner: str = "FFTW_ESTIMATE"
 ) -> SurfaceOperator:
     """Cached :class:`SurfaceOperator` for a grid and a pair (reused across cases)."""
     return SurfaceOperator(grid, pair, threads=threads, planner=planner)

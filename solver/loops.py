@@ -28,6 +28,11 @@ def initial_gap(case: Case) -> np.ndarray:
     return 0.5 * (kx * x * x + ky * y * y)
 
 
+def planner_flag(case: Case) -> str:
+    """FFTW planner flag of the case's ``solver.fft_planner``."""
+    return "FFTW_MEASURE" if case.solver.fft_planner == "measure" else "FFTW_ESTIMATE"
+
+
 def needs_slip_stick(case: Case) -> bool:
     """True when friction couples to the normal problem (beta != 0) or a shear load exists."""
     if case.friction_coefficient == 0.0:
@@ -55,7 +60,7 @@ def solve(case: Case) -> Result:
         from .stress import subsurface_operator, von_mises
 
         operator = subsurface_operator(
-            case.volume_grid, case.body2.nu, threads=case.solver.fft_threads
+            case.volume_grid, case.body2.nu, case.solver.fft_threads, planner_flag(case)
         )
         result.stress = operator.stress(result.pressure, result.shear_x, result.shear_y)
         result.von_mises = von_mises(result.stress)
@@ -67,7 +72,7 @@ def solve(case: Case) -> Result:
 def _solve_surface(case: Case) -> Result:
     """The contact solution on the surface (all load steps), without field outputs."""
     grid = case.surface_grid
-    operator = surface_operator(grid, case.pair, case.solver.fft_threads)
+    operator = surface_operator(grid, case.pair, case.solver.fft_threads, planner_flag(case))
     gap = initial_gap(case)
     targets = case.step_targets()
     if needs_slip_stick(case):

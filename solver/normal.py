@@ -110,12 +110,16 @@ def solve_normal(
     change = np.inf
     converged = False
     iterations = 0
+    message = ""
     tiny = np.finfo(float).tiny
     u, u_exact = operator.normal(p), True
     for iterations in range(1, max_iterations + 1):
         # Dense masked arithmetic (no boolean fancy indexing): mask is 1 in contact, 0 outside.
         mask = (p > 0.0).astype(float)
         n_contact = mask.sum()
+        if n_contact == 0 or not np.isfinite(u).all():
+            message = "breakdown: the pressure left every cell or became non-finite"
+            break
         g = h + u
         g -= _dot(g, mask) / n_contact
         g_contact = g * mask
@@ -123,7 +127,7 @@ def solve_normal(
         scale = max(float(_dot(u, mask)) / n_contact, tiny)
         penetration = max(0.0, -float((g - g_contact).min()))
         residual = max(np.sqrt(g_norm / n_contact), penetration) / scale
-        if residual < tolerance and change < tolerance:
+        if residual < tolerance and (change < tolerance or g_norm == 0.0):
             if not u_exact:  # confirm with a fresh convolution before accepting
                 u, u_exact = operator.normal(p), True
                 continue
@@ -139,7 +143,10 @@ def solve_normal(
             gz = _dot(g_contact, z)
         else:
             z, gz = g_contact, g_norm
-        t *= 0.0 if reset else gz / g_norm_old
+        if not gz > 0.0:  # no descent direction left although the residual is too large
+            message = "stalled: no descent direction"
+            break
+        t *= 0.0 if reset or g_norm_old <= 0.0 else gz / g_norm_old
         t += z
         t *= mask
         g_norm_old = gz
@@ -150,6 +157,9 @@ def solve_normal(
             reset = True
             continue
         tau = float(_dot(g, t)) / denominator
+        if not np.isfinite(tau):
+            message = "breakdown: non-finite step"
+            break
         p_new = p - tau * t
         clipped = bool((p_new < 0.0).any())
         np.clip(p_new, 0.0, None, out=p_new)
@@ -159,6 +169,9 @@ def solve_normal(
         if reset:
             p_new -= tau * overlap
         rescale = normal_force / (area * p_new.sum())
+        if not np.isfinite(rescale):
+            message = "breakdown: no positive pressure left after the CG step"
+            break
         p_new *= rescale
         change = float(np.abs(p_new - p).sum()) * area / normal_force
         p = p_new
@@ -177,6 +190,6 @@ def solve_normal(
     message = (
         f"converged in {iterations} iterations"
         if converged
-        else f"not converged after {iterations} iterations (residual {residual:.3g})"
-    )
+        else f"not converged after {iterations} iterations (residual {residual:.3g}) {message}"
+    ).strip()
     return NormalSolution(p, g, u, delta, iterations, float(residual), converged, message)

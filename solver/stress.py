@@ -539,7 +539,7 @@ class SubsurfaceStressOperator:
     """
 
     def __init__(
-        self, grid: VolumeGrid, nu: float, threads: int = 1, planner: str = "FFTW_MEASURE"
+        self, grid: VolumeGrid, nu: float, threads: int = 1, planner: str = "FFTW_ESTIMATE"
     ):
         self.grid = grid
         self.nu = float(nu)
@@ -708,7 +708,7 @@ class SubsurfaceStressOperator:
 
 @functools.lru_cache(maxsize=4)
 def subsurface_operator(
-    grid: VolumeGrid, nu: float, threads: int = 1, planner: str = "FFTW_MEASURE"
+    grid: VolumeGrid, nu: float, threads: int = 1, planner: str = "FFTW_ESTIMATE"
 ) -> SubsurfaceStressOperator:
     """Cached :class:`SubsurfaceStressOperator` for a grid and Poisson's ratio."""
     return SubsurfaceStressOperator(grid, nu, threads=threads, planner=planner)

@@ -256,6 +256,8 @@ def solve_tangential(
         if residual < tolerance:
             converged = True
             break
+        if not np.isfinite(residual):
+            break
     ux, uy = operator.tangential(qx, qy)
     sx, sy = ux + cx - shift[0], uy + cy - shift[1]
     message = (

@@ -25,6 +25,7 @@ import json
 import math
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -33,6 +34,9 @@ from solver.result import HISTORY_META
 
 from . import storage
 from .campaign import Axis, Campaign
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 #: Status flags of the assembled dataset.
 STATUS_FLAGS = {"pending": 0, "converged": 1, "not_converged": 2, "failed": 3}
@@ -55,7 +59,7 @@ SCALARS = {
     "wall_time": ("s", "solve wall time"),
     "case_time": ("s", "wall time of the case on its rank before writing (set-up, solve, checks)"),
     "peak_rss": ("byte", "peak resident memory of the computing process after the case"),
-    "rank": ("1", "MPI rank that computed the case (-1: none)"),
+    "mpi_rank": ("1", "MPI rank that computed the case (-1: none)"),
     "hertz_radius": ("m", "Hertz contact radius sqrt(a b) at the largest normal force"),
     "hertz_semi_axis_x": ("m", "Hertz semi-axis along x at the largest normal force"),
     "hertz_pressure": ("Pa", "Hertz peak pressure at the largest normal force"),
@@ -122,11 +126,13 @@ def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
         scalars["contact_radius"] = math.sqrt(histories["contact_area"][-1] / math.pi)
     if "stick_area" in histories:
         scalars["stick_radius"] = math.sqrt(histories["stick_area"][-1] / math.pi)
+    elif "final_stick_area" in attrs:  # normal-only scenes: stick = contact when mu > 0
+        scalars["stick_radius"] = math.sqrt(float(attrs["final_stick_area"]) / math.pi)
     if "residual" in histories:
         scalars["max_residual"] = float(np.max(histories["residual"]))
     scalars["steps"] = float(len(histories.get("normal_force", [])))
     scalars["case_time"] = float(attrs.get("time_before_write", math.nan))
-    scalars["rank"] = float(attrs.get("rank", -1))
+    scalars["mpi_rank"] = float(attrs.get("rank", -1))
     return {
         "status": attrs.get("status", "converged"),
         "scalars": scalars,
@@ -145,7 +151,7 @@ def _coordinates(axis: Axis) -> dict:
     return coords
 
 
-def assemble(out: str | Path, campaign: Campaign | None = None):
+def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     """Build the campaign dataset from the files in ``out``.
 
     Parameters
@@ -193,7 +199,7 @@ def assemble(out: str | Path, campaign: Campaign | None = None):
         elif case.case_id in failed:
             status[index] = STATUS_FLAGS["failed"]
             errors[index] = storage.read_failure(out, case.case_id).get("error", "")
-    ranks = scalars.pop("rank")
+    ranks = scalars.pop("mpi_rank")
     rank = np.where(np.isnan(ranks), -1, ranks).astype(np.int32)
 
     coords: dict = {
@@ -222,9 +228,11 @@ def assemble(out: str | Path, campaign: Campaign | None = None):
         ),
         "case_id": (dims, case_ids.astype(str), {"long_name": "case id (file cases/<id>.nc)"}),
         "error": (dims, errors.astype(str), {"long_name": "error of a failed case"}),
-        "rank": (dims, rank, {"units": "1", "long_name": SCALARS["rank"][1]}),
+        "mpi_rank": (dims, rank, {"units": "1", "long_name": SCALARS["mpi_rank"][1]}),
     }
     for name, values in scalars.items():
+        if name in coords:  # an axis holds this input (e.g. dundurs_beta): keep the coordinate
+            continue
         units, long_name = SCALARS[name]
         data_vars[name] = (dims, values, {"units": units, "long_name": long_name})
     for name in HISTORY_META:

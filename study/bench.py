@@ -6,6 +6,8 @@ process.  Its memory figure is the growth of that process's resident set, sample
 during setup and solves (imports and inputs excluded), so that codes in C++ and in Python are
 measured alike.  Times are wall-clock seconds, best of ``repeat`` solves; ``setup`` (kernel and
 FFT-plan construction, reused across load steps and cases) is reported apart from ``solve``.
+Our rows: ``slipstick`` plans its FFTs by timing (``solver.fft_planner = "measure"``),
+``slipstick (estimate)`` uses the reproducible default.
 """
 
 from __future__ import annotations
@@ -60,15 +62,19 @@ def peak_memory():
         record["peak_MB"] = max(record["peak_MB"], _current_rss_mb() - baseline)
 
 
-def _ours_hertz(n: int, repeat: int) -> dict:
+def _ours_hertz(n: int, repeat: int, planner: str = "measure") -> dict:
     import solver
     from solver.convolution import surface_operator
+    from solver.loops import planner_flag
 
     table = {**HERTZ_TABLE, "grid": {"n": n, "half_width": 1.6}}
+    table["solver"] = {"fft_planner": planner}
     case = solver.Case.from_dict(table)
     with peak_memory() as memory:
         t0 = time.perf_counter()
-        surface_operator(case.surface_grid, case.pair, 1).kernel_spectrum("zz")
+        operator = surface_operator(case.surface_grid, case.pair, 1, planner_flag(case))
+        operator.kernel_spectrum("zz")
+        operator.inverse_normal(np.zeros(case.surface_grid.shape))
         setup = time.perf_counter() - t0
         best, cpu, result = math.inf, math.inf, None
         for _ in range(repeat):
@@ -202,12 +208,14 @@ def run_benchmark(
         peer_names = list(found)
     rows, failures = [], 0
     for n in sizes:
-        status, out = _isolated(_ours_hertz, n, repeat)
-        if status == "ok":
-            rows.append(_hertz_row("slipstick", n, out))
-        else:
-            failures += 1
-            print(f"slipstick n={n}: {out}")
+        for planner in ("measure", "estimate"):
+            code = "slipstick" if planner == "measure" else "slipstick (estimate)"
+            status, out = _isolated(_ours_hertz, n, repeat, planner)
+            if status == "ok":
+                rows.append(_hertz_row(code, n, out))
+            else:
+                failures += 1
+                print(f"{code} n={n}: {out}")
         for name in peer_names:
             status, out = _isolated(_peer_hertz, name, n, repeat, _hertz_parameters(n))
             if status == "ok":

@@ -8,6 +8,7 @@ A campaign file is declarative TOML::
     fft_threads = 1                   # FFTW threads per rank (run-time only, not in the case id)
     fields = ["pressure", "shear_x", "shear_y", "contact_state"]   # 2-D fields kept per case
     max_initial_failures = 5          # stop when the first k cases all fail (0: never)
+    case_timeout = 600                # a case running longer fails (seconds; default none)
     profile_extent = 1.5              # radial profiles on r / a in [0, extent] ...
     profile_points = 151              # ... with this many points
 
@@ -64,17 +65,36 @@ CASE_TABLES = ("body1", "body2", "load", "friction", "grid", "solver", "output",
 BETA_KEY = "materials.dundurs_beta"
 #: 2-D surface fields a case file may keep (``[campaign] fields``).
 SURFACE_FIELDS = ("pressure", "shear_x", "shear_y", "contact_state")
-#: Names used by the assembled dataset; no axis may take them.
+#: Names used by the assembled dataset for its structure and its per-case results; no axis may
+#: take them (nor names ending in ``_history`` or ``_profile``).  Axes may take the names of the
+#: per-case inputs the dataset also records (``dundurs_beta``, ``hertz_pressure``, ...): the
+#: coordinate then replaces that variable.
 RESERVED_NAMES = frozenset(
     {
         "status",
         "case_id",
+        "error",
+        "mpi_rank",
         "step",
         "r_over_a",
         "x",
         "y",
-        "pressure_profile",
-        "shear_x_profile",
+        "max_pressure",
+        "normal_force",
+        "approach",
+        "contact_radius",
+        "contact_area",
+        "stick_radius",
+        "tangential_force_x",
+        "tangential_shift_x",
+        "max_residual",
+        "steps",
+        "normal_iterations",
+        "slip_iterations",
+        "coupling_iterations",
+        "wall_time",
+        "case_time",
+        "peak_rss",
     }
 )
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
@@ -226,6 +246,7 @@ class Settings:
     profile_extent: float = 1.5
     profile_points: int = 151
     description: str = ""
+    case_timeout: float | None = None
 
 
 @dataclass(frozen=True)
@@ -285,6 +306,7 @@ class Campaign:
                 "profile_extent": self.settings.profile_extent,
                 "profile_points": self.settings.profile_points,
                 "description": self.settings.description,
+                "case_timeout": self.settings.case_timeout,
             },
             "base": self.base,
             "axes": [
@@ -355,6 +377,7 @@ class Campaign:
                 profile_extent=settings["profile_extent"],
                 profile_points=settings["profile_points"],
                 description=settings.get("description", ""),
+                case_timeout=settings.get("case_timeout"),
             ),
             axes=axes,
             cases=cases,
@@ -459,6 +482,7 @@ def _parse_settings(raw: Any, default_name: str) -> Settings:
         "profile_extent",
         "profile_points",
         "description",
+        "case_timeout",
     }
     unknown = sorted(set(raw) - allowed)
     if unknown:
@@ -502,6 +526,11 @@ def _parse_settings(raw: Any, default_name: str) -> Settings:
     description = raw.get("description", "")
     if not isinstance(description, str):
         raise CampaignError("campaign.description: must be a string")
+    timeout = raw.get("case_timeout")
+    if timeout is not None and (not _is_number(timeout) or not timeout > 0):
+        raise CampaignError(
+            f"campaign.case_timeout: must be a number of seconds > 0, got {timeout!r}"
+        )
     return Settings(
         name=name,
         output=output,
@@ -511,6 +540,7 @@ def _parse_settings(raw: Any, default_name: str) -> Settings:
         profile_extent=float(extent),
         profile_points=int(points),
         description=description,
+        case_timeout=None if timeout is None else float(timeout),
     )
 
 
@@ -542,8 +572,8 @@ def _parse_axes(sweep: Any, zipped: Any) -> list[_Entry]:
             raise CampaignError("[sweep]: must be a table of dotted keys = [values]")
         if not sweep and zipped is None:
             raise CampaignError('[sweep]: empty; give at least one key, e.g. "grid.n" = [32, 64]')
-        for written, values in _flatten_keys(sweep, "sweep"):
-            key = normalise_key(written, "sweep")
+        for written, values in _flatten_keys(sweep, "[sweep]"):
+            key = normalise_key(written, "[sweep]")
             values = _check_values(values, f'[sweep] "{written}"', key)
             entries.append(_Entry([(key, written, values)], None, False))
     if zipped is not None:
@@ -730,19 +760,21 @@ def _build_axes(entries: list[_Entry], aliases: dict[str, str]) -> tuple[Axis, .
         axes.append(Axis(name, tuple(coordinates), entry.zipped))
     owner: dict[str, str] = {}
     for axis in axes:
-        labels = [axis.name] + [c.name for c in axis.coordinates if c.name != axis.name]
-        for label in labels:
-            if label in RESERVED_NAMES:
+        labels = {axis.name: axis.name if axis.zipped else axis.coordinates[0].key}
+        for c in axis.coordinates:
+            labels.setdefault(c.name, c.key)
+        for label, source in labels.items():
+            if label in RESERVED_NAMES or label.endswith(("_history", "_profile")):
                 raise CampaignError(
-                    f'axis name "{label}" is reserved by the campaign dataset; '
+                    f'axis name "{label}" ({source}) is reserved by the campaign dataset; '
                     "choose another in [alias]"
                 )
             if label in owner:
                 raise CampaignError(
-                    f'duplicate axis name "{label}" (axes {owner[label]} and {axis.name}); '
+                    f'duplicate axis name "{label}" ({owner[label]} and {source}); '
                     "give distinct names in [alias] or [zip.NAME]"
                 )
-            owner[label] = axis.name
+            owner[label] = source
     return tuple(axes)
 
 
@@ -963,6 +995,9 @@ def _expand_cases(base: dict, axes: tuple[Axis, ...]) -> tuple[CampaignCase, ...
         )
     if failures:
         where, message = failures[0]
+        field_path = message.split(":", 1)[0]
+        if "unknown key" in message and field_path in keys:
+            raise CampaignError(f'swept key "{field_path}": {message.split(" [set by")[0]}')
         more = f" (and {len(failures) - 1} more of {total} cases)" if len(failures) > 1 else ""
         raise CampaignError(f"{where}{more}: {message}")
     return tuple(cases)

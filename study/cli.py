@@ -1,4 +1,4 @@
-"""Command line: ``python -m study {run,validate,status,assemble,bench} ...``.
+"""Command line: ``python -m study {run,validate,status,assemble,report,bench} ...``.
 
 ``run`` works serially (``python -m study run FILE``) and under MPI
 (``mpiexec -n N python -m study run FILE``); ``validate``, ``status`` and ``assemble`` never
@@ -11,6 +11,10 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .campaign import Campaign
 
 #: Environment variables that show the process was started by an MPI launcher.
 _LAUNCHER_VARIABLES = (
@@ -62,6 +66,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="seconds kept free before the time limit (default 10)",
     )
     run.add_argument(
+        "--case-timeout",
+        type=float,
+        metavar="SECONDS",
+        help="a case running longer fails (default [campaign] case_timeout; none)",
+    )
+    run.add_argument(
         "--max-initial-failures",
         type=int,
         metavar="K",
@@ -109,6 +119,9 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--sizes", type=int, nargs="+", help="grid sizes n (cells per side)")
     bench.add_argument("--peers", action="store_true", help="also run installed peer codes")
     bench.add_argument("--repeat", type=int, default=3, help="timing repetitions (best of)")
+    from .report import add_parser as add_report_parser
+
+    add_report_parser(sub)
     return parser
 
 
@@ -122,14 +135,19 @@ def main(argv: list[str] | None = None) -> int:
         return run_benchmark(args.scene, sizes=args.sizes, peers=args.peers, repeat=args.repeat)
 
     from .campaign import CampaignError
+    from .report import main as report_main
 
     handlers = {"run": _run, "validate": _validate, "status": _status, "assemble": _assemble}
+    handlers["report"] = report_main
     try:
         return handlers[args.command](args)
     except CampaignError as error:
         if not getattr(error, "quiet", False):
             print(f"error: {error}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # output piped into head & co.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
 
 
 # -- run -----------------------------------------------------------------------------------------
@@ -169,6 +187,7 @@ def _run(args: argparse.Namespace) -> int:
         out = Path(args.out or campaign.settings.output)
         options = RunOptions(
             fft_threads=args.fft_threads,
+            case_timeout=args.case_timeout,
             max_initial_failures=args.max_initial_failures,
             time_limit=args.time_limit,
             time_reserve=args.time_reserve,
@@ -178,6 +197,11 @@ def _run(args: argparse.Namespace) -> int:
     except CampaignError as error:
         if rank != 0:
             error.quiet = True  # rank 0 prints the one message
+        raise
+    except Exception:
+        if size > 1:  # a bug on one rank must not leave the others waiting
+            logger.critical("unexpected error, aborting all ranks", exc_info=True)
+            comm.Abort(1)
         raise
     if rank == 0 and not args.no_assemble:
         from .assemble import assemble_to_file
@@ -193,6 +217,8 @@ def _check_options(args: argparse.Namespace) -> None:
         raise CampaignError(f"--fft-threads must be 1..256, got {args.fft_threads}")
     if args.time_limit is not None and args.time_limit <= 0:
         raise CampaignError(f"--time-limit must be > 0 seconds, got {args.time_limit}")
+    if args.case_timeout is not None and args.case_timeout <= 0:
+        raise CampaignError(f"--case-timeout must be > 0 seconds, got {args.case_timeout}")
     if args.time_reserve < 0:
         raise CampaignError(f"--time-reserve must be >= 0 seconds, got {args.time_reserve}")
     if args.max_initial_failures is not None and args.max_initial_failures < 0:
@@ -208,7 +234,7 @@ def _validate(args: argparse.Namespace) -> int:
     return 0
 
 
-def describe_campaign(campaign, list_cases: bool = False) -> str:
+def describe_campaign(campaign: Campaign, list_cases: bool = False) -> str:
     """Text summary of a campaign: axes, case count, estimated cost and memory."""
     from .campaign import _format_value
 

@@ -22,10 +22,12 @@ The communicator is an argument (None: serial); only the command line names COMM
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import logging
 import math
 import os
+import signal
 import socket
 import threading
 import time
@@ -54,6 +56,33 @@ class NonFiniteResult(RuntimeError):
     """A solve returned NaN or infinite values."""
 
 
+class CaseTimeout(RuntimeError):
+    """A case ran longer than its time limit."""
+
+
+@contextlib.contextmanager
+def _time_limit(seconds: float | None):
+    """Raise :class:`CaseTimeout` in the block after ``seconds`` (main thread only, POSIX)."""
+    if (
+        not seconds
+        or threading.current_thread() is not threading.main_thread()
+        or not hasattr(signal, "setitimer")
+    ):
+        yield
+        return
+
+    def expire(signum, frame):
+        raise CaseTimeout(f"the case ran longer than its time limit of {seconds:g} s")
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
 @dataclass(frozen=True)
 class RunOptions:
     """How to run a campaign.
@@ -64,6 +93,10 @@ class RunOptions:
         FFTW threads per rank; overrides ``[campaign] fft_threads``.  Applied at run time only:
         the case ids (file names) keep the campaign's specification, so a re-run with another
         thread count resumes.
+    case_timeout : float, optional
+        Seconds after which a case is abandoned as failed (default ``[campaign]
+        case_timeout``; none).  Uses SIGALRM, so it works where cases run in the main thread
+        (all ranks here).
     max_initial_failures : int, optional
         Stop starting cases when the first k cases of this run all failed (0: never); default
         ``[campaign] max_initial_failures``.
@@ -83,6 +116,7 @@ class RunOptions:
     """
 
     fft_threads: int | None = None
+    case_timeout: float | None = None
     max_initial_failures: int | None = None
     time_limit: float | None = None
     time_reserve: float = 10.0
@@ -220,6 +254,7 @@ def run_case(
     size: int = 1,
     fft_threads: int | None = None,
     solve: Callable | None = None,
+    timeout: float | None = None,
 ) -> dict[str, Any]:
     """Solve one case and write its file (or its failure record); never raises ``Exception``.
 
@@ -237,6 +272,8 @@ def run_case(
         FFTW threads for this solve (not part of the case id).
     solve : callable, optional
         Solve function, default :func:`solver.solve`.
+    timeout : float, optional
+        Seconds after which the solve is abandoned (the case fails with :class:`CaseTimeout`).
 
     Returns
     -------
@@ -263,8 +300,8 @@ def run_case(
         if threads != spec["solver"].get("fft_threads", 1):
             spec = copy.deepcopy(spec)
             spec["solver"]["fft_threads"] = threads
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
+        with warnings.catch_warnings(record=True) as caught, _time_limit(timeout):
+            warnings.simplefilter("default")  # each warning once per place and case
             result = (solve or solver.solve)(solver.Case.from_dict(spec))
         bad = _non_finite(result)
         if bad:
@@ -482,9 +519,18 @@ def run_campaign(
     if message[0] == "error":
         raise CampaignError(message[1])
 
+    timeout = options.case_timeout or campaign.settings.case_timeout
+
     def compute(case: CampaignCase) -> dict:
         return run_case(
-            campaign, case, out, rank=rank, size=size, fft_threads=fft_threads, solve=options.solve
+            campaign,
+            case,
+            out,
+            rank=rank,
+            size=size,
+            fft_threads=fft_threads,
+            solve=options.solve,
+            timeout=timeout,
         )
 
     storage.warm_up()

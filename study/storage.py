@@ -23,13 +23,17 @@ import sys
 import time
 from collections.abc import Iterable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 import solver
+from solver.result import STICK
 
 from .campaign import Campaign, CampaignCase, CampaignError
+
+if TYPE_CHECKING:  # xarray loads lazily: validate and status do not need it
+    import xarray as xr
 
 CAMPAIGN_FILE = "campaign.json"
 CASES_DIR = "cases"
@@ -84,7 +88,7 @@ def atomic_write_text(path: str | Path, text: str) -> None:
         temporary.unlink(missing_ok=True)
 
 
-def write_netcdf(dataset, path: str | Path) -> None:
+def write_netcdf(dataset: xr.Dataset, path: str | Path) -> None:
     """Write an :class:`xarray.Dataset` to netCDF4 atomically, zlib-compressing numeric data.
 
     Parameters
@@ -319,7 +323,7 @@ def line_at_y0(values: np.ndarray, y: np.ndarray) -> np.ndarray:
     return (1.0 - w) * values[:, j - 1] + w * values[:, j]
 
 
-def case_dataset(result, fields: Iterable[str], attrs: dict[str, Any]):
+def case_dataset(result: solver.Result, fields: Iterable[str], attrs: dict[str, Any]) -> xr.Dataset:
     """The per-case dataset: the solver's dataset, the y = 0 lines, provenance attributes.
 
     Parameters
@@ -336,6 +340,9 @@ def case_dataset(result, fields: Iterable[str], attrs: dict[str, Any]):
     xarray.Dataset
     """
     dataset = result.to_xarray()
+    state = np.asarray(result.contact_state)
+    stick = np.count_nonzero(state == STICK) * result.grid.cell_area
+    dataset.attrs["final_stick_area"] = float(stick)
     y = dataset["y"].values
     for name in ("pressure", "shear_x"):
         dataset[f"{name}_y0"] = (
@@ -366,7 +373,7 @@ def _netcdf_attrs(attrs: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def write_case(out: str | Path, case_id: str, dataset) -> Path:
+def write_case(out: str | Path, case_id: str, dataset: xr.Dataset) -> Path:
     """Write a finished case atomically and drop any stale failure record."""
     path = case_path(out, case_id)
     write_netcdf(dataset, path)

@@ -1,0 +1,77 @@
+"""Small campaign files for the study tests (tiny grids: each case takes milliseconds)."""
+
+import textwrap
+from pathlib import Path
+
+#: Elastic sphere on a half-space of the same steel: beta = 0, so friction without a tangential
+#: load runs the normal loop only (fast).
+NORMAL_BASE = """
+[base]
+body1 = { behaviour = "elastic", radius = 0.01, E = 210e9, nu = 0.3 }
+body2 = { behaviour = "elastic", radius = "inf", E = 210e9, nu = 0.3 }
+load = { hertz_pressure = 1e9, steps = 1 }
+grid = { n = 24, half_width = 1.5 }
+"""
+
+#: Cattaneo-Mindlin: identical spheres, W = 100 N then Q along x at mu = 0.3 (beta = 0).
+CATTANEO_BASE = """
+[base]
+body1 = { behaviour = "elastic", radius = 0.01, E = 210e9, nu = 0.3 }
+body2 = { behaviour = "elastic", radius = 0.01, E = 210e9, nu = 0.3 }
+friction = { coefficient = 0.3 }
+grid = { n = 24, half_width = 1.5 }
+
+[[base.load.path]]
+normal_force = 100.0
+steps = 1
+
+[[base.load.path]]
+tangential_force = 10.0
+steps = 1
+"""
+
+#: 4 cases: mu x (grid.n zipped with load.steps), different step counts.
+SMALL_SWEEP = """
+[campaign]
+name = "small"
+
+[sweep]
+"friction.coefficient" = [0.0, 0.2]
+
+[zip.mesh]
+"grid.n" = [24, 32]
+"load.steps" = [1, 3]
+
+[alias]
+"friction.coefficient" = "mu"
+"""
+
+#: 8 Cattaneo cases of mixed cost.
+MIXED_SWEEP = """
+[campaign]
+name = "mixed"
+
+[sweep]
+"grid.n" = [24, 48]
+"load.path.1.tangential_force" = [5.0, 10.0, 15.0, 20.0]
+
+[alias]
+"load.path.1.tangential_force" = "tangential_force"
+"""
+
+
+def write(folder: Path, text: str, name: str = "campaign.toml") -> Path:
+    """Write a campaign file and return its path."""
+    path = Path(folder) / name
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+def small_campaign(folder: Path) -> Path:
+    """The 4-case normal-contact campaign."""
+    return write(folder, SMALL_SWEEP + NORMAL_BASE, "small.toml")
+
+
+def mixed_campaign(folder: Path) -> Path:
+    """The 8-case Cattaneo campaign."""
+    return write(folder, MIXED_SWEEP + CATTANEO_BASE, "mixed.toml")

@@ -1,0 +1,128 @@
+"""Run under ``mpiexec -n 2 python -m pytest -m mpi``: the campaign driver on two ranks."""
+
+import numpy as np
+import pytest
+import xarray as xr
+from study_fixtures import NORMAL_BASE, mixed_campaign, small_campaign, write
+
+import solver
+from study import storage
+from study.campaign import CampaignError, load_campaign
+from study.driver import RunOptions, broadcast_campaign, run_campaign
+
+pytestmark = pytest.mark.mpi
+
+
+@pytest.fixture
+def comm():
+    """A duplicate of COMM_WORLD (the driver never names COMM_WORLD itself)."""
+    from mpi4py import MPI
+
+    comm = MPI.COMM_WORLD.Dup()
+    if comm.Get_size() < 2:
+        pytest.skip("run with mpiexec -n 2")
+    yield comm
+    comm.Free()
+
+
+@pytest.fixture
+def shared(comm, tmp_path):
+    """A folder every rank sees: rank 0's tmp_path."""
+    return type(tmp_path)(comm.bcast(str(tmp_path) if comm.Get_rank() == 0 else None))
+
+
+def load(comm, path_on_root):
+    return broadcast_campaign(lambda: load_campaign(path_on_root), comm)
+
+
+def test_dynamic_distribution_costliest_first(comm, shared):
+    if comm.Get_rank() == 0:
+        mixed_campaign(shared)
+    comm.Barrier()
+    campaign = load(comm, shared / "mixed.toml")
+    order = []
+
+    def solve(case):
+        order.append(case.case_id)
+        return solver.solve(case)
+
+    summary = run_campaign(campaign, shared / "out", comm, RunOptions(solve=solve))
+    everyone = comm.allgather(order)
+    assert summary.exit_status == 0 and summary.converged == 8
+    assert sum(len(o) for o in everyone) == 8 and all(everyone)  # every rank computed
+    assert summary.per_rank == {r: len(o) for r, o in enumerate(everyone)}
+    costliest = sorted(campaign.cases, key=lambda c: -c.cost)[:2]
+    assert {o[0] for o in everyone} == {c.case_id for c in costliest}
+    assert comm.allgather(summary.describe()) == [summary.describe()] * comm.Get_size()
+
+
+def test_failures_isolated_across_ranks(comm, shared):
+    if comm.Get_rank() == 0:
+        small_campaign(shared)
+    comm.Barrier()
+    campaign = load(comm, shared / "small.toml")
+
+    def solve(case):
+        if case.friction_coefficient == 0.2 and case.grid.nx == 32:
+            raise RuntimeError(f"injected on rank {comm.Get_rank()}")
+        return solver.solve(case)
+
+    summary = run_campaign(campaign, shared / "out", comm, RunOptions(solve=solve))
+    assert summary.failed == 1 and summary.converged == 3 and summary.exit_status == 1
+    if comm.Get_rank() == 0:
+        (case_id,) = storage.failed_ids(shared / "out")
+        record = storage.read_failure(shared / "out", case_id)
+        assert record["error"] == f"RuntimeError: injected on rank {record['rank']}"
+        assert "Traceback" in record["traceback"]
+
+
+def test_early_stop_reaches_every_rank(comm, shared):
+    if comm.Get_rank() == 0:
+        mixed_campaign(shared)
+    comm.Barrier()
+    campaign = load(comm, shared / "mixed.toml")
+
+    def solve(case):
+        raise RuntimeError("always")
+
+    options = RunOptions(solve=solve, max_initial_failures=3)
+    summary = run_campaign(campaign, shared / "out", comm, options)
+    assert "all failed" in summary.stopped and summary.exit_status == 1
+    assert 3 <= summary.failed <= 3 + comm.Get_size() - 1 and summary.pending > 0
+
+
+def test_same_results_whatever_the_number_of_ranks(comm, shared):
+    if comm.Get_rank() == 0:
+        mixed_campaign(shared)
+    comm.Barrier()
+    campaign = load(comm, shared / "mixed.toml")
+    run_campaign(campaign, shared / "parallel", comm)
+    message = ""
+    if comm.Get_rank() == 0:
+        from mpi4py import MPI
+
+        run_campaign(campaign, shared / "serial", MPI.COMM_SELF)
+        for case in campaign.cases:
+            with (
+                xr.open_dataset(storage.case_path(shared / "parallel", case.case_id)) as a,
+                xr.open_dataset(storage.case_path(shared / "serial", case.case_id)) as b,
+            ):
+                assert a.attrs["case_spec"] == b.attrs["case_spec"]
+                assert a.attrs["status"] == b.attrs["status"]
+                for name in ("pressure", "shear_x", "shear_y"):
+                    scale = np.abs(b[name].values).max()
+                    if not np.allclose(a[name], b[name], rtol=0, atol=1e-9 * scale):
+                        message += f"{case.case_id} {name} differs; "
+                assert (a.contact_state.values == b.contact_state.values).all()
+    assert comm.bcast(message) == ""
+
+
+def test_bad_campaign_stops_every_rank_with_one_message(comm, shared):
+    if comm.Get_rank() == 0:
+        write(shared, '[sweep]\n"grid.n" = [24, 8]\n' + NORMAL_BASE, "bad.toml")
+    comm.Barrier()
+    with pytest.raises(CampaignError) as info:
+        load(comm, shared / "bad.toml")
+    messages = comm.allgather(str(info.value))
+    assert messages == [messages[0]] * comm.Get_size()
+    assert messages[0].startswith("case 2 of 2 (grid_n=8): grid.n: mesh too coarse")
