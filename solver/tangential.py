@@ -16,11 +16,14 @@ minimum complementary energy)
 
     minimise  1/2 q.K_t q + q.c   subject to  |q_i| <= mu p_i  and  sum q dA = Q,
 
-with ``Delta`` the multiplier of the force constraint.  It is solved by an active-set conjugate
-gradient in the spirit of Polonsky & Keer (1999) and Vollebregt's TangCG: CG on the stick
-cells (mean-free directions keep the force), a projected-gradient step on the slip cells (which
-turns the traction against the slip and releases cells whose slip reverses), projection onto the
-disks, and a CG restart whenever the stick set changes.
+with ``Delta`` the multiplier of the force constraint.  It is solved by an accelerated
+projected gradient (FISTA, Beck & Teboulle 2009, with O'Donoghue & Candes' gradient restart):
+a gradient step of length 1/L (L the largest eigenvalue of the circulant ``K_t``), then the
+exact Euclidean projection onto {disks} and {sum q = Q} (:func:`project_onto_feasible`, a 2-D
+Newton iteration for the force multiplier).  Convergence is guaranteed for this convex problem
+whatever the stick set does.  (An active-set CG in the style of Polonsky & Keer converged faster
+on Cattaneo-Mindlin but stalled or oscillated when the stick zone was small, as in Spence's
+problem, where the force constraint has to be carried by a few stick cells.)
 
 Convergence: the residual ``max(rms of |s| on stick cells, rms over the contact of the slip-cell
 error |s + |s| q/|q||) / scale`` measures every optimality condition that the iteration does not
