@@ -36,7 +36,8 @@ REPO = Path(__file__).resolve().parents[1]
 SBATCH = REPO / "slurm" / "campaign.sbatch"
 SUBMIT = REPO / "slurm" / "submit.sh"
 
-#: 12 coupled slip-stick cases (friction with beta != 0), about 2 s each on one core.
+#: 12 coupled slip-stick cases (friction with beta != 0), about 5 s each on one core here, so
+#: that 2 ranks need ~30 s, well beyond the ~8 s window of the time-limit test.
 SLOW_CAMPAIGN = """
 [campaign]
 name = "slow"
@@ -59,7 +60,7 @@ hertz_pressure = 1.5e9
 steps = 20
 
 [base.grid]
-n = 32
+n = 64
 half_width = 1.5
 
 [sweep]
