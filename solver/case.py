@@ -485,13 +485,20 @@ class Case:
 
     def memory_estimate(self) -> int:
         """Peak memory (bytes) the solve is expected to need, for the study scheduler."""
+        from .convolution import SurfaceOperator
+
         nx, ny = self.grid.nx, self.grid.ny
-        padded = 4 * nx * ny
-        spectra = 1 + (6 if self.friction_coefficient > 0 else 0)
-        operator = 8 * padded * 2 + 16 * (padded // 2) * (spectra + 1)
-        work = 8 * nx * ny * 40
+        tangential = self.friction_coefficient > 0
+        operator = SurfaceOperator.memory_bytes(self.surface_grid, tangential)
+        work = 8 * nx * ny * 40  # solver work arrays and the result's fields
         history = 8 * 16 * self.total_steps
-        return operator + work + history
+        total = operator + work + history
+        if "stress" in self.fields:
+            from .stress import SubsurfaceStressOperator
+
+            volume = self.volume_grid
+            total += SubsurfaceStressOperator.memory_bytes(volume) + 2 * 8 * 7 * nx * ny * volume.nz
+        return total
 
     def cost_estimate(self) -> float:
         """Relative cost (arbitrary units ~ FFT work) for ordering cases costliest first.

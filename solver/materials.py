@@ -148,8 +148,3 @@ class Pair:
             1.0 / self.body1.radius_x + 1.0 / self.body2.radius_x,
             1.0 / self.body1.radius_y + 1.0 / self.body2.radius_y,
         )
-
-    @property
-    def symmetric(self) -> bool:
-        """True for identical deformable bodies (seed's eq. 2 scene)."""
-        return (not self.body1.rigid) and self.body1 == self.body2
