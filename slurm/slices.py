@@ -63,7 +63,7 @@ def _parser() -> argparse.ArgumentParser:
 def _run(args: argparse.Namespace) -> int:
     from study import cli, storage
     from study.campaign import CampaignError, load_campaign
-    from study.driver import RunOptions, broadcast_campaign, run_campaign
+    from study.driver import broadcast_campaign, run_campaign
     from study.progress import configure_logging
 
     os.environ.setdefault("HDF5_USE_FILE_LOCKING", "FALSE")
@@ -98,14 +98,7 @@ def _run(args: argparse.Namespace) -> int:
         campaign = broadcast_campaign(load, comm)
         if campaign is None:
             return 0
-        options = RunOptions(
-            fft_threads=args.fft_threads,
-            case_timeout=args.case_timeout,
-            max_initial_failures=args.max_initial_failures,
-            time_limit=args.time_limit,
-            time_reserve=args.time_reserve,
-        )
-        summary = run_campaign(campaign, folder, comm, options, logger)
+        summary = run_campaign(campaign, folder, comm, cli.run_options(args), logger)
     except CampaignError as error:
         if rank != 0:
             error.quiet = True

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from .campaign import Campaign
+    from .driver import RunOptions
 
 #: Environment variables that show the process was started by an MPI launcher.
 _LAUNCHER_VARIABLES = (
@@ -125,6 +126,20 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def run_options(args: argparse.Namespace) -> RunOptions:
+    """Driver options from parsed ``run`` arguments (shared with ``slurm/slices.py``)."""
+    from .driver import RunOptions
+
+    return RunOptions(
+        fft_threads=args.fft_threads,
+        case_timeout=args.case_timeout,
+        max_initial_failures=args.max_initial_failures,
+        time_limit=args.time_limit,
+        time_reserve=args.time_reserve,
+        root_computes=not getattr(args, "dedicated_root", False),
+    )
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the process exit status."""
     _single_threaded_blas()
@@ -174,7 +189,7 @@ def _run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from .campaign import CampaignError, load_campaign
-    from .driver import RunOptions, broadcast_campaign, run_campaign
+    from .driver import broadcast_campaign, run_campaign
     from .progress import configure_logging
 
     comm = _communicator(args.mpi)
@@ -185,15 +200,7 @@ def _run(args: argparse.Namespace) -> int:
     try:
         campaign = broadcast_campaign(lambda: load_campaign(args.campaign), comm)
         out = Path(args.out or campaign.settings.output)
-        options = RunOptions(
-            fft_threads=args.fft_threads,
-            case_timeout=args.case_timeout,
-            max_initial_failures=args.max_initial_failures,
-            time_limit=args.time_limit,
-            time_reserve=args.time_reserve,
-            root_computes=not args.dedicated_root,
-        )
-        summary = run_campaign(campaign, out, comm, options, logger)
+        summary = run_campaign(campaign, out, comm, run_options(args), logger)
     except CampaignError as error:
         if rank != 0:
             error.quiet = True  # rank 0 prints the one message
