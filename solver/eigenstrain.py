@@ -68,9 +68,10 @@ from .stress import (
     kernel_parity,
     wrap_layout,
 )
+from .tensor import WEIGHTS
 
 #: Tensor weights of the six components in ``sigma : e`` (off-diagonal terms count twice).
-COMPONENT_WEIGHTS = np.array([1.0, 1.0, 1.0, 2.0, 2.0, 2.0])
+COMPONENT_WEIGHTS = WEIGHTS
 #: Sign of each eigenstrain component in the mirror image (xz and yz flip).
 IMAGE_SIGNS = np.array([1.0, 1.0, 1.0, -1.0, -1.0, 1.0])
 

@@ -16,6 +16,12 @@ import math
 from dataclasses import dataclass
 from typing import Literal
 
+import numpy as np
+
+#: Swift's law counts plastic strain in micro-strain: sigma_Y = B (C + 1e6 e_p)^n, so C is the
+#: pre-strain in micro-strain (the paper's C = 20 is 2e-5) and B (Pa), C, n are kept as written.
+SWIFT_STRAIN_UNIT = 1e6
+
 Behaviour = Literal["rigid", "elastic", "elastic-plastic"]
 
 
@@ -26,7 +32,8 @@ class Hardening:
     Parameters
     ----------
     law : {"swift", "linear", "perfect"}
-        ``swift``: sigma_Y(e_p) = B (C + 1e6 e_p)^n;  ``linear``: sigma_Y0 + H e_p;
+        ``swift``: sigma_Y(e_p) = B (C + 1e6 e_p)^n (e_p in micro-strain inside the bracket,
+        :data:`SWIFT_STRAIN_UNIT`);  ``linear``: sigma_Y0 + H e_p;
         ``perfect``: sigma_Y0.
     B : float
         Swift coefficient (Pa).
@@ -47,18 +54,33 @@ class Hardening:
     yield_stress: float = 0.0
     modulus: float = 0.0
 
-    def flow_stress(self, plastic_strain: float) -> float:
-        """Yield stress (Pa) at an equivalent plastic strain (dimensionless)."""
+    def flow_stress(self, plastic_strain):
+        """Yield stress sigma_Y (Pa) at an equivalent plastic strain (float or array, >= 0)."""
+        e = np.asarray(plastic_strain, dtype=float)
         if self.law == "swift":
-            return self.B * (self.C + 1e6 * plastic_strain) ** self.n
+            return self.B * (self.C + SWIFT_STRAIN_UNIT * e) ** self.n
         if self.law == "linear":
-            return self.yield_stress + self.modulus * plastic_strain
-        return self.yield_stress
+            return self.yield_stress + self.modulus * e
+        return self.yield_stress + 0.0 * e
+
+    def slope(self, plastic_strain):
+        """Hardening modulus d sigma_Y / d e_p (Pa) at an equivalent plastic strain.
+
+        Swift's slope at e_p = 0 is ``B n 1e6 C^(n-1)``: about 8000 GPa for the paper's steel,
+        40 times the elastic shear stiffness, which is why the return mapping brackets its root.
+        """
+        e = np.asarray(plastic_strain, dtype=float)
+        if self.law == "swift":
+            unit = SWIFT_STRAIN_UNIT
+            return self.B * self.n * unit * (self.C + unit * e) ** (self.n - 1.0)
+        if self.law == "linear":
+            return self.modulus + 0.0 * e
+        return 0.0 * e
 
     @property
     def initial_yield_stress(self) -> float:
         """sigma_Y at zero plastic strain (Pa)."""
-        return self.flow_stress(0.0)
+        return float(self.flow_stress(0.0))
 
 
 @dataclass(frozen=True)

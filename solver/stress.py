@@ -66,9 +66,10 @@ import numpy as np
 import pyfftw
 
 from .grid import VolumeGrid
+from .tensor import COMPONENTS, von_mises  # noqa: F401  (von_mises: re-exported)
 
-#: Order of the six stress components in every array returned here.
-STRESS_COMPONENTS = ("xx", "yy", "zz", "yz", "xz", "xy")
+#: Order of the six stress components in every array returned here (:mod:`solver.tensor`).
+STRESS_COMPONENTS = COMPONENTS
 #: Surface traction components, in the order of :meth:`SubsurfaceStressOperator.kernel_spectra`.
 TRACTIONS = ("pressure", "shear_x", "shear_y")
 
@@ -392,26 +393,6 @@ def hamilton_stress(
     if friction_coefficient != 0.0:
         out = out + friction_coefficient * _stress_from_w(w, z, nu, "shear_x")
     return math.pi * max_pressure * out
-
-
-def von_mises(stress: np.ndarray) -> np.ndarray:
-    """Von Mises equivalent stress (Pa) of stresses ordered as :data:`STRESS_COMPONENTS`.
-
-    Parameters
-    ----------
-    stress : ndarray
-        Shape ``(6, ...)`` (Pa).
-
-    Returns
-    -------
-    ndarray
-        ``sqrt(3 J2)``, shape ``stress.shape[1:]``.
-    """
-    sxx, syy, szz, syz, sxz, sxy = stress
-    j2 = ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) / 6.0 + (
-        syz * syz + sxz * sxz + sxy * sxy
-    )
-    return np.sqrt(3.0 * j2)
 
 
 # --------------------------------------------------------------------------------------------

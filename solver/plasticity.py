@@ -1,0 +1,198 @@
+r"""Von Mises plasticity with isotropic hardening: the radial-return mapping (the innermost loop).
+
+Strain-driven, small strains, vectorised over cells (DESIGN §3.6).  Given the *trial* stress
+of a cell (the stress if the increment were elastic) and its equivalent plastic strain
+``e_p`` before the increment, the return mapping finds the plastic strain increment.  With the
+trial deviator ``s`` and ``q = sqrt(3/2) |s|`` (von Mises of the trial stress),
+``f = q - sigma_Y(e_p)``; where ``f <= 1e-12 sigma_Y`` (:data:`RETURN_TOLERANCE`: a stress
+returned onto the surface earlier stays elastic despite round-off) the increment is elastic.
+Elsewhere the equivalent plastic strain increment ``dp`` solves the scalar consistency equation
+
+    r(dp) = q - 3 G dp - sigma_Y(e_p + dp) = 0,
+
+and the plastic strain increment and the returned stress are
+
+    d eps_p = dp * (3/2) s / q,        sigma = sigma_trial - 2 G d eps_p
+
+(radial return: exact for any step along a proportional path with isotropic hardening).
+
+``r`` decreases strictly on ``[0, q/(3G)]`` with ``r(0) = f > 0`` and ``r(q/(3G)) < 0``: the root is
+bracketed.  Newton's method is kept inside the bracket (a Newton step that leaves it is replaced
+by bisection), so it converges for any hardening law, including Swift's with its initial slope
+of ~8000 GPa (:meth:`solver.materials.Hardening.slope`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .materials import Hardening
+from .tensor import deviator, norm
+
+#: Relative tolerance of the consistency equation (on |r| / sigma_Y).
+RETURN_TOLERANCE = 1e-12
+#: Newton iteration cap; bisection alone would need ~60 steps to reach round-off.
+RETURN_MAX_ITERATIONS = 200
+
+
+@dataclass(frozen=True)
+class ReturnMapping:
+    """Outcome of :func:`return_mapping` on a set of cells.
+
+    Attributes
+    ----------
+    plastic_strain_increment : ndarray
+        ``(6, ...)`` tensor plastic strain increment (dimensionless), deviatoric.
+    equivalent_increment : ndarray
+        Equivalent plastic strain increment ``dp`` (dimensionless), shape ``(...)``.
+    stress : ndarray
+        ``(6, ...)`` returned stress (Pa).
+    plastic : ndarray of bool
+        Cells that yielded.
+    iterations : int
+        Largest number of Newton iterations over the cells.
+    residual : float
+        Largest final ``|r| / sigma_Y`` over the yielding cells.
+    converged : bool
+        True when every yielding cell met :data:`RETURN_TOLERANCE`.
+    """
+
+    plastic_strain_increment: np.ndarray
+    equivalent_increment: np.ndarray
+    stress: np.ndarray
+    plastic: np.ndarray
+    iterations: int
+    residual: float
+    converged: bool
+
+
+def equivalent_increment(
+    trial_equivalent: np.ndarray,
+    plastic_strain: np.ndarray,
+    hardening: Hardening,
+    shear_modulus: float,
+    *,
+    tolerance: float = RETURN_TOLERANCE,
+    max_iterations: int = RETURN_MAX_ITERATIONS,
+) -> tuple[np.ndarray, int, float, bool]:
+    """Root ``dp >= 0`` of ``q - 3 G dp - sigma_Y(e_p + dp)`` for cells with ``q > sigma_Y(e_p)``.
+
+    Parameters
+    ----------
+    trial_equivalent : ndarray
+        Von Mises value ``q`` of the trial stress (Pa), 1-D.
+    plastic_strain : ndarray
+        Equivalent plastic strain before the increment, same shape.
+    hardening : Hardening
+        The hardening law.
+    shear_modulus : float
+        G (Pa).
+    tolerance, max_iterations
+        Stopping rule: ``|r| <= tolerance * sigma_Y(e_p + dp)`` or a bracket below round-off.
+
+    Returns
+    -------
+    dp : ndarray
+        Equivalent plastic strain increments.
+    iterations : int
+        Newton iterations used (largest over the cells).
+    residual : float
+        Largest ``|r| / sigma_Y``.
+    converged : bool
+        True when every cell met the tolerance.
+    """
+    q = np.asarray(trial_equivalent, dtype=float)
+    e0 = np.asarray(plastic_strain, dtype=float)
+    three_g = 3.0 * shear_modulus
+    low = np.zeros_like(q)
+    high = q / three_g
+    # first Newton step from dp = 0 (exact for linear hardening and perfect plasticity)
+    f0 = q - hardening.flow_stress(e0)
+    x = np.clip(f0 / (three_g + hardening.slope(e0)), 0.0, high)
+    active = np.arange(q.size)
+    residual = 0.0
+    iterations = 0
+    while iterations < max_iterations:
+        iterations += 1
+        xa, qa, ea = x[active], q[active], e0[active]
+        flow = hardening.flow_stress(ea + xa)
+        r = qa - three_g * xa - flow
+        scale = np.maximum(flow, np.finfo(float).tiny)
+        positive = r > 0.0
+        low[active] = np.where(positive, xa, low[active])
+        high[active] = np.where(positive, high[active], xa)
+        width = high[active] - low[active]
+        done = (np.abs(r) <= tolerance * scale) | (width <= 4.0 * np.finfo(float).eps * xa)
+        residual = max(residual, float(np.max(np.abs(r[done]) / scale[done], initial=0.0)))
+        keep = ~done
+        if not keep.any():
+            active = active[:0]
+            break
+        active, r, xa = active[keep], r[keep], xa[keep]
+        lo, hi = low[active], high[active]
+        step = xa + r / (three_g + hardening.slope(e0[active] + xa))
+        inside = (step > lo) & (step < hi)
+        x[active] = np.where(inside, step, 0.5 * (lo + hi))
+    if active.size:  # the cap was reached: report the residual of the unconverged cells
+        flow = hardening.flow_stress(e0[active] + x[active])
+        r = q[active] - three_g * x[active] - flow
+        residual = max(residual, float(np.max(np.abs(r) / flow)))
+    return x, iterations, residual, active.size == 0
+
+
+def return_mapping(
+    trial_stress: np.ndarray,
+    plastic_strain: np.ndarray,
+    hardening: Hardening,
+    shear_modulus: float,
+    *,
+    tolerance: float = RETURN_TOLERANCE,
+    max_iterations: int = RETURN_MAX_ITERATIONS,
+) -> ReturnMapping:
+    """Radial return of trial stresses onto the von Mises yield surface.
+
+    Parameters
+    ----------
+    trial_stress : ndarray
+        ``(6, ...)`` trial stress (Pa), components :data:`solver.tensor.COMPONENTS`.
+    plastic_strain : ndarray
+        Equivalent plastic strain before the increment (dimensionless), shape ``(...)``.
+    hardening : Hardening
+        Isotropic hardening law.
+    shear_modulus : float
+        Elastic shear modulus G (Pa).
+    tolerance, max_iterations
+        Stopping rule of the scalar Newton solve (:func:`equivalent_increment`).
+
+    Returns
+    -------
+    ReturnMapping
+    """
+    trial_stress = np.asarray(trial_stress, dtype=float)
+    shape = trial_stress.shape[1:]
+    s = deviator(trial_stress)
+    q = np.sqrt(1.5) * norm(s)
+    e0 = np.broadcast_to(np.asarray(plastic_strain, dtype=float), shape)
+    # a yield tolerance of round-off size: a stress returned onto the surface stays elastic
+    plastic = q > hardening.flow_stress(e0) * (1.0 + tolerance)
+    dp = np.zeros(shape)
+    increment = np.zeros_like(trial_stress)
+    stress = trial_stress.copy()
+    iterations, residual, converged = 0, 0.0, True
+    if plastic.any():
+        qp = q[plastic]
+        dpp, iterations, residual, converged = equivalent_increment(
+            qp,
+            e0[plastic],
+            hardening,
+            shear_modulus,
+            tolerance=tolerance,
+            max_iterations=max_iterations,
+        )
+        dp[plastic] = dpp
+        flow = s[:, plastic] * (1.5 * dpp / qp)
+        increment[:, plastic] = flow
+        stress[:, plastic] -= 2.0 * shear_modulus * flow
+    return ReturnMapping(increment, dp, stress, plastic, iterations, residual, converged)
