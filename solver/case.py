@@ -9,6 +9,7 @@ so ``1`` and ``1.0`` give the same id.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import math
@@ -19,7 +20,8 @@ from typing import Any
 
 from .grid import SurfaceGrid, VolumeGrid
 from .materials import Body, Hardening, Pair
-from .reference import HertzContact, hertz, hertz_force_for_pressure
+from .reference import HertzContact, hertz, hertz_force_for_pressure, hertz_yield_depth
+from .variables import OPTIONAL_FIELDS
 
 #: Smallest number of cells the contact diameter may span.
 MIN_CELLS_ACROSS = 10
@@ -153,6 +155,14 @@ class LoadStage:
     steps: int
 
 
+def _load_number(value: Any, path: str, first: bool) -> float:
+    """A load: > 0 in the first stage, >= 0 later (0 unloads the contact)."""
+    value = _number(value, path, positive=first)
+    if value < 0:
+        _fail(path, f"must be >= 0 (0 unloads the contact), got {value!r}")
+    return value
+
+
 def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool) -> tuple:
     allowed = {"hertz_pressure", "normal_force", "tangential_force", "steps"}
     _check_keys(table, path, allowed)
@@ -160,11 +170,11 @@ def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool
         _fail(f"{path}.hertz_pressure", "give either hertz_pressure or normal_force, not both")
     given = {}
     if "hertz_pressure" in table:
-        p_h = _number(table["hertz_pressure"], f"{path}.hertz_pressure", positive=True)
+        p_h = _load_number(table["hertz_pressure"], f"{path}.hertz_pressure", first)
         given["hertz_pressure"] = p_h
         force = hertz_force_for_pressure(p_h, pair.composite_modulus, pair.curvature)
     elif "normal_force" in table:
-        force = _number(table["normal_force"], f"{path}.normal_force", positive=True)
+        force = _load_number(table["normal_force"], f"{path}.normal_force", first)
         given["normal_force"] = force
     elif first:
         _fail(path, "missing load: give hertz_pressure (Pa) or normal_force (N)")
@@ -190,6 +200,10 @@ def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool
 class SolverOptions:
     """Tolerances and caps of the iterative loops (all dimensionless), and FFT settings.
 
+    ``plastic_tolerance`` bounds the last change of a step's plastic strain increment relative
+    to the yield strain sigma_Y0/E; ``anderson_memory`` is the number of past iterates the
+    plasticity loop mixes (0: plain fixed-point iteration).
+
     ``fft_planner = "estimate"`` gives FFTW plans that do not depend on timing, so a case gives
     bit-identical results in any process; ``"measure"`` plans by timing (about 15 % faster
     solves, 0.5 s more set-up per grid) and results then agree only to round-off, which
@@ -204,6 +218,9 @@ class SolverOptions:
     coupling_max_iterations: int = 100
     goodman: bool = False
     max_load_ratio: float = 1.25
+    plastic_tolerance: float = 1e-6
+    plastic_max_iterations: int = 100
+    anderson_memory: int = 5
     fft_threads: int = 1
     fft_planner: str = "estimate"
 
@@ -217,6 +234,9 @@ _SOLVER_RULES = {
     "coupling_max_iterations": ("int",),
     "goodman": ("bool",),
     "max_load_ratio": ("ratio",),
+    "plastic_tolerance": ("tol",),
+    "plastic_max_iterations": ("int",),
+    "anderson_memory": ("memory",),
     "fft_threads": ("threads",),
     "fft_planner": ("planner",),
 }
@@ -244,6 +264,8 @@ def _parse_solver(table: Any) -> SolverOptions:
             values[key] = value
         elif rule == "threads":
             values[key] = _integer(value, path, 1, 256)
+        elif rule == "memory":
+            values[key] = _integer(value, path, 0, 50)
         elif not isinstance(value, bool):
             _fail(path, f"must be true or false, got {value!r}")
         else:
@@ -253,17 +275,39 @@ def _parse_solver(table: Any) -> SolverOptions:
 
 @dataclass(frozen=True)
 class GridSpec:
-    """Requested discretisation: cells and domain size in units of the Hertz radius."""
+    """Requested discretisation: cells and domain size in units of the Hertz radius.
+
+    ``depth`` None (not given) is resolved by :meth:`Case.from_dict`: the elastic yield depth
+    with a margin for elastic-plastic cases (:func:`auto_depth`), else :data:`DEFAULT_DEPTH`.
+    """
 
     nx: int
     ny: int
     nz: int = 0
     half_width: float = 1.5
-    depth: float = 1.2
+    depth: float | None = None
 
 
 #: Field outputs a case may request.
-FIELD_OUTPUTS = ("stress",)
+FIELD_OUTPUTS = OPTIONAL_FIELDS
+#: Version of the physical model: part of every case id, so that files computed by an older
+#: model (version 1: elastic-plastic bodies solved as elastic) are never reused.
+MODEL_VERSION = 2
+#: Volume depth (units of the largest Hertz semi-axis) when none is given for elastic cases.
+DEFAULT_DEPTH = 1.2
+#: Margin on the elastic yield depth that sizes an elastic-plastic case's volume grid.
+YIELD_DEPTH_MARGIN = 1.2
+
+
+def auto_depth(max_pressure: float, yield_stress: float, nu: float) -> float:
+    """Volume depth (units of a_H) for an elastic-plastic body: yield depth x margin.
+
+    The frictionless Hertz von Mises stress at the maximum load exceeds ``yield_stress`` on the
+    axis down to :func:`~solver.reference.hertz_yield_depth`; the box is
+    :data:`YIELD_DEPTH_MARGIN` times deeper, and never shallower than :data:`DEFAULT_DEPTH`.
+    """
+    depth = hertz_yield_depth(max_pressure, yield_stress, nu)
+    return max(DEFAULT_DEPTH, YIELD_DEPTH_MARGIN * depth)
 
 
 @dataclass(frozen=True)
@@ -313,8 +357,14 @@ class Case:
         SpecError
             If any field is missing, unknown, of the wrong type or non-physical.
         """
-        allowed = {"body1", "body2", "load", "friction", "grid", "solver", "output"}
+        allowed = {"body1", "body2", "load", "friction", "grid", "solver", "output", "model"}
         _check_keys(table, "", allowed, {"body1", "body2", "load", "grid"})
+        if table.get("model", MODEL_VERSION) != MODEL_VERSION:
+            _fail(
+                "model",
+                f"this case was written by model version {table['model']!r}; this solver is "
+                f"version {MODEL_VERSION}: remove the key to solve it with the current model",
+            )
         body1 = _parse_body(table["body1"], "body1")
         body2 = _parse_body(table["body2"], "body2")
         if body1.rigid and body2.rigid:
@@ -359,6 +409,15 @@ class Case:
                 )
 
         grid = _parse_grid(table["grid"])
+        _check_plastic_scene(body1, body2, mu, stages, grid)
+        if grid.depth is None:
+            depth = DEFAULT_DEPTH
+            if body2.behaviour == "elastic-plastic":
+                p_max = hertz(
+                    max(stage.normal_force for stage in stages), pair.composite_modulus, (kx, ky)
+                ).max_pressure
+                depth = auto_depth(p_max, body2.hardening.initial_yield_stress, body2.nu)
+            grid = dataclasses.replace(grid, depth=depth)
         solver = _parse_solver(table.get("solver", {}))
         output = _check_keys(table.get("output", {}), "output", {"fields"})
         fields = output.get("fields", [])
@@ -368,8 +427,12 @@ class Case:
             _fail("output.fields", "stress needs a volume grid: give grid.n = [nx, ny, nz]")
         if "stress" in fields and body2.rigid:
             _fail("output.fields", "stress is computed in body 2, which is rigid here")
+        for name in ("plastic_strain_tensor", "residual_stress"):
+            if name in fields and body2.behaviour != "elastic-plastic":
+                _fail("output.fields", f"{name} needs an elastic-plastic body 2")
 
         spec = {
+            "model": MODEL_VERSION,
             "body1": _body_spec(body1),
             "body2": _body_spec(body2),
             "load": {"path": given},
@@ -390,6 +453,16 @@ class Case:
         case = cls(body1, body2, tuple(stages), mu, grid, solver, tuple(sorted(fields)), spec)
         case._check_resolution()
         return case
+
+    @property
+    def symmetric_plastic(self) -> bool:
+        """True for the symmetric elastic-plastic pair (seed eq. 2): identical bodies."""
+        return self.body1.behaviour == "elastic-plastic" and self.body1 == self.body2
+
+    @property
+    def plastic_body(self) -> Body | None:
+        """The elastic-plastic body whose plastic strain is computed (body 2), or None."""
+        return self.body2 if self.body2.behaviour == "elastic-plastic" else None
 
     def _check_resolution(self) -> None:
         reference = self.hertz
@@ -484,21 +557,13 @@ class Case:
         return json.loads(json.dumps(self.spec))
 
     def memory_estimate(self) -> int:
-        """Peak memory (bytes) the solve is expected to need, for the study scheduler."""
-        from .convolution import SurfaceOperator
+        """Peak memory (bytes) the solve is expected to need, for the study scheduler.
 
-        nx, ny = self.grid.nx, self.grid.ny
-        tangential = self.friction_coefficient > 0
-        operator = SurfaceOperator.memory_bytes(self.surface_grid, tangential)
-        work = 8 * nx * ny * 40  # solver work arrays and the result's fields
-        history = 8 * 16 * self.total_steps
-        total = operator + work + history
-        if "stress" in self.fields:
-            from .stress import SubsurfaceStressOperator
+        From the case's operator bundle (:meth:`solver.operators.CaseOperators.memory_bytes`).
+        """
+        from .operators import CaseOperators
 
-            volume = self.volume_grid
-            total += SubsurfaceStressOperator.memory_bytes(volume) + 2 * 8 * 7 * nx * ny * volume.nz
-        return total
+        return CaseOperators.memory_bytes(self)
 
     def cost_estimate(self) -> float:
         """Relative cost (arbitrary units ~ FFT work) for ordering cases costliest first.
@@ -516,10 +581,47 @@ class Case:
             elif self.has_tangential_load:
                 factor = 5.0
         volume = 0.0
-        if "stress" in self.fields:
+        if self.plastic_body is not None:
+            # ~10 plasticity iterations per step, each 12 padded 3-D transforms
+            cells = 4 * self.grid.nx * self.grid.ny * 3 * self.grid.nz
+            volume = 10 * 12 * cells * math.log2(cells)
+        elif "stress" in self.fields:
             cells = 4 * self.grid.nx * self.grid.ny * self.grid.nz
             volume = 3 * cells * math.log2(cells) / max(self.total_steps, 1)
         return (per_solve * factor + volume) * self.total_steps
+
+
+def _check_plastic_scene(body1: Body, body2: Body, mu: float, stages, grid: GridSpec) -> None:
+    """Refuse the elastic-plastic scenes this release cannot solve (no silent elastic answer)."""
+    symmetric = body1.behaviour == "elastic-plastic" and body1 == body2
+    if body1.behaviour == "elastic-plastic" and not symmetric:
+        _fail(
+            "body1.behaviour",
+            "an elastic-plastic body 1 is solved only in the symmetric pair (identical radii, "
+            "E, nu and hardening as body 2; the paper's eq. 2); make body 1 elastic or rigid, "
+            "or body 2 identical to it",
+        )
+    if body2.behaviour != "elastic-plastic":
+        return
+    if mu > 0 and not symmetric:
+        _fail(
+            "friction.coefficient",
+            "friction on an elastic-plastic body 2 needs the four-loop solver (tangential "
+            "residual displacements), not built yet; set friction.coefficient = 0, or use the "
+            "symmetric elastic-plastic pair",
+        )
+    if any(any(stage.tangential_force) for stage in stages):
+        _fail(
+            "load.tangential_force",
+            "a tangential load on an elastic-plastic body needs the four-loop solver, not "
+            "built yet; remove tangential_force",
+        )
+    if not grid.nz:
+        _fail(
+            "grid.n",
+            "an elastic-plastic body needs a volume grid: give grid.n = [nx, ny, nz] "
+            "(e.g. [64, 64, 64])",
+        )
 
 
 def _parse_grid(table: Any) -> GridSpec:
@@ -534,7 +636,7 @@ def _parse_grid(table: Any) -> GridSpec:
         sizes = [size, size]
     nz = sizes[2] if len(sizes) == 3 else 0
     half_width = _number(table.get("half_width", 1.5), "grid.half_width", positive=True)
-    depth = _number(table.get("depth", 1.2), "grid.depth", positive=True)
+    depth = _number(table["depth"], "grid.depth", positive=True) if "depth" in table else None
     if "depth" in table and not nz:
         _fail("grid.depth", "a depth needs a volume grid: give grid.n = [nx, ny, nz]")
     return GridSpec(sizes[0], sizes[1], nz, half_width, depth)

@@ -123,7 +123,7 @@ def _lattice_corner_sums(cx, cy, cz, names, chunk: int = 16) -> dict:
 
 @functools.lru_cache(maxsize=1)
 def eigenstrain_operator(
-    grid: VolumeGrid, E: float, nu: float, threads: int = 1, planner: str = "FFTW_MEASURE"
+    grid: VolumeGrid, E: float, nu: float, threads: int = 1, planner: str = "FFTW_ESTIMATE"
 ) -> EigenstrainOperator:
     """Cached :class:`EigenstrainOperator` (one kept: it can hold gigabytes)."""
     return EigenstrainOperator(grid, E, nu, threads=threads, planner=planner)
@@ -144,7 +144,12 @@ class EigenstrainOperator:
     threads : int
         FFTW threads.
     planner : str
-        FFTW planner effort.
+        FFTW planner effort (``"FFTW_ESTIMATE"``, the project's reproducible default, or
+        ``"FFTW_MEASURE"``).
+    surface_stress : SubsurfaceStressOperator, optional
+        The traction-to-stress operator of the same grid and Poisson's ratio, shared with the
+        caller (its kernels serve the Boussinesq correction and the reciprocal displacements);
+        built here if omitted.
 
     Notes
     -----
@@ -164,7 +169,8 @@ class EigenstrainOperator:
         E: float,
         nu: float,
         threads: int = 1,
-        planner: str = "FFTW_MEASURE",
+        planner: str = "FFTW_ESTIMATE",
+        surface_stress: SubsurfaceStressOperator | None = None,
     ):
         self.grid = grid
         self.E = float(E)
@@ -174,7 +180,11 @@ class EigenstrainOperator:
         self.planner = planner
         nx, ny, nz = grid.shape
         self.length_z = fft_size(3 * nz - 1)
-        self.surface_stress = SubsurfaceStressOperator(grid, nu, threads=threads, planner=planner)
+        if surface_stress is None:
+            surface_stress = SubsurfaceStressOperator(grid, nu, threads=threads, planner=planner)
+        elif surface_stress.grid != grid or surface_stress.nu != self.nu:
+            raise ValueError("surface_stress must be built on the same grid and Poisson's ratio")
+        self.surface_stress = surface_stress
         self._volume: tuple | None = None
         self._stress_spectra: dict | None = None
         self._surface_kernels: dict | None = None

@@ -1,45 +1,152 @@
-"""The load-step loop: runs, for every increment of the load path, only the loops the scene needs.
+"""The load-path driver: runs, for every increment of the load path, only the loops the scene needs.
 
-| scene                                              | loops                         |
-|----------------------------------------------------|-------------------------------|
-| frictionless, or beta = 0 with no tangential load   | load_steps + normal           |
-| friction with beta != 0 or a tangential load        | load_steps + slip_stick       |
+=================================================  ============================================
+scene                                              loops (``Result.loops``)
+=================================================  ============================================
+elastic, frictionless or beta = 0, no shear load   load_steps, normal
+elastic, friction, beta != 0 or a tangential load  load_steps, slip_stick, normal, tangential
+elastic-plastic body 2, frictionless               load_steps, plasticity, normal, return_mapping
+symmetric EP-EP pair (seed eq. 2), any friction    load_steps, plasticity, normal_symmetric,
+                                                   return_mapping
+=================================================  ============================================
 
-(DESIGN §3.8; the plasticity loop joins in a later release.)
+(DESIGN §3.8.)  Every increment calls one contact step (:mod:`solver.steps`), wrapped by the
+plasticity loop (:mod:`solver.plastic_loop`) in elastic-plastic scenes.  The driver owns the
+sub-stepping of coupled friction scenes (:func:`load_substeps`, sub-steps not recorded), the
+per-step histories (declared in :mod:`solver.variables`) and the notes.
 """
 
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 
 import numpy as np
 
 from .case import Case
-from .convolution import surface_operator
-from .normal import solve_normal
-from .reference import hertz
+from .grid import VolumeGrid
+from .operators import CaseOperators
+from .plastic_loop import PlasticState, plastic_step
 from .result import SEPARATED, SLIP, STICK, Result
+from .steps import ContactState, StepResult, normal_step, slip_stick_step
+from .tensor import von_mises
+from .variables import PLASTIC_ZONE_THRESHOLD
 
+#: Fewest increments per normal-loading stage for which the stick zone of a coupled
+#: (beta != 0) scene is trusted; fewer give a path-dependence note.
+MIN_COUPLED_STEPS = 20
+#: First sub-step of a coupled scene loaded from zero, as a fraction of the first target.
+FIRST_SUBSTEP_FRACTION = 1.0 / 64.0
 
-def initial_gap(case: Case) -> np.ndarray:
-    """Undeformed gap h_i = x^2/(2 R_x) + y^2/(2 R_y) (m) on the case's surface grid."""
-    kx, ky = case.pair.curvature
-    x, y = case.surface_grid.mesh()
-    return 0.5 * (kx * x * x + ky * y * y)
-
-
-def planner_flag(case: Case) -> str:
-    """FFTW planner flag of the case's ``solver.fft_planner``."""
-    return "FFTW_MEASURE" if case.solver.fft_planner == "measure" else "FFTW_ESTIMATE"
+_CONTACT_HISTORY = (
+    "normal_force", "approach", "max_pressure", "contact_area", "normal_iterations",
+)  # fmt: skip
+_FRICTION_HISTORY = (
+    "tangential_force_x", "tangential_force_y", "tangential_shift_x", "tangential_shift_y",
+    "stick_area", "slip_iterations", "coupling_iterations",
+)  # fmt: skip
+_PLASTIC_HISTORY = (
+    "plastic_iterations", "max_plastic_strain", "max_plastic_strain_depth",
+    "plastic_zone_depth", "residual_depth",
+)  # fmt: skip
 
 
 def needs_slip_stick(case: Case) -> bool:
-    """True when friction couples to the normal problem (beta != 0) or a shear load exists."""
-    if case.friction_coefficient == 0.0:
+    """True when friction couples to the normal problem (beta != 0) or a shear load exists.
+
+    The symmetric elastic-plastic pair never needs it (seed eq. 2: both bodies deform alike).
+    """
+    if case.friction_coefficient == 0.0 or case.symmetric_plastic:
         return False
     return case.pair.dundurs_beta != 0.0 or case.has_tangential_load
 
 
+def scene(case: Case) -> tuple[tuple[str, ...], Callable[..., StepResult]]:
+    """The loops a case runs and its contact step."""
+    if case.plastic_body is not None:
+        normal = "normal_symmetric" if case.symmetric_plastic else "normal"
+        return ("load_steps", "plasticity", normal, "return_mapping"), normal_step
+    if needs_slip_stick(case):
+        return ("load_steps", "slip_stick", "normal", "tangential"), slip_stick_step
+    return ("load_steps", "normal"), normal_step
+
+
+def load_substeps(previous: tuple, target: tuple, max_ratio: float) -> list[tuple]:
+    """Intermediate (W, Q_x, Q_y) targets so that W grows by at most ``max_ratio`` per step.
+
+    Path-dependent coupled scenes need small relative increments while the contact grows: an
+    increment that doubles the load labels the new contact ring as in a one-shot solve.  The
+    sub-steps are geometric in W (from ``FIRST_SUBSTEP_FRACTION`` of the target when loading
+    from zero) with the tangential force interpolated linearly in W; ``target`` itself is not
+    included.
+    """
+    w0, w1 = previous[0], target[0]
+    if not np.isfinite(max_ratio) or w1 <= w0 * max_ratio:
+        return []
+    start = w0 if w0 > 0 else w1 * FIRST_SUBSTEP_FRACTION
+    count = int(np.ceil(np.log(w1 / start) / np.log(max_ratio)))
+    loads = start * (w1 / start) ** (np.arange(count) / count)
+    if w0 > 0:
+        loads = loads[1:]
+    out = []
+    for w in loads:
+        f = (w - w0) / (w1 - w0)
+        out.append(
+            (float(w), *(p + f * (t - p) for p, t in zip(previous[1:], target[1:], strict=True)))
+        )
+    return out
+
+
+# -- plastic-zone measures -----------------------------------------------------------------------
+def axis_value(values: np.ndarray) -> np.ndarray:
+    """Values on the contact axis x = y = 0 of an ``(nx, ny, ...)`` cell field.
+
+    The mean of the 1, 2 or 4 cells whose centres are nearest the axis (bilinear interpolation
+    at the origin of a centred grid).
+    """
+    nx, ny = values.shape[:2]
+    ix = slice((nx - 1) // 2, nx // 2 + 1)
+    iy = slice((ny - 1) // 2, ny // 2 + 1)
+    return values[ix, iy].mean(axis=(0, 1))
+
+
+def zone_depth(profile: np.ndarray, depth: np.ndarray, threshold: float) -> float:
+    """Deepest depth (m) where ``profile`` crosses ``threshold``, interpolated between layers.
+
+    0 when no layer exceeds it; the last layer's centre when the deepest layer does.
+    """
+    above = np.flatnonzero(profile > threshold)
+    if above.size == 0:
+        return 0.0
+    k = above[-1]
+    if k == len(profile) - 1:
+        return float(depth[k])
+    f = (profile[k] - threshold) / (profile[k] - profile[k + 1])
+    return float(depth[k] + f * (depth[k + 1] - depth[k]))
+
+
+def peak_depth(values: np.ndarray, depth: np.ndarray) -> float:
+    """Depth (m) of the maximum of a cell field, refined by a parabola through its column."""
+    i, j, k = np.unravel_index(int(np.argmax(values)), values.shape)
+    if 0 < k < values.shape[2] - 1:
+        lo, mid, hi = values[i, j, k - 1 : k + 2]
+        curvature = lo - 2 * mid + hi
+        if curvature < 0:
+            shift = 0.5 * (lo - hi) / curvature
+            return float(depth[k] + shift * (depth[1] - depth[0]))
+    return float(depth[k])
+
+
+def _box_faces_reached(equivalent: np.ndarray) -> list[str]:
+    faces = {
+        "bottom (grid.depth)": equivalent[:, :, -1],
+        "side x (grid.half_width)": equivalent[[0, -1], :, :],
+        "side y (grid.half_width)": equivalent[:, [0, -1], :],
+    }
+    return [name for name, cells in faces.items() if cells.max() > PLASTIC_ZONE_THRESHOLD]
+
+
+# -- the driver ------------------------------------------------------------------------------------
 def solve(case: Case) -> Result:
     """Solve a case over its whole load path.
 
@@ -51,85 +158,157 @@ def solve(case: Case) -> Result:
     Returns
     -------
     Result
-        Final tractions, per-step histories and status; non-convergence is reported in
+        Final tractions, fields, per-step histories and status; non-convergence is reported in
         ``Result.converged`` and ``Result.notes``, never raised.
     """
     start = time.perf_counter()
-    result = _solve_surface(case)
-    if "stress" in case.fields:
-        from .stress import subsurface_operator, von_mises
+    operators = CaseOperators.build(case)
+    loops, contact_step = scene(case)
+    plastic = case.plastic_body is not None
+    targets = case.step_targets()
+    names = _CONTACT_HISTORY
+    if contact_step is slip_stick_step:
+        names += _FRICTION_HISTORY
+    if plastic:
+        names += _PLASTIC_HISTORY
+    names += ("residual", "step_converged")
+    history = {name: np.zeros(len(targets)) for name in names}
+    volume: VolumeGrid | None = case.volume_grid
+    area = case.surface_grid.cell_area
 
-        operator = subsurface_operator(
-            case.volume_grid, case.body2.nu, case.solver.fft_threads, planner_flag(case)
-        )
-        result.stress = operator.stress(result.pressure, result.shear_x, result.shear_y)
-        result.von_mises = von_mises(result.stress)
-        result.depth = case.volume_grid.z
+    state = ContactState.unloaded(operators.gap.shape)
+    plastic_state = PlasticState.virgin(volume.shape) if plastic else None
+    notes: list[str] = []
+    converged = True
+    coupled = contact_step is slip_stick_step and case.pair.dundurs_beta != 0.0
+    coupled = coupled and not case.solver.goodman
+    previous_target = (0.0, 0.0, 0.0)
+    guess, direction = None, 0.0
+    faces_noted = False
+    outcome = None
+    for k, target in enumerate(targets):
+        if coupled:
+            for sub in load_substeps(previous_target, target, case.solver.max_load_ratio):
+                state = contact_step(operators, state, sub).state
+        messages = []
+        if plastic:
+            new_direction = np.sign(target[0] - previous_target[0])
+            if new_direction != direction:
+                guess = None
+            step = plastic_step(operators, contact_step, state, plastic_state, target, guess)
+            outcome, plastic_state, guess = step.contact, step.plastic, step.increment
+            direction = new_direction
+            step_ok = step.converged
+            residual = max(outcome.residual, step.residual)
+            if step.message:
+                messages.append(step.message)
+        else:
+            outcome = contact_step(operators, state, target)
+            step_ok, residual = outcome.converged, outcome.residual
+            if outcome.message:
+                messages.append(outcome.message)
+        state = outcome.state
+        previous_target = target
+        _record(history, k, outcome, area)
+        history["residual"][k] = residual
+        history["step_converged"][k] = float(step_ok)
+        if plastic:
+            _record_plastic(history, k, step, volume)
+            reached = _box_faces_reached(plastic_state.equivalent)
+            if reached and not faces_noted:
+                faces_noted = True
+                notes.append(
+                    f"step {k + 1}: plastic strain reaches the volume grid's "
+                    f"{', '.join(reached)} face: enlarge the box"
+                )
+        if not step_ok:
+            converged = False
+            notes.extend(f"step {k + 1}: {m}" for m in messages)
+    notes.extend(_path_dependence_notes(case) if coupled else [])
+
+    contact = state.pressure > 0
+    if contact_step is slip_stick_step:
+        contact_state = np.where(contact, np.where(outcome.stick, STICK, SLIP), SEPARATED)
+    else:
+        contact_state = np.where(contact, SLIP if case.friction_coefficient == 0 else STICK, 0)
+    result = Result(
+        case=case,
+        grid=case.surface_grid,
+        pressure=state.pressure,
+        shear_x=state.shear_x,
+        shear_y=state.shear_y,
+        contact_state=contact_state.astype(np.int8),
+        history=history,
+        loops=loops,
+        converged=converged,
+        notes=notes,
+    )
+    if plastic or "stress" in case.fields:
+        result.depth = volume.z
+    if "stress" in case.fields:
+        sheared = state.shear_x.any() or state.shear_y.any()
+        shears = (state.shear_x, state.shear_y) if sheared else (None, None)
+        stress = operators.stress.stress(state.pressure, *shears)
+        result.fields["stress"] = stress
+        result.fields["von_mises"] = von_mises(stress)
+    if plastic:
+        _plastic_fields(result, operators, plastic_state)
     result.wall_time = time.perf_counter() - start
     return result
 
 
-def _solve_surface(case: Case) -> Result:
-    """The contact solution on the surface (all load steps), without field outputs."""
-    grid = case.surface_grid
-    operator = surface_operator(grid, case.pair, case.solver.fft_threads, planner_flag(case))
-    gap = initial_gap(case)
-    targets = case.step_targets()
-    if needs_slip_stick(case):
-        from .slipstick import run_slip_stick
+def _record(history: dict, k: int, outcome: StepResult, area: float) -> None:
+    state = outcome.state
+    history["normal_force"][k] = state.pressure.sum() * area
+    history["approach"][k] = outcome.approach
+    history["max_pressure"][k] = state.pressure.max()
+    history["contact_area"][k] = np.count_nonzero(state.pressure) * area
+    history["normal_iterations"][k] = outcome.iterations.get("normal", 0)
+    if "stick_area" in history:
+        history["tangential_force_x"][k] = state.shear_x.sum() * area
+        history["tangential_force_y"][k] = state.shear_y.sum() * area
+        history["tangential_shift_x"][k], history["tangential_shift_y"][k] = state.shift
+        history["stick_area"][k] = np.count_nonzero(outcome.stick) * area
+        history["slip_iterations"][k] = outcome.iterations.get("slip", 0)
+        history["coupling_iterations"][k] = outcome.iterations.get("coupling", 0)
 
-        return run_slip_stick(case, operator, gap, targets)
 
-    history = {k: np.zeros(len(targets)) for k in _NORMAL_HISTORY}
-    notes: list[str] = []
-    pressure = None
-    area = grid.cell_area
-    pair, mesh = case.pair, grid.mesh()
-    all_converged = True
-    for k, (force, _, _) in enumerate(targets):
-        # Quadric bodies: the Hertz pressure of this force is a close first guess.
-        initial = hertz(force, pair.composite_modulus, pair.curvature).pressure(*mesh)
-        solution = solve_normal(
-            operator,
-            gap,
-            force,
-            initial_pressure=initial,
-            tolerance=case.solver.normal_tolerance,
-            max_iterations=case.solver.normal_max_iterations,
-        )
-        pressure = solution.pressure
-        if not solution.converged:
-            all_converged = False
-            notes.append(f"step {k + 1}: normal solve {solution.message}")
-        history["normal_force"][k] = pressure.sum() * area
-        history["approach"][k] = solution.approach
-        history["max_pressure"][k] = pressure.max()
-        history["contact_area"][k] = np.count_nonzero(pressure) * area
-        history["normal_iterations"][k] = solution.iterations
-        history["residual"][k] = solution.residual
-        history["step_converged"][k] = float(solution.converged)
-    zeros = np.zeros_like(pressure)
-    state = np.where(pressure > 0, SLIP if case.friction_coefficient == 0 else STICK, SEPARATED)
-    return Result(
-        case=case,
-        grid=grid,
-        pressure=pressure,
-        shear_x=zeros,
-        shear_y=zeros.copy(),
-        contact_state=state.astype(np.int8),
-        history=history,
-        loops=("load_steps", "normal"),
-        converged=all_converged,
-        notes=notes,
+def _record_plastic(history: dict, k: int, step, volume: VolumeGrid) -> None:
+    equivalent = step.plastic.equivalent
+    history["plastic_iterations"][k] = step.iterations
+    history["max_plastic_strain"][k] = equivalent.max()
+    history["max_plastic_strain_depth"][k] = (
+        peak_depth(equivalent, volume.z) if equivalent.max() > 0 else 0.0
     )
+    history["plastic_zone_depth"][k] = zone_depth(
+        axis_value(equivalent), volume.z, PLASTIC_ZONE_THRESHOLD
+    )
+    history["residual_depth"][k] = float(axis_value(step.plastic.displacement[2]))
 
 
-_NORMAL_HISTORY = (
-    "normal_force",
-    "approach",
-    "max_pressure",
-    "contact_area",
-    "normal_iterations",
-    "residual",
-    "step_converged",
-)
+def _plastic_fields(result: Result, operators: CaseOperators, plastic: PlasticState) -> None:
+    """Final plastic fields; displacements and residual stress of the final plastic strain."""
+    result.fields["plastic_strain"] = plastic.equivalent
+    if plastic.strain.any():
+        residual_stress, displacement = operators.eigenstrain.evaluate(plastic.strain)
+    else:
+        residual_stress, displacement = np.zeros_like(plastic.strain), plastic.displacement
+    for axis, values in zip("xyz", displacement, strict=True):
+        result.fields[f"residual_displacement_{axis}"] = values
+    if "plastic_strain_tensor" in result.case.fields:
+        result.fields["plastic_strain_tensor"] = plastic.strain
+    if "residual_stress" in result.case.fields:
+        result.fields["residual_stress"] = residual_stress
+
+
+def _path_dependence_notes(case: Case) -> list[str]:
+    notes, previous_force = [], 0.0
+    for i, stage in enumerate(case.stages):
+        if stage.normal_force > previous_force and stage.steps < MIN_COUPLED_STEPS:
+            notes.append(
+                f"path dependence: load stage {i + 1} raises the normal force in "
+                f"{stage.steps} step(s); the stick zone of a dissimilar pair (beta != 0) "
+                f"depends on the loading path, use >= {MIN_COUPLED_STEPS} steps"
+            )
+        previous_force = stage.normal_force
+    return notes

@@ -133,3 +133,68 @@ def hertz_force_for_pressure(
 def cattaneo_stick_ratio(tangential_force: float, friction_coefficient: float, normal_force: float):
     """Cattaneo-Mindlin stick radius c/a = (1 - Q/(mu W))^(1/3) for beta = 0."""
     return (1.0 - tangential_force / (friction_coefficient * normal_force)) ** (1.0 / 3.0)
+
+
+def hertz_axis_stress(depth_over_radius, nu: float):
+    """Stresses on the axis below a circular Hertz contact, over p_0 (Johnson 1985, eq. 3.45).
+
+    Parameters
+    ----------
+    depth_over_radius : float or ndarray
+        z / a (dimensionless), z > 0 into the body.
+    nu : float
+        Poisson's ratio of the body.
+
+    Returns
+    -------
+    radial, axial, von_mises : ndarray
+        ``sigma_r = sigma_theta``, ``sigma_z`` and the von Mises stress ``|sigma_r - sigma_z|``,
+        each divided by p_0 (compression negative).
+    """
+    import numpy as np
+
+    zeta = np.asarray(depth_over_radius, dtype=float)
+    radial = -(1.0 + nu) * (1.0 - zeta * np.arctan2(1.0, zeta)) + 0.5 / (1.0 + zeta * zeta)
+    axial = -1.0 / (1.0 + zeta * zeta)
+    return radial, axial, np.abs(radial - axial)
+
+
+def hertz_yield_depth(max_pressure: float, yield_stress: float, nu: float) -> float:
+    """Deepest z / a on the axis where the Hertz von Mises stress reaches ``yield_stress``.
+
+    The elastic prediction of the plastic zone's depth (frictionless Hertz contact); 0 when the
+    contact stays elastic (``max_pressure`` below :func:`first_yield_pressure`).
+
+    Parameters
+    ----------
+    max_pressure : float
+        Hertz peak pressure p_0 (Pa).
+    yield_stress : float
+        Initial yield stress sigma_Y0 (Pa).
+    nu : float
+        Poisson's ratio.
+    """
+    import numpy as np
+
+    zeta = np.linspace(0.0, 20.0, 200001)
+    above = np.flatnonzero(hertz_axis_stress(zeta, nu)[2] * max_pressure >= yield_stress)
+    if above.size == 0:
+        return 0.0
+    k = min(above[-1], zeta.size - 2)
+    # linear interpolation of the crossing between samples k and k + 1
+    _, _, vm = hertz_axis_stress(zeta[k : k + 2], nu)
+    ratio = yield_stress / max_pressure
+    return float(zeta[k] + (vm[0] - ratio) / (vm[0] - vm[1]) * (zeta[k + 1] - zeta[k]))
+
+
+def first_yield_pressure(yield_stress: float, nu: float) -> tuple[float, float]:
+    """Hertz peak pressure at first yield (frictionless) and the depth z / a where it starts.
+
+    Returns ``(p_0, z/a)``: for nu = 0.3, p_0 = sigma_Y0 / 0.620 at z = 0.481 a (Johnson 1985).
+    """
+    import numpy as np
+
+    zeta = np.linspace(0.0, 3.0, 300001)
+    vm = hertz_axis_stress(zeta, nu)[2]
+    k = int(np.argmax(vm))
+    return yield_stress / float(vm[k]), float(zeta[k])

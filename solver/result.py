@@ -8,24 +8,11 @@ import numpy as np
 
 from .case import Case
 from .grid import SurfaceGrid
+from .tensor import COMPONENTS
+from .variables import FIELDS, HISTORIES
 
-#: CF metadata of every history variable: name -> (units, long_name).
-HISTORY_META = {
-    "normal_force": ("N", "normal force"),
-    "approach": ("m", "rigid-body approach"),
-    "max_pressure": ("Pa", "maximum contact pressure"),
-    "contact_area": ("m2", "contact area"),
-    "tangential_force_x": ("N", "tangential force on body 2 along x"),
-    "tangential_force_y": ("N", "tangential force on body 2 along y"),
-    "tangential_shift_x": ("m", "rigid tangential shift of body 1 relative to body 2 along x"),
-    "tangential_shift_y": ("m", "rigid tangential shift of body 1 relative to body 2 along y"),
-    "stick_area": ("m2", "stick area"),
-    "normal_iterations": ("1", "normal-solver CG iterations (summed over the slip-stick loop)"),
-    "slip_iterations": ("1", "tangential-solver CG iterations (summed over the slip-stick loop)"),
-    "coupling_iterations": ("1", "slip-stick (normal-tangential) loop iterations"),
-    "residual": ("1", "largest final relative residual of the step's solves"),
-    "step_converged": ("1", "1 when every solve of the step converged"),
-}
+#: CF metadata of every history variable: name -> (units, long_name) (from :mod:`.variables`).
+HISTORY_META = {name: (h.units, h.long_name) for name, h in HISTORIES.items()}
 
 #: Values of ``contact_state``.
 SEPARATED, STICK, SLIP = 0, 1, 2
@@ -55,10 +42,13 @@ class Result:
         Warnings and status messages (non-convergence, path dependence...).
     wall_time : float
         Solve time (s).
-    stress, von_mises, depth : ndarray or None
-        With ``[output] fields = ["stress"]``: the stress in body 2 (Pa), shape
-        (6, nx, ny, nz), components xx, yy, zz, yz, xz, xy; its von Mises value (Pa); the
-        layer depths (m).
+    fields : dict of ndarray
+        Further fields, each declared in :data:`solver.variables.FIELDS`: the stress of the
+        tractions in body 2 (``[output] fields = ["stress"]``), and for elastic-plastic cases
+        the equivalent plastic strain, residual surface displacements and, on request, the
+        plastic strain tensor and the residual stress.
+    depth : ndarray or None
+        Layer-centre depths (m) of the volume fields.
     """
 
     case: Case
@@ -72,8 +62,7 @@ class Result:
     converged: bool
     notes: list[str] = field(default_factory=list)
     wall_time: float = 0.0
-    stress: np.ndarray | None = None
-    von_mises: np.ndarray | None = None
+    fields: dict[str, np.ndarray] = field(default_factory=dict)
     depth: np.ndarray | None = None
 
     @property
@@ -94,36 +83,29 @@ class Result:
             "step": ("step", steps, {"units": "1", "long_name": "load step"}),
         }
         data = {
-            "pressure": (
-                ("x", "y"),
-                self.pressure,
-                {"units": "Pa", "long_name": "contact pressure"},
-            ),
-            "shear_x": (("x", "y"), self.shear_x, {"units": "Pa", "long_name": "shear traction x"}),
-            "shear_y": (("x", "y"), self.shear_y, {"units": "Pa", "long_name": "shear traction y"}),
-            "contact_state": (
-                ("x", "y"),
-                self.contact_state.astype(np.int8),
-                {
-                    "long_name": "contact state",
-                    "flag_values": np.array([SEPARATED, STICK, SLIP], dtype=np.int8),
-                    "flag_meanings": "separated stick slip",
-                },
-            ),
+            name: (FIELDS[name].dims, getattr(self, name), _cf(FIELDS[name]))
+            for name in ("pressure", "shear_x", "shear_y")
         }
-        if self.stress is not None:
+        data.update(
+            {
+                "contact_state": (
+                    ("x", "y"),
+                    self.contact_state.astype(np.int8),
+                    {
+                        "long_name": "contact state",
+                        "flag_values": np.array([SEPARATED, STICK, SLIP], dtype=np.int8),
+                        "flag_meanings": "separated stick slip",
+                    },
+                ),
+            }
+        )
+        if self.depth is not None:
             coords["z"] = ("z", self.depth, {"units": "m", "long_name": "depth into body 2"})
-            coords["component"] = ("component", ["xx", "yy", "zz", "yz", "xz", "xy"])
-            data["stress"] = (
-                ("component", "x", "y", "z"),
-                self.stress,
-                {"units": "Pa", "long_name": "stress in body 2 from the surface tractions"},
-            )
-            data["von_mises"] = (
-                ("x", "y", "z"),
-                self.von_mises,
-                {"units": "Pa", "long_name": "von Mises equivalent stress in body 2"},
-            )
+        for name, values in self.fields.items():
+            declared = FIELDS[name]
+            if "component" in declared.dims:
+                coords["component"] = ("component", list(COMPONENTS))
+            data[name] = (declared.dims, values, _cf(declared))
         for name, values in self.history.items():
             units, long_name = HISTORY_META[name]
             data[name] = ("step", np.asarray(values), {"units": units, "long_name": long_name})
@@ -147,3 +129,7 @@ class Result:
             "wall_time": self.wall_time,
         }
         return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def _cf(declared) -> dict:
+    return {"units": declared.units, "long_name": declared.long_name}

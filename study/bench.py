@@ -65,14 +65,14 @@ def peak_memory():
 def _ours_hertz(n: int, repeat: int, planner: str = "measure") -> dict:
     import solver
     from solver.convolution import surface_operator
-    from solver.loops import planner_flag
+    from solver.operators import planner_flag
 
     table = {**HERTZ_TABLE, "grid": {"n": n, "half_width": 1.6}}
     table["solver"] = {"fft_planner": planner}
     case = solver.Case.from_dict(table)
     with peak_memory() as memory:
         t0 = time.perf_counter()
-        operator = surface_operator(case.surface_grid, case.pair, 1, planner_flag(case))
+        operator = surface_operator(case.surface_grid, case.pair, 1, planner_flag(case.solver))
         operator.kernel_spectrum("zz")
         operator.inverse_normal(np.zeros(case.surface_grid.shape))
         setup = time.perf_counter() - t0

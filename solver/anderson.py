@@ -1,0 +1,60 @@
+"""Anderson acceleration of a fixed-point iteration x = g(x) (Walker & Ni 2011, type II).
+
+With the residual ``f(x) = g(x) - x`` and the differences ``dX``, ``dF`` of the last ``m``
+iterates and residuals, the next iterate is
+
+    x+ = x + f - (dX + dF) gamma,    gamma = argmin || f - dF gamma ||_2,
+
+which is plain fixed-point iteration when ``m = 0``.  The history restarts when the residual
+grows by more than :data:`RESTART_GROWTH` over the best seen, a safeguard against stagnation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: Restart the history when |f| exceeds this multiple of the smallest |f| seen.
+RESTART_GROWTH = 4.0
+
+
+class Anderson:
+    """Anderson mixing with a memory of ``memory`` iterates.
+
+    Parameters
+    ----------
+    memory : int
+        Number of past differences kept (0: plain fixed-point iteration).
+    """
+
+    def __init__(self, memory: int = 5):
+        self.memory = memory
+        self._x = None
+        self._f = None
+        self._dx: list[np.ndarray] = []
+        self._df: list[np.ndarray] = []
+        self._best = np.inf
+        self.restarts = 0
+
+    def __call__(self, x: np.ndarray, f: np.ndarray) -> np.ndarray:
+        """Next iterate from the current one ``x`` and its residual ``f = g(x) - x``."""
+        norm = float(np.linalg.norm(f))
+        if norm > RESTART_GROWTH * self._best and self._dx:
+            self._dx.clear()
+            self._df.clear()
+            self.restarts += 1
+        self._best = min(self._best, norm)
+        if self._x is not None and self.memory > 0:
+            self._dx.append(x - self._x)
+            self._df.append(f - self._f)
+            if len(self._dx) > self.memory:
+                self._dx.pop(0)
+                self._df.pop(0)
+        self._x, self._f = x.copy(), f.copy()
+        if not self._dx:
+            return x + f
+        df = np.stack([d.ravel() for d in self._df], axis=1)
+        gamma, *_ = np.linalg.lstsq(df, f.ravel(), rcond=1e-12)
+        out = x + f
+        for g, dx, dfi in zip(gamma, self._dx, self._df, strict=True):
+            out -= g * (dx + dfi)
+        return out

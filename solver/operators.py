@@ -1,0 +1,128 @@
+"""One bundle of operators per case: surface, subsurface stress and eigenstrain, built once.
+
+All three are built with the case's FFT planner and threads and share what they can: the
+eigenstrain operator uses the same :class:`~solver.stress.SubsurfaceStressOperator` (its kernels
+serve both the stress of the tractions and the residual surface displacements).  Bundles are
+cached per (grid, materials, FFT settings), so cases of a campaign on the same grid reuse them.
+:meth:`CaseOperators.memory_bytes` states what a case's bundle and work arrays hold, for the
+study scheduler.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+
+import numpy as np
+
+from .case import Case, SolverOptions
+from .convolution import SurfaceOperator, surface_operator
+from .eigenstrain import EigenstrainOperator
+from .grid import VolumeGrid
+from .materials import Body, Pair
+from .stress import SubsurfaceStressOperator
+
+
+def planner_flag(options: SolverOptions) -> str:
+    """FFTW planner flag of ``solver.fft_planner``."""
+    return "FFTW_MEASURE" if options.fft_planner == "measure" else "FFTW_ESTIMATE"
+
+
+def initial_gap(case: Case) -> np.ndarray:
+    """Undeformed gap h_i = x^2/(2 R_x) + y^2/(2 R_y) (m) on the case's surface grid."""
+    kx, ky = case.pair.curvature
+    x, y = case.surface_grid.mesh()
+    return 0.5 * (kx * x * x + ky * y * y)
+
+
+@functools.lru_cache(maxsize=2)
+def _volume_operators(
+    grid: VolumeGrid, body: Body, threads: int, planner: str, eigenstrain: bool
+) -> tuple[SubsurfaceStressOperator, EigenstrainOperator | None]:
+    stress = SubsurfaceStressOperator(grid, body.nu, threads=threads, planner=planner)
+    if not eigenstrain:
+        return stress, None
+    plastic = EigenstrainOperator(
+        grid, body.E, body.nu, threads=threads, planner=planner, surface_stress=stress
+    )
+    return stress, plastic
+
+
+@dataclass
+class CaseOperators:
+    """Operators and fixed data of one case.
+
+    Attributes
+    ----------
+    case : Case
+        The case.
+    surface : SurfaceOperator
+        Relative surface displacements of the pair from tractions.
+    gap : ndarray
+        Undeformed gap (m).
+    stress : SubsurfaceStressOperator or None
+        Stress in body 2 from surface tractions (with a volume grid).
+    eigenstrain : EigenstrainOperator or None
+        Residual stress and surface displacement of plastic strain in body 2 (elastic-plastic
+        cases only).
+    """
+
+    case: Case
+    surface: SurfaceOperator
+    gap: np.ndarray
+    stress: SubsurfaceStressOperator | None = None
+    eigenstrain: EigenstrainOperator | None = None
+
+    @property
+    def options(self) -> SolverOptions:
+        """Tolerances and caps."""
+        return self.case.solver
+
+    @property
+    def pair(self) -> Pair:
+        """The two bodies."""
+        return self.case.pair
+
+    @classmethod
+    def build(cls, case: Case) -> CaseOperators:
+        """The bundle a case needs (volume operators only with a volume grid in use)."""
+        options = case.solver
+        planner = planner_flag(options)
+        surface = surface_operator(case.surface_grid, case.pair, options.fft_threads, planner)
+        stress = plastic = None
+        plastic_case = case.plastic_body is not None
+        if plastic_case or "stress" in case.fields:
+            stress, plastic = _volume_operators(
+                case.volume_grid, case.body2, options.fft_threads, planner, plastic_case
+            )
+        return cls(case, surface, initial_gap(case), stress, plastic)
+
+    @staticmethod
+    def memory_bytes(case: Case) -> int:
+        """Peak bytes the bundle and the solver's work arrays are expected to need.
+
+        Surface operator and ~40 surface work arrays; with a volume grid the stress operator
+        (kernels of the tractions in use) and an evaluated stress field; for elastic-plastic
+        cases the eigenstrain operator and the plasticity loop's arrays (plastic strain and
+        its increment, trial stress, Anderson history: :data:`PLASTIC_WORK_ARRAYS` six-component
+        fields).
+        """
+        nx, ny = case.grid.nx, case.grid.ny
+        tangential = case.friction_coefficient > 0
+        total = SurfaceOperator.memory_bytes(case.surface_grid, tangential)
+        total += 8 * nx * ny * 40 + 8 * 16 * case.total_steps
+        volume = case.volume_grid
+        if case.plastic_body is not None:
+            cells = 8 * 6 * nx * ny * volume.nz
+            total += EigenstrainOperator.memory_bytes(volume)
+            total += PLASTIC_WORK_ARRAYS * cells
+        elif "stress" in case.fields:
+            tractions = 3 if tangential else 1
+            total += SubsurfaceStressOperator.memory_bytes(volume, tractions)
+            total += 2 * 8 * 7 * nx * ny * volume.nz
+        return total
+
+
+#: Six-component volume fields the plasticity loop holds at once (strain, increment, trial
+#: stress, returned increment, stress from tractions, residual stress, Anderson memory 2 x 5).
+PLASTIC_WORK_ARRAYS = 18

@@ -1,0 +1,272 @@
+"""Contact steps: one load increment of the contact problem, normal or slip-stick.
+
+Both steps have one signature::
+
+    step(operators, previous, target, residual, initial) -> StepResult
+
+- ``operators``: the case's :class:`~solver.operators.CaseOperators`;
+- ``previous``: the converged :class:`ContactState` of the previous increment (the memory of
+  the path-dependent friction law);
+- ``target``: (W, Q_x, Q_y) at the end of the increment (N); W may be 0 (unloaded);
+- ``residual``: the :class:`ResidualDisplacement` of the plastic strain at this increment, or
+  None (elastic bodies);
+- ``initial``: a :class:`ContactState` to start the iterations from (warm start: the last
+  iterate of the plasticity loop), or None to start from ``previous`` (or from Hertz).
+
+The slip-stick step (DESIGN §3.4-3.5), for each coupling iteration:
+
+1. normal solve for W with the extra gap ``u_z(q)`` of the current shear tractions (the
+   Dundurs-beta coupling; dropped with the Goodman approximation) plus the residual print
+   ``u_z^r``;
+2. tangential solve for (Q_x, Q_y) with the slip increment
+   ``s = K_t (q - q_{k-1}) + [u_t(p) - u_t(p_{k-1})] + [u_t^r,k - u_t^r,k-1]
+   - (Delta - Delta_{k-1})``;
+3. repeat while the relative pressure change exceeds ``coupling_tolerance``.
+
+Without coupling (beta = 0 or Goodman) one pass is exact.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .normal import solve_normal
+from .reference import hertz
+from .tangential import solve_tangential
+
+if TYPE_CHECKING:
+    from .operators import CaseOperators
+
+
+@dataclass(frozen=True)
+class ResidualDisplacement:
+    """Residual (plastic) surface displacements entering the gap, relative (m).
+
+    ``z`` adds to the gap (a permanent dent of body 2 is positive); ``x``, ``y`` are the
+    tangential residual displacements of body 2 relative to body 1.
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+    z: np.ndarray
+
+
+@dataclass(frozen=True)
+class ContactState:
+    """A contact solution at the end of an increment.
+
+    Attributes
+    ----------
+    pressure, shear_x, shear_y : ndarray
+        Tractions on body 2 (Pa).
+    shift : ndarray
+        Rigid tangential shift (Delta_x, Delta_y) of body 1 relative to body 2 (m).
+    pressure_slip_x, pressure_slip_y : ndarray
+        Tangential displacement (m) caused by ``pressure`` (the beta term).
+    residual_x, residual_y : ndarray
+        Tangential residual displacement (m) from plastic strain at this state.
+    """
+
+    pressure: np.ndarray
+    shear_x: np.ndarray
+    shear_y: np.ndarray
+    shift: np.ndarray
+    pressure_slip_x: np.ndarray
+    pressure_slip_y: np.ndarray
+    residual_x: np.ndarray
+    residual_y: np.ndarray
+
+    @classmethod
+    def unloaded(cls, shape: tuple[int, int]) -> ContactState:
+        """The state before the first increment: no tractions, no shift."""
+        zero = np.zeros(shape)
+        return cls(zero, zero, zero, np.zeros(2), zero, zero, zero, zero)
+
+
+@dataclass(frozen=True)
+class StepResult:
+    """Outcome of one contact step.
+
+    Attributes
+    ----------
+    state : ContactState
+        The new state.
+    converged : bool
+        True when every solve of the step converged.
+    iterations : dict of int
+        ``normal``, ``slip`` (CG iterations) and ``coupling`` (slip-stick iterations).
+    residual : float
+        Largest final relative residual of the step's solves.
+    message : str
+        Empty when converged, else what failed.
+    stick : ndarray of bool
+        Stick cells (all contact cells in a normal step).
+    approach : float
+        Rigid approach delta (m); at zero force, the approach at which the bodies touch.
+    """
+
+    state: ContactState
+    converged: bool
+    iterations: dict = field(default_factory=dict)
+    residual: float = 0.0
+    message: str = ""
+    stick: np.ndarray | None = None
+    approach: float = 0.0
+
+
+def _extra_gap(operators: CaseOperators, residual: ResidualDisplacement | None) -> np.ndarray:
+    return operators.gap if residual is None else operators.gap + residual.z
+
+
+def _start_pressure(operators: CaseOperators, force: float, *states) -> np.ndarray:
+    for state in states:
+        if state is not None and state.pressure.any():
+            return state.pressure
+    pair = operators.pair
+    return hertz(force, pair.composite_modulus, pair.curvature).pressure(
+        *operators.surface.grid.mesh()
+    )
+
+
+def _unloaded_step(previous, gap, residual) -> StepResult:
+    """Zero normal force: no tractions; the approach at which the bodies just touch."""
+    zero = np.zeros_like(gap)
+    res_x, res_y = (zero, zero) if residual is None else (residual.x, residual.y)
+    state = ContactState(zero, zero, zero, previous.shift, zero, zero, res_x, res_y)
+    iterations = {"normal": 0, "slip": 0, "coupling": 0}
+    stick = np.zeros(gap.shape, bool)
+    return StepResult(state, True, iterations, 0.0, "", stick, float(gap.min()))
+
+
+def normal_step(
+    operators: CaseOperators,
+    previous: ContactState,
+    target: tuple[float, float, float],
+    residual: ResidualDisplacement | None = None,
+    initial: ContactState | None = None,
+) -> StepResult:
+    """Frictionless (or uncoupled, unsheared) normal contact for one increment."""
+    force = target[0]
+    gap = _extra_gap(operators, residual)
+    if force == 0.0:
+        return _unloaded_step(previous, gap, residual)
+    options = operators.options
+    start = (
+        _start_pressure(operators, force, initial)
+        if initial is not None
+        else _start_pressure(operators, force)  # Hertz: close for quadric bodies
+    )
+    solution = solve_normal(
+        operators.surface,
+        gap,
+        force,
+        initial_pressure=start,
+        tolerance=options.normal_tolerance,
+        max_iterations=options.normal_max_iterations,
+    )
+    zero = np.zeros_like(gap)
+    res_x, res_y = (zero, zero) if residual is None else (residual.x, residual.y)
+    state = ContactState(solution.pressure, zero, zero, previous.shift, zero, zero, res_x, res_y)
+    return StepResult(
+        state,
+        solution.converged,
+        {"normal": solution.iterations, "slip": 0, "coupling": 1},
+        solution.residual,
+        "" if solution.converged else f"normal solve {solution.message}",
+        solution.pressure > 0,
+        solution.approach,
+    )
+
+
+def slip_stick_step(
+    operators: CaseOperators,
+    previous: ContactState,
+    target: tuple[float, float, float],
+    residual: ResidualDisplacement | None = None,
+    initial: ContactState | None = None,
+) -> StepResult:
+    """Slip-stick loop for one increment (module docstring)."""
+    case, surface = operators.case, operators.surface
+    options = case.solver
+    mu = case.friction_coefficient
+    force, qx_target, qy_target = target
+    base_gap = _extra_gap(operators, residual)
+    if force == 0.0:
+        return _unloaded_step(previous, base_gap, residual)
+    coupled = case.pair.dundurs_beta != 0.0 and not options.goodman
+    zero = np.zeros_like(base_gap)
+    res_x, res_y = (zero, zero) if residual is None else (residual.x, residual.y)
+    # known part of the slip increment: -K_t q_{k-1} + Delta_{k-1} - u_t(p_{k-1}) + du_t^r
+    prev_ux, prev_uy = surface.tangential(previous.shear_x, previous.shear_y)
+    known_x = -prev_ux + previous.shift[0] - previous.pressure_slip_x + res_x - previous.residual_x
+    known_y = -prev_uy + previous.shift[1] - previous.pressure_slip_y + res_y - previous.residual_y
+
+    start = initial if initial is not None else previous
+    pressure = _start_pressure(operators, force, start, previous)
+    qx, qy, shift = start.shear_x, start.shear_y, start.shift
+    counts = {"normal": 0, "slip": 0, "coupling": 0}
+    converged_all, worst, change = True, 0.0, np.inf
+    messages = []
+    for loop in range(1, options.coupling_max_iterations + 1):
+        # Inexact fixed point: inner solves only as tight as the coupling is converged; the
+        # final pass (change below the coupling tolerance) runs at the full inner tolerances.
+        inexact = min(1e-2, 0.1 * change) if coupled else 0.0
+        extra = base_gap + surface.normal_from_shear(qx, qy) if coupled else base_gap
+        normal = solve_normal(
+            surface,
+            extra,
+            force,
+            initial_pressure=pressure,
+            tolerance=max(options.normal_tolerance, inexact),
+            max_iterations=options.normal_max_iterations,
+        )
+        change = float(
+            np.abs(normal.pressure - pressure).sum() / max(normal.pressure.sum(), 1e-300)
+        )
+        pressure = normal.pressure
+        pxs, pys = surface.tangential_from_pressure(pressure)
+        tangential = solve_tangential(
+            surface,
+            pressure,
+            mu,
+            (known_x + pxs, known_y + pys),
+            (qx_target, qy_target),
+            initial=(qx, qy),
+            initial_shift=tuple(shift),
+            tolerance=max(options.slip_tolerance, inexact),
+            max_iterations=options.slip_max_iterations,
+        )
+        qx, qy, shift = tangential.shear_x, tangential.shear_y, np.array(tangential.shift)
+        counts["normal"] += normal.iterations
+        counts["slip"] += tangential.iterations
+        counts["coupling"] = loop
+        worst = max(normal.residual, tangential.residual)
+        for solution, name in ((normal, "normal"), (tangential, "tangential")):
+            if not solution.converged:
+                converged_all = False
+                messages.append(f"{name} solve {solution.message}")
+        if not coupled or (
+            loop > 1
+            and change < options.coupling_tolerance
+            and inexact <= 0.1 * options.coupling_tolerance
+        ):
+            break
+    else:
+        converged_all = False
+        messages.append(
+            f"slip-stick loop not converged after {options.coupling_max_iterations} iterations "
+            f"(pressure change {change:.3g})"
+        )
+    state = ContactState(pressure, qx, qy, shift, pxs, pys, res_x, res_y)
+    return StepResult(
+        state,
+        converged_all,
+        counts,
+        worst,
+        "; ".join(messages),
+        tangential.stick,
+        normal.approach,
+    )

@@ -1,0 +1,118 @@
+"""Every history and field a result can hold, declared once.
+
+:class:`~solver.result.Result`, its xarray view, the campaign assembly (``study.assemble``) and
+the reserved names of campaign axes are all derived from these two tables.
+
+A history has one value per load step; its ``reduction`` says how a campaign turns it into a
+per-case scalar (``"last"`` step, ``"max"`` over the steps, ``"sum"``; None: not reduced) and
+``scalar`` names that scalar.  A field has named dimensions: ``x``, ``y`` (surface cells),
+``z`` (volume layers, depth into body 2), ``component`` (:data:`solver.tensor.COMPONENTS`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class History:
+    """Declaration of a per-step history."""
+
+    units: str
+    long_name: str
+    reduction: str | None = "last"
+    scalar: str | None = None
+
+    def scalar_name(self, name: str) -> str | None:
+        """Name of the per-case scalar of history ``name`` (None when not reduced)."""
+        if self.reduction is None:
+            return None
+        return self.scalar or name
+
+
+@dataclass(frozen=True)
+class Field:
+    """Declaration of a field (surface or volume)."""
+
+    dims: tuple[str, ...]
+    units: str
+    long_name: str
+
+
+HISTORIES: dict[str, History] = {
+    "normal_force": History("N", "normal force"),
+    "approach": History("m", "rigid-body approach"),
+    "max_pressure": History("Pa", "maximum contact pressure", "max"),
+    "contact_area": History("m2", "contact area", "max"),
+    "tangential_force_x": History("N", "tangential force on body 2 along x"),
+    "tangential_force_y": History("N", "tangential force on body 2 along y", None),
+    "tangential_shift_x": History(
+        "m", "rigid tangential shift of body 1 relative to body 2 along x"
+    ),
+    "tangential_shift_y": History(
+        "m", "rigid tangential shift of body 1 relative to body 2 along y", None
+    ),
+    "stick_area": History("m2", "stick area"),
+    "normal_iterations": History(
+        "1", "normal-solver CG iterations (summed over the step's loops)", "sum"
+    ),
+    "slip_iterations": History(
+        "1", "tangential-solver CG iterations (summed over the step's loops)", "sum"
+    ),
+    "coupling_iterations": History("1", "slip-stick (normal-tangential) loop iterations", "sum"),
+    "plastic_iterations": History("1", "plasticity-loop iterations (contact solves)", "sum"),
+    "max_plastic_strain": History("1", "maximum equivalent plastic strain", "max"),
+    "max_plastic_strain_depth": History("m", "depth of the maximum equivalent plastic strain"),
+    "plastic_zone_depth": History(
+        "m", "depth of the plastic zone on the contact axis (equivalent plastic strain > 1e-6)"
+    ),
+    "residual_depth": History(
+        "m", "permanent central dent: residual surface displacement u_z^r at the centre"
+    ),
+    "residual": History(
+        "1", "largest final relative residual of the step's solves", "max", "max_residual"
+    ),
+    "step_converged": History("1", "1 when every solve of the step converged", None),
+}
+
+FIELDS: dict[str, Field] = {
+    "pressure": Field(("x", "y"), "Pa", "contact pressure"),
+    "shear_x": Field(("x", "y"), "Pa", "shear traction x"),
+    "shear_y": Field(("x", "y"), "Pa", "shear traction y"),
+    "stress": Field(
+        ("component", "x", "y", "z"), "Pa", "stress in body 2 from the surface tractions"
+    ),
+    "von_mises": Field(("x", "y", "z"), "Pa", "von Mises equivalent stress in body 2"),
+    "plastic_strain": Field(("x", "y", "z"), "1", "equivalent plastic strain in body 2"),
+    "plastic_strain_tensor": Field(
+        ("component", "x", "y", "z"), "1", "plastic strain tensor in body 2"
+    ),
+    "residual_stress": Field(
+        ("component", "x", "y", "z"), "Pa", "residual stress of the plastic strain in body 2"
+    ),
+    "residual_displacement_x": Field(
+        ("x", "y"), "m", "residual surface displacement of body 2 along x"
+    ),
+    "residual_displacement_y": Field(
+        ("x", "y"), "m", "residual surface displacement of body 2 along y"
+    ),
+    "residual_displacement_z": Field(
+        ("x", "y"), "m", "residual surface displacement of body 2 along z (into the body)"
+    ),
+}
+
+#: Field outputs a case may request in ``[output] fields`` (the others come with the scene).
+OPTIONAL_FIELDS = ("stress", "plastic_strain_tensor", "residual_stress")
+
+#: Equivalent plastic strain below which a cell does not count as plastic (zone depth).
+PLASTIC_ZONE_THRESHOLD = 1e-6
+
+
+def reduced_scalars() -> dict[str, tuple[str, str, str]]:
+    """Per-case scalar name -> (history name, reduction, units) for every reduced history."""
+    out = {}
+    for name, history in HISTORIES.items():
+        scalar = history.scalar_name(name)
+        if scalar is not None:
+            out[scalar] = (name, history.reduction, history.units)
+    return out
