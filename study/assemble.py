@@ -9,8 +9,12 @@ Variables (all with ``units`` and ``long_name``):
 
 - ``status`` (axes): int8 flags 0 pending, 1 converged, 2 not_converged, 3 failed;
   ``case_id`` and ``error`` (axes): strings;
-- per-case scalars (axes), from the last load step unless stated: :data:`SCALARS`;
+- per-case scalars (axes): :data:`SCALARS`, the histories' reductions declared in
+  :mod:`solver.variables` (last step, largest or summed over the steps) and provenance;
 - histories ``<name>_history`` (axes, step) for every history the solver returned;
+- ``plastic_strain_profile`` (axes, z_over_a), elastic-plastic cases: the equivalent plastic
+  strain on the contact axis against depth over the Hertz radius (:data:`Z_OVER_A`, NaN
+  below a case's volume grid);
 - ``pressure_profile``, ``shear_x_profile`` (axes, r_over_a): tractions along y = 0, x >= 0,
   at ``x = r_over_a * a_x`` (``a_x`` the Hertz semi-axis along x, the Hertz radius for a
   circular contact), interpolated linearly between cell centres (cell values up to the domain
@@ -30,7 +34,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 import solver
+from solver.loops import axis_value
 from solver.result import HISTORY_META
+from solver.variables import HISTORIES, reduced_scalars
 
 from . import storage
 from .campaign import Axis, Campaign
@@ -38,24 +44,31 @@ from .campaign import Axis, Campaign
 if TYPE_CHECKING:
     import xarray as xr
 
+_REDUCTION_TEXT = {
+    "last": "{} at the last load step",
+    "max": "{}, largest over the load steps",
+    "sum": "{}, summed over the load steps",
+}
+
+#: Normalised depths z / a_H of the on-axis plastic-strain profile (``plastic_strain_profile``).
+Z_OVER_A = np.linspace(0.0, 4.0, 161)
+
 #: Status flags of the assembled dataset.
 STATUS_FLAGS = {"pending": 0, "converged": 1, "not_converged": 2, "failed": 3}
 
-#: Per-case scalars: name -> (units, long_name).
+#: Per-case scalars reduced from the solver's histories (:mod:`solver.variables`):
+#: name -> (history, reduction, units).
+REDUCED = reduced_scalars()
+
+#: Per-case scalars: name -> (units, long_name).  The reduced histories first, then the
+#: scalars derived here and the case's provenance.
 SCALARS = {
-    "max_pressure": ("Pa", "maximum contact pressure"),
-    "normal_force": ("N", "normal force"),
-    "approach": ("m", "rigid-body approach"),
-    "contact_radius": ("m", "equivalent contact radius sqrt(contact_area / pi)"),
-    "contact_area": ("m2", "contact area"),
+    name: (units, _REDUCTION_TEXT[reduction].format(HISTORIES[history].long_name))
+    for name, (history, reduction, units) in REDUCED.items()
+} | {
+    "contact_radius": ("m", "equivalent contact radius sqrt(max contact_area / pi)"),
     "stick_radius": ("m", "equivalent stick-zone radius sqrt(stick_area / pi)"),
-    "tangential_force_x": ("N", "tangential force on body 2 along x"),
-    "tangential_shift_x": ("m", "rigid tangential shift along x"),
-    "max_residual": ("1", "largest final relative residual over the steps"),
     "steps": ("1", "number of load steps"),
-    "normal_iterations": ("1", "normal-solver CG iterations, summed over the steps"),
-    "slip_iterations": ("1", "tangential-solver CG iterations, summed over the steps"),
-    "coupling_iterations": ("1", "slip-stick loop iterations, summed over the steps"),
     "wall_time": ("s", "solve wall time"),
     "case_time": ("s", "wall time of the case on its rank before writing (set-up, solve, checks)"),
     "peak_rss": ("byte", "peak resident memory of the computing process after the case"),
@@ -68,8 +81,6 @@ SCALARS = {
     "composite_modulus": ("Pa", "composite modulus E*"),
     "dundurs_beta": ("1", "Dundurs' second constant beta"),
 }
-_LAST = ("max_pressure", "normal_force", "approach", "tangential_force_x", "tangential_shift_x")
-_SUMS = ("normal_iterations", "slip_iterations", "coupling_iterations")
 _ATTRS = (
     "hertz_radius",
     "hertz_semi_axis_x",
@@ -113,23 +124,25 @@ def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
         }
         x = dataset["x"].values
         lines = {name: dataset[f"{name}_y0"].values for name in ("pressure", "shear_x")}
-    radius = float(attrs["hertz_semi_axis_x"])
+        radius = float(attrs["hertz_semi_axis_x"])
+        depth_profile = None
+        if "plastic_strain" in dataset.variables:
+            depth = dataset["z"].values / float(attrs["hertz_radius"])
+            on_axis = axis_value(dataset["plastic_strain"].values)
+            depth_profile = np.interp(Z_OVER_A, depth, on_axis, left=on_axis[0], right=np.nan)
     scalars = {name: float(attrs[name]) for name in _ATTRS if name in attrs}
-    for name in _LAST:
-        if name in histories:
-            scalars[name] = histories[name][-1]
-    for name in _SUMS:
-        if name in histories:
-            scalars[name] = float(np.sum(histories[name]))
+    for name, (history, reduction, _) in REDUCED.items():
+        if history in histories:
+            values = histories[history]
+            scalars[name] = {"last": values[-1], "max": np.max(values), "sum": np.sum(values)}[
+                reduction
+            ]
     if "contact_area" in histories:
-        scalars["contact_area"] = histories["contact_area"][-1]
-        scalars["contact_radius"] = math.sqrt(histories["contact_area"][-1] / math.pi)
+        scalars["contact_radius"] = math.sqrt(scalars["contact_area"] / math.pi)
     if "stick_area" in histories:
         scalars["stick_radius"] = math.sqrt(histories["stick_area"][-1] / math.pi)
     elif "final_stick_area" in attrs:  # normal-only scenes: stick = contact when mu > 0
         scalars["stick_radius"] = math.sqrt(float(attrs["final_stick_area"]) / math.pi)
-    if "residual" in histories:
-        scalars["max_residual"] = float(np.max(histories["residual"]))
     scalars["steps"] = float(len(histories.get("normal_force", [])))
     scalars["case_time"] = float(attrs.get("time_before_write", math.nan))
     scalars["mpi_rank"] = float(attrs.get("rank", -1))
@@ -138,6 +151,7 @@ def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
         "scalars": scalars,
         "histories": histories,
         "profiles": {name: profile(x, line, radius, r_over_a) for name, line in lines.items()},
+        "depth_profile": depth_profile,
     }
 
 
@@ -182,6 +196,7 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     scalars = {name: np.full(shape, np.nan) for name in SCALARS}
     histories: dict[str, np.ndarray] = {}
     profiles = {name: np.full((*shape, len(r_over_a)), np.nan) for name in ("pressure", "shear_x")}
+    depth_profiles = None
     for case in campaign.cases:
         index = tuple(case.index)
         case_ids[index] = case.case_id
@@ -196,6 +211,10 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
                 histories[name][index][: len(values)] = values
             for name, values in data["profiles"].items():
                 profiles[name][index] = values
+            if data["depth_profile"] is not None:
+                if depth_profiles is None:
+                    depth_profiles = np.full((*shape, len(Z_OVER_A)), np.nan)
+                depth_profiles[index] = data["depth_profile"]
         elif case.case_id in failed:
             status[index] = STATUS_FLAGS["failed"]
             errors[index] = storage.read_failure(out, case.case_id).get("error", "")
@@ -233,6 +252,8 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     for name, values in scalars.items():
         if name in coords:  # an axis holds this input (e.g. dundurs_beta): keep the coordinate
             continue
+        if name in REDUCED and REDUCED[name][0] not in histories:
+            continue  # a history no case of this campaign has (e.g. plastic ones)
         units, long_name = SCALARS[name]
         data_vars[name] = (dims, values, {"units": units, "long_name": long_name})
     for name in HISTORY_META:
@@ -243,6 +264,17 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
                 histories[name],
                 {"units": units, "long_name": f"{long_name} per load step"},
             )
+    if depth_profiles is not None:
+        coords["z_over_a"] = (
+            "z_over_a",
+            Z_OVER_A,
+            {"units": "1", "long_name": "depth below the contact centre over the Hertz radius"},
+        )
+        data_vars["plastic_strain_profile"] = (
+            (*dims, "z_over_a"),
+            depth_profiles,
+            {"units": "1", "long_name": "equivalent plastic strain on the contact axis"},
+        )
     for name, long_name in (("pressure", "contact pressure"), ("shear_x", "shear traction x")):
         data_vars[f"{name}_profile"] = (
             (*dims, "r_over_a"),

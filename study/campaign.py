@@ -56,6 +56,7 @@ from typing import Any
 
 import solver
 from solver.materials import Body
+from solver.variables import reduced_scalars
 
 #: Top-level tables of a campaign file.
 TOP_LEVEL = ("campaign", "base", "sweep", "zip", "alias")
@@ -77,25 +78,17 @@ RESERVED_NAMES = frozenset(
         "mpi_rank",
         "step",
         "r_over_a",
+        "z_over_a",
         "x",
         "y",
-        "max_pressure",
-        "normal_force",
-        "approach",
         "contact_radius",
-        "contact_area",
         "stick_radius",
-        "tangential_force_x",
-        "tangential_shift_x",
-        "max_residual",
         "steps",
-        "normal_iterations",
-        "slip_iterations",
-        "coupling_iterations",
         "wall_time",
         "case_time",
         "peak_rss",
     }
+    | set(reduced_scalars())
 )
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _CAMPAIGN_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]*$")

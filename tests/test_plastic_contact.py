@@ -1,0 +1,213 @@
+"""Elastic-plastic contact: the plasticity loop over load paths (frictionless and symmetric)."""
+
+import copy
+import math
+
+import numpy as np
+import pytest
+
+import solver
+from solver.loops import axis_value
+from solver.reference import first_yield_pressure
+
+SWIFT = {"law": "swift", "B": 945e6, "C": 20, "n": 0.121}
+STEEL = {"E": 210e9, "nu": 0.3}
+RIGID = {"radius": 0.015, "behaviour": "rigid"}
+EP_FLAT = {"radius": "inf", "behaviour": "elastic-plastic", **STEEL, "hardening": SWIFT}
+SIGMA_Y0 = 945e6 * 20**0.121
+
+
+def indentation(n, path, **extra):
+    table = {
+        "body1": dict(RIGID),
+        "body2": copy.deepcopy(EP_FLAT),
+        "load": {"path": path},
+        "grid": {"n": [n, n, n]},
+    }
+    table.update(extra)
+    return solver.Case.from_dict(table)
+
+
+def sphere_pair(behaviours, mu, n=24, steps=4):
+    bodies = []
+    for behaviour in behaviours:
+        body = {"radius": 0.015, "behaviour": behaviour, **STEEL}
+        if behaviour == "elastic-plastic":
+            body["hardening"] = dict(SWIFT)
+        bodies.append(body)
+    table = {
+        "body1": bodies[0],
+        "body2": bodies[1],
+        "load": {"hertz_pressure": 8e9, "steps": steps},
+        "friction": {"coefficient": mu},
+        "grid": {"n": [n, n, n] if "elastic-plastic" in behaviours else n},
+    }
+    return solver.Case.from_dict(table)
+
+
+def test_no_plastic_strain_below_first_yield():
+    p_yield, _ = first_yield_pressure(SIGMA_Y0, 0.3)
+    result = solver.solve(indentation(24, [{"hertz_pressure": 0.98 * p_yield, "steps": 2}]))
+    assert result.converged, result.notes
+    assert result.loops == ("load_steps", "plasticity", "normal", "return_mapping")
+    assert np.all(result.fields["plastic_strain"] == 0.0)
+    assert np.all(result.history["max_plastic_strain"] == 0.0)
+    # the contact is Hertz's, the residual print zero
+    assert result.history["max_pressure"][-1] == pytest.approx(result.case.hertz.max_pressure, 0.01)
+    assert np.all(result.fields["residual_displacement_z"] == 0.0)
+
+
+def test_first_yield_on_the_axis_at_the_johnson_depth():
+    p_yield, depth = first_yield_pressure(SIGMA_Y0, 0.3)
+    assert depth == pytest.approx(0.481, abs=1e-3)  # Johnson (1985): 0.48 a
+    case = indentation(32, [{"hertz_pressure": 1.03 * p_yield, "steps": 1}])
+    result = solver.solve(case)
+    assert result.converged, result.notes
+    strain = result.fields["plastic_strain"]
+    assert strain.max() > 0
+    volume = case.volume_grid
+    i, j, k = np.unravel_index(np.argmax(strain), strain.shape)
+    a = case.hertz.radius
+    x, y = case.surface_grid.x, case.surface_grid.y
+    assert abs(x[i]) <= volume.surface.dx and abs(y[j]) <= volume.surface.dy  # on the axis
+    assert abs(volume.z[k] / a - depth) <= volume.dz / a  # within a layer of 0.481 a
+    # only a small zone around that point yields
+    plastic_depths = volume.z[np.any(strain > 0, axis=(0, 1))] / a
+    assert plastic_depths.min() > 0.2 and plastic_depths.max() < 0.8
+
+
+def test_unloading_and_reloading_add_no_plastic_strain():
+    """Isotropic hardening: reloading to the same maximum load is elastic."""
+    path = [
+        {"hertz_pressure": 6e9, "steps": 4},
+        {"normal_force": 0.0, "steps": 2},
+        {"hertz_pressure": 6e9, "steps": 4},
+    ]
+    result = solver.solve(indentation(24, path))
+    assert result.converged, result.notes
+    h = result.history
+    loaded, unloaded, reloaded = 3, 5, 9
+    assert h["normal_force"][unloaded] == 0.0 and h["max_pressure"][unloaded] == 0.0
+    assert h["max_plastic_strain"][loaded] > 1e-3
+    growth = h["max_plastic_strain"][reloaded] - h["max_plastic_strain"][loaded]
+    assert abs(growth) < 1e-6 * h["max_plastic_strain"][loaded]
+    # the contact at the repeated maximum load is the same, the print is permanent
+    assert h["max_pressure"][reloaded] == pytest.approx(h["max_pressure"][loaded], rel=1e-6)
+    assert h["residual_depth"][unloaded] > 0
+    # unloaded: the approach is where the dented surface first touches the sphere again
+    assert h["approach"][unloaded] == pytest.approx(h["residual_depth"][unloaded], rel=0.05)
+
+
+def test_plastic_pressure_is_flattened_and_print_is_permanent():
+    result = solver.solve(indentation(24, [{"hertz_pressure": 6e9, "steps": 4}]))
+    assert result.converged, result.notes
+    h, hertz = result.history, result.case.hertz
+    assert h["max_pressure"][-1] < 0.9 * hertz.max_pressure  # flattened
+    assert h["contact_area"][-1] > math.pi * hertz.radius**2  # wider than Hertz
+    assert np.all(np.diff(h["max_plastic_strain"]) > 0)
+    assert h["residual_depth"][-1] == pytest.approx(
+        axis_value(result.fields["residual_displacement_z"]), rel=1e-3
+    )
+    ds = result.to_xarray()
+    assert ds.plastic_strain.dims == ("x", "y", "z") and ds.z.attrs["units"] == "m"
+    assert ds.residual_displacement_z.dims == ("x", "y")
+    assert ds.attrs["loops"] == "load_steps plasticity normal return_mapping"
+
+
+def test_symmetric_pair_ignores_friction_and_orders_like_the_paper():
+    """EP-EP (eq. 2): same answer for mu = 0 and 0.5; E-EP peaks higher; both below E-E."""
+    ep0 = solver.solve(sphere_pair(("elastic-plastic", "elastic-plastic"), 0.0))
+    ep5 = solver.solve(sphere_pair(("elastic-plastic", "elastic-plastic"), 0.5))
+    assert ep0.converged and ep5.converged
+    assert ep0.loops == ("load_steps", "plasticity", "normal_symmetric", "return_mapping")
+    np.testing.assert_array_equal(ep0.pressure, ep5.pressure)
+    np.testing.assert_array_equal(ep0.fields["plastic_strain"], ep5.fields["plastic_strain"])
+    assert not ep5.shear_x.any()
+    e_ep = solver.solve(sphere_pair(("elastic", "elastic-plastic"), 0.0))
+    e_e = solver.solve(sphere_pair(("elastic", "elastic"), 0.0, n=24))
+    p = {name: r.history["max_pressure"][-1] for name, r in
+         (("ep", ep0), ("e_ep", e_ep), ("e_e", e_e))}  # fmt: skip
+    assert p["ep"] < p["e_ep"] < p["e_e"]
+    assert e_ep.history["max_plastic_strain"][-1] > ep0.history["max_plastic_strain"][-1]
+    # the doubled print: each body of the symmetric pair carries half the relative dent
+    assert ep0.history["residual_depth"][-1] > 0
+
+
+@pytest.mark.parametrize(
+    "change, field",
+    [
+        ({"friction": {"coefficient": 0.3}}, "friction.coefficient"),
+        ({"grid": {"n": 32}}, "grid.n"),
+        ({"body1": {**RIGID, "behaviour": "elastic", **STEEL}}, None),  # allowed: E on EP
+        (
+            {
+                "body1": {
+                    "radius": 0.015,
+                    "behaviour": "elastic-plastic",
+                    **STEEL,
+                    "hardening": SWIFT,
+                }
+            },
+            "body1.behaviour",
+        ),  # fmt: skip
+        ({"output": {"fields": ["residual_stress"]}}, None),
+    ],
+)
+def test_unbuilt_plastic_scenes_are_refused(change, field):
+    table = {
+        "body1": dict(RIGID),
+        "body2": copy.deepcopy(EP_FLAT),
+        "load": {"hertz_pressure": 6e9},
+        "grid": {"n": [16, 16, 16]},
+    }
+    table.update(change)
+    if field is None:
+        solver.Case.from_dict(table)
+        return
+    with pytest.raises(solver.SpecError, match=field.replace(".", r"\.")):
+        solver.Case.from_dict(table)
+
+
+def test_residual_stress_needs_a_plastic_body():
+    table = {
+        "body1": dict(RIGID),
+        "body2": {"radius": "inf", "behaviour": "elastic", **STEEL},
+        "load": {"hertz_pressure": 1e9},
+        "grid": {"n": [16, 16, 8]},
+        "output": {"fields": ["residual_stress"]},
+    }
+    with pytest.raises(solver.SpecError, match="output.fields"):
+        solver.Case.from_dict(table)
+
+
+def test_yield_sized_box_is_deeper_than_the_papers():
+    case = indentation(16, [{"hertz_pressure": 6e9}])
+    # the Hertz von Mises stress exceeds sigma_Y0 on the axis down to ~1.9 a_H at 6 GPa
+    assert case.grid.depth > 1.9 * 1.1
+    given = indentation(16, [{"hertz_pressure": 6e9}], grid={"n": [16, 16, 16], "depth": 1.2})
+    assert given.grid.depth == 1.2
+    assert given.case_id != case.case_id
+
+
+def test_non_convergence_is_reported_as_data():
+    case = indentation(
+        16, [{"hertz_pressure": 8e9, "steps": 1}], solver={"plastic_max_iterations": 2}
+    )
+    result = solver.solve(case)
+    assert result.status == "not_converged"
+    assert result.history["step_converged"][0] == 0.0
+    assert result.history["residual"][0] > case.solver.plastic_tolerance
+    assert any("plasticity loop not converged" in note for note in result.notes)
+    assert np.all(np.isfinite(result.fields["plastic_strain"]))
+
+
+@pytest.mark.parametrize(
+    "n, pressure, steps",
+    [(16, 10e9, 1), (16, 10e9, 12), (40, 3e9, 2)],
+)
+def test_hard_cases_finish_with_status(n, pressure, steps):
+    """Far past yield in one step or many, coarse and finer meshes: finite, status reported."""
+    result = solver.solve(indentation(n, [{"hertz_pressure": pressure, "steps": steps}]))
+    assert result.converged, result.notes
+    assert np.all(np.isfinite(result.fields["plastic_strain"]))
+    assert result.history["max_plastic_strain"][-1] > 0

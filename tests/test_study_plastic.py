@@ -1,0 +1,61 @@
+"""A small elastic-plastic campaign through the study layer: case files, assembly, profiles."""
+
+import numpy as np
+import pytest
+from study_fixtures import write
+
+import solver
+from solver.reference import hertz_yield_depth
+from study.assemble import Z_OVER_A, assemble
+from study.campaign import load_campaign
+from study.driver import RunOptions, run_campaign
+
+PLASTIC = """
+[campaign]
+name = "plastic"
+
+[sweep]
+"load.path.0.hertz_pressure" = [2e9, 5e9]
+
+[alias]
+"load.path.0.hertz_pressure" = "p_h"
+
+[base]
+body1 = { behaviour = "rigid", radius = 0.015 }
+body2 = { behaviour = "elastic-plastic", radius = "inf", E = 210e9, nu = 0.3, hardening = { law = "linear", yield_stress = 1.3579e9, modulus = 152.3e9 } }
+grid = { n = [20, 20, 20] }
+
+[[base.load.path]]
+hertz_pressure = 5e9
+steps = 3
+
+[[base.load.path]]
+normal_force = 0.0
+steps = 1
+"""
+
+
+def test_plastic_campaign_assembles_scalars_histories_and_axis_profile(tmp_path):
+    campaign = load_campaign(write(tmp_path, PLASTIC))
+    summary = run_campaign(campaign, tmp_path / "out", options=RunOptions())
+    assert summary.exit_status == 0
+    ds = assemble(tmp_path / "out", campaign)
+    assert (ds.status == 1).all()
+    low, high = ds.sel(p_h=2e9), ds.sel(p_h=5e9)
+    assert float(low.max_plastic_strain) == 0.0  # 2 GPa < first yield (2.19 GPa)
+    assert float(high.max_plastic_strain) > 0.0
+    # unloaded at the last step: the pressure is zero, its largest value is the loaded one
+    assert float(high.max_pressure_history.isel(step=-1)) == 0.0
+    assert float(high.max_pressure) == float(high.max_pressure_history.max())
+    assert float(high.residual_depth) > 0 and float(high.plastic_iterations) >= 4
+    profile = high.plastic_strain_profile
+    assert profile.dims == ("z_over_a",) and ds.z_over_a.size == Z_OVER_A.size
+    peak = float(profile.idxmax())
+    assert 0.3 < peak < 0.8  # below the surface, near the Hertz maximum of von Mises
+    # the box is deeper than the yield region, and the profile is NaN below it
+    case = solver.Case.from_dict(campaign.cases[1].spec)
+    assert case.grid.depth >= 1.2 * hertz_yield_depth(5e9, 1.3579e9, 0.3) - 1e-12
+    assert np.isnan(profile.sel(z_over_a=3.9, method="nearest"))
+    assert ds.max_plastic_strain.attrs["units"] == "1"
+    with pytest.raises(KeyError):
+        ds["tangential_force_x"]  # no slip-stick history in this campaign
