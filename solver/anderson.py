@@ -52,8 +52,14 @@ class Anderson:
         self._x, self._f = x.copy(), f.copy()
         if not self._dx:
             return x + f
-        df = np.stack([d.ravel() for d in self._df], axis=1)
-        gamma, *_ = np.linalg.lstsq(df, f.ravel(), rcond=1e-12)
+        # least squares through the small Gram system (m x m): no tall matrix is formed
+        m = len(self._df)
+        gram = np.empty((m, m))
+        for i in range(m):
+            for j in range(i, m):
+                gram[i, j] = gram[j, i] = np.vdot(self._df[i], self._df[j])
+        rhs = np.array([np.vdot(d, f) for d in self._df])
+        gamma = np.linalg.lstsq(gram, rhs, rcond=1e-12)[0]
         out = x + f
         for g, dx, dfi in zip(gamma, self._dx, self._df, strict=True):
             out -= g * (dx + dfi)

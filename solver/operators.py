@@ -101,7 +101,8 @@ class CaseOperators:
     def memory_bytes(case: Case) -> int:
         """Peak bytes the bundle and the solver's work arrays are expected to need.
 
-        Surface operator and ~40 surface work arrays; with a volume grid the stress operator
+        The interpreter with numpy and pyfftw (:data:`PROCESS_BYTES`), the surface operator
+        and ~40 surface work arrays; with a volume grid the stress operator
         (kernels of the tractions in use) and an evaluated stress field; for elastic-plastic
         cases the eigenstrain operator and the plasticity loop's arrays (plastic strain and
         its increment, trial stress, Anderson history: :data:`PLASTIC_WORK_ARRAYS` six-component
@@ -109,7 +110,7 @@ class CaseOperators:
         """
         nx, ny = case.grid.nx, case.grid.ny
         tangential = case.friction_coefficient > 0
-        total = SurfaceOperator.memory_bytes(case.surface_grid, tangential)
+        total = PROCESS_BYTES + SurfaceOperator.memory_bytes(case.surface_grid, tangential)
         total += 8 * nx * ny * 40 + 8 * 16 * case.total_steps
         volume = case.volume_grid
         if case.plastic_body is not None:
@@ -123,6 +124,8 @@ class CaseOperators:
         return total
 
 
+#: Resident memory of a Python process that imported the solver (numpy, pyfftw), measured here.
+PROCESS_BYTES = 64 * 2**20
 #: Six-component volume fields the plasticity loop holds at once (strain, increment, trial
 #: stress, returned increment, stress from tractions, residual stress, Anderson memory 2 x 5).
 PLASTIC_WORK_ARRAYS = 18

@@ -28,7 +28,7 @@ HERTZ_TABLE = {
     "grid": {"n": 128, "half_width": 1.6},
 }
 
-DEFAULT_SIZES = {"hertz": [64, 128, 256, 512], "cattaneo": [64, 128, 256]}
+DEFAULT_SIZES = {"hertz": [64, 128, 256, 512], "cattaneo": [64, 128, 256], "plastic": [32, 64]}
 
 
 def _current_rss_mb() -> float:
@@ -195,6 +195,10 @@ def run_benchmark(
 ) -> int:
     """Run a benchmark scene, print its table, and return an exit status."""
     sizes = sizes or DEFAULT_SIZES[scene]
+    if scene == "plastic":
+        from .bench_plastic import run_plastic
+
+        return run_plastic(sizes, peers=peers)
     if scene == "cattaneo":
         from .bench_cattaneo import run_cattaneo
 

@@ -22,8 +22,14 @@ name = "plastic"
 
 [base]
 body1 = { behaviour = "rigid", radius = 0.015 }
-body2 = { behaviour = "elastic-plastic", radius = "inf", E = 210e9, nu = 0.3, hardening = { law = "linear", yield_stress = 1.3579e9, modulus = 152.3e9 } }
 grid = { n = [20, 20, 20] }
+
+[base.body2]
+behaviour = "elastic-plastic"
+radius = "inf"
+E = 210e9
+nu = 0.3
+hardening = { law = "linear", yield_stress = 1.3579e9, modulus = 152.3e9 }
 
 [[base.load.path]]
 hertz_pressure = 5e9

@@ -1,0 +1,156 @@
+"""Elastic-plastic benchmark: ``python -m study bench plastic [--peers] [--sizes 32 64]``.
+
+Tamaas' own elastic-plastic scene: a rigid sphere R = 15 mm on a half-space E = 210 GPa,
+nu = 0.3, von Mises with linear hardening sigma_Y0 = 1.3579 GPa, H = 152.3 GPa, frictionless,
+loaded to W = 4716 N (p_H = 6 GPa) in 6 equal steps, then unloaded in one.  Every row runs in
+a fresh child process (:func:`study.bench._isolated`); ``cpu`` is the child's CPU time of the
+solve, ``peak_MB`` the growth of its resident set during the solve (set-up included).  With
+``--peers`` Tamaas runs the same scene in the same run (``study.peers_plastic``; periodic, so
+it gets a larger cell, see its notes).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+from .bench import _isolated, format_table, peak_memory
+
+SCENE = {
+    "radius": 0.015,
+    "E": 210e9,
+    "nu": 0.3,
+    "yield_stress": 1.3579e9,
+    "hardening_modulus": 152.3e9,
+    "normal_force": 4716.0,
+    "steps": 6,
+}
+
+
+def scene_table(n: int) -> dict:
+    """The case table of the scene on an n^3 volume grid (depth sized from the yield region)."""
+    s = SCENE
+    return {
+        "body1": {"behaviour": "rigid", "radius": s["radius"]},
+        "body2": {
+            "behaviour": "elastic-plastic",
+            "radius": "inf",
+            "E": s["E"],
+            "nu": s["nu"],
+            "hardening": {
+                "law": "linear",
+                "yield_stress": s["yield_stress"],
+                "modulus": s["hardening_modulus"],
+            },
+        },
+        "load": {
+            "path": [
+                {"normal_force": s["normal_force"], "steps": s["steps"]},
+                {"normal_force": 0.0, "steps": 1},
+            ]
+        },
+        "grid": {"n": [n, n, n]},
+    }
+
+
+def _ours(n: int) -> dict:
+    import solver
+
+    case = solver.Case.from_dict(scene_table(n))
+    with peak_memory() as memory:
+        wall, cpu = time.perf_counter(), time.process_time()
+        result = solver.solve(case)
+        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    h = result.history
+    loaded = SCENE["steps"] - 1
+    return {
+        "time": wall,
+        "cpu": cpu,
+        "memory": memory["peak_MB"],
+        "estimate_MB": case.memory_estimate() / 2**20,
+        "max_pressure": h["max_pressure"][loaded],
+        "contact_radius": math.sqrt(h["contact_area"][loaded] / math.pi),
+        "max_plastic_strain": h["max_plastic_strain"][loaded],
+        "max_plastic_strain_depth": h["max_plastic_strain_depth"][loaded],
+        "plastic_zone_depth": h["plastic_zone_depth"][loaded],
+        "residual_depth": h["residual_depth"][-1],
+        "iterations": int(h["plastic_iterations"].sum()),
+        "status": result.status,
+    }
+
+
+def _tamaas(n: int) -> dict:
+    from .peers_plastic import tamaas_plastic
+
+    s = SCENE
+    with peak_memory() as memory:
+        out = tamaas_plastic(
+            n,
+            n,
+            radius=s["radius"],
+            E=s["E"],
+            nu=s["nu"],
+            yield_stress=s["yield_stress"],
+            hardening_modulus=s["hardening_modulus"],
+            normal_force=s["normal_force"],
+            steps=s["steps"],
+            unload=True,
+        )
+    out["memory"] = memory["peak_MB"]
+    return out
+
+
+def _row(code: str, n: int, out: dict, a_h: float, p_h: float) -> dict:
+    def ratio(key, scale):
+        value = out.get(key)
+        return float("nan") if value is None else value / scale
+
+    return {
+        "code": code,
+        "n": n,
+        "wall_s": out["time"],
+        "cpu_s": out["cpu"],
+        "peak_MB": out["memory"],
+        "pmax/pH": ratio("max_pressure", p_h),
+        "a/aH": ratio("contact_radius", a_h),
+        "ep_max_%": 100 * out["max_plastic_strain"],
+        "z_ep/aH": ratio("max_plastic_strain_depth", a_h),
+        "zone/aH": ratio("plastic_zone_depth", a_h),
+        "dent_um": ratio("residual_depth", 1e-6),
+        "iterations": out.get("iterations"),
+    }
+
+
+def run_plastic(sizes: list[int], peers: bool = False) -> int:
+    """Run the scene at each size (ours, and Tamaas with ``peers``); print the table."""
+    from solver import Case
+
+    reference = Case.from_dict(scene_table(sizes[0])).hertz
+    rows, failures = [], 0
+    for n in sizes:
+        codes = [("slipstick", _ours)] + ([("tamaas", _tamaas)] if peers else [])
+        for code, target in codes:
+            status, out = _isolated(target, n, timeout=3600.0)
+            if status != "ok":
+                failures += code == "slipstick"
+                print(f"{code} n={n}: {out}")
+                continue
+            rows.append(_row(code, n, out, reference.radius, reference.max_pressure))
+            if code == "slipstick":
+                print(
+                    f"slipstick n={n}: {out['status']}, memory estimate "
+                    f"{out['estimate_MB']:.0f} MB (peak growth {out['memory']:.0f} MB)"
+                )
+            elif out.get("notes"):
+                print(f"tamaas n={n}: {out['notes']}")
+    print(
+        "Elastic-plastic: rigid sphere R = 15 mm, E = 210 GPa, nu = 0.3, linear hardening "
+        "sigma_Y0 = 1.3579 GPa, H = 152.3 GPa, W = 4716 N in 6 steps then unloaded; "
+        "one thread.  pmax, a, ep, depths at the maximum load; dent after unloading."
+    )
+    print(format_table(rows))
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(run_plastic([32], peers=False))
