@@ -198,3 +198,17 @@ def first_yield_pressure(yield_stress: float, nu: float) -> tuple[float, float]:
     vm = hertz_axis_stress(zeta, nu)[2]
     k = int(np.argmax(vm))
     return yield_stress / float(vm[k]), float(zeta[k])
+
+
+#: Independent axisymmetric finite-element solution (small strain) quoted by the project's
+#: plasticity issue: rigid sphere R = 15 mm, frictionless, on E = 210 GPa, nu = 0.3 steel with
+#: Swift hardening B = 945 MPa, C = 20, n = 0.121, loaded to W = 11179 N (p_H = 8 GPa) and
+#: unloaded.  Lengths over a_H, strain dimensionless, pressure in Pa, dent in m.
+FE_SWIFT_8GPA = {
+    "max_pressure": 5.70e9,
+    "contact_radius_over_a": 1.080,
+    "max_plastic_strain": 0.0136,
+    "max_plastic_strain_depth_over_a": 0.55,
+    "plastic_zone_depth_over_a": 2.11,
+    "residual_depth": 8.48e-6,
+}

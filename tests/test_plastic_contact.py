@@ -211,3 +211,35 @@ def test_hard_cases_finish_with_status(n, pressure, steps):
     assert result.converged, result.notes
     assert np.all(np.isfinite(result.fields["plastic_strain"]))
     assert result.history["max_plastic_strain"][-1] > 0
+
+
+@pytest.mark.slow
+def test_swift_sphere_8gpa_matches_the_finite_element_reference():
+    """32^3 and 48^3: within 3 % of the FE values (zone depth 5 %), settling with the mesh."""
+    from solver.reference import FE_SWIFT_8GPA as fe
+
+    rows = []
+    for n in (32, 48):
+        case = indentation(n, [{"hertz_pressure": 8e9, "steps": 8}, {"normal_force": 0.0}])
+        result = solver.solve(case)
+        assert result.converged, result.notes
+        h, a = result.history, case.hertz.radius
+        rows.append(
+            {
+                "max_pressure": h["max_pressure"][7],
+                "contact_radius_over_a": math.sqrt(h["contact_area"][7] / math.pi) / a,
+                "max_plastic_strain": h["max_plastic_strain"][7],
+                "max_plastic_strain_depth_over_a": h["max_plastic_strain_depth"][7] / a,
+                "plastic_zone_depth_over_a": h["plastic_zone_depth"][7] / a,
+                "residual_depth": h["residual_depth"][-1],
+            }
+        )
+    fine = rows[-1]
+    for key in ("max_pressure", "contact_radius_over_a", "max_plastic_strain", "residual_depth"):
+        assert fine[key] == pytest.approx(fe[key], rel=0.03), key
+    depth = fine["max_plastic_strain_depth_over_a"]
+    assert abs(depth - fe["max_plastic_strain_depth_over_a"]) <= 0.03
+    assert fine["plastic_zone_depth_over_a"] == pytest.approx(fe["plastic_zone_depth_over_a"], 0.05)
+    # refinement moves the contact radius and zone depth towards the reference
+    for key in ("contact_radius_over_a", "plastic_zone_depth_over_a"):
+        assert abs(rows[1][key] - fe[key]) < abs(rows[0][key] - fe[key]), key
