@@ -218,7 +218,7 @@ class SolverOptions:
     coupling_max_iterations: int = 100
     goodman: bool = False
     max_load_ratio: float = 1.25
-    plastic_tolerance: float = 1e-6
+    plastic_tolerance: float = 1e-5
     plastic_max_iterations: int = 100
     anderson_memory: int = 5
     fft_threads: int = 1

@@ -186,6 +186,8 @@ class EigenstrainOperator:
             raise ValueError("surface_stress must be built on the same grid and Poisson's ratio")
         self.surface_stress = surface_stress
         self._volume: tuple | None = None
+        self._inputs: list | None = None
+        self._work: np.ndarray | None = None
         self._stress_spectra: dict | None = None
         self._surface_kernels: dict | None = None
 
@@ -468,20 +470,47 @@ class EigenstrainOperator:
         layers = self.layer_spectra(eigenstrain)
         return self._stress(eigenstrain, layers), self._reciprocal_displacement(layers)
 
-    def _stress(self, eigenstrain: np.ndarray, layers: np.ndarray) -> np.ndarray:
+    def displacement_from_layers(self, layers: np.ndarray) -> tuple:
+        """Surface displacements (reciprocal route) from :meth:`layer_spectra` (m)."""
+        return self._reciprocal_displacement(layers)
+
+    def stress_with_tractions(
+        self, eigenstrain: np.ndarray, layers: np.ndarray, tractions: dict[str, np.ndarray]
+    ) -> np.ndarray:
+        """Residual stress plus the stress of surface tractions on the half-space (Pa).
+
+        The tractions (``pressure``, ``shear_x``, ``shear_y``, ``(nx, ny)`` arrays in Pa, as
+        :meth:`solver.stress.SubsurfaceStressOperator.stress`) share the per-layer transforms
+        of the residual stress's Boussinesq correction: one pass instead of two.
+
+        Parameters
+        ----------
+        eigenstrain : ndarray
+            ``(6, nx, ny, nz)`` eigenstrain.
+        layers : ndarray
+            Its :meth:`layer_spectra`.
+        tractions : dict
+            Surface tractions on the half-space.
+        """
+        return self._stress(self._check(eigenstrain), layers, tractions)
+
+    def _stress(
+        self, eigenstrain: np.ndarray, layers: np.ndarray, tractions: dict | None = None
+    ) -> np.ndarray:
         nx, ny, nz = self.grid.shape
         forward, backward = self._volume_plans()
         spectra = self._stress_kernels()
         # source and image in one padded array: image layers 0..nz-1 (flipped), source nz..2nz-1
-        inputs = []
-        buffer = forward.input_array
+        inputs = self._input_spectra()
+        buffer, plan_output = forward.input_array, forward.output_array
         for mn in range(6):
             buffer[:nx, :ny, nz : 2 * nz] = eigenstrain[mn]
             buffer[:nx, :ny, :nz] = IMAGE_SIGNS[mn] * eigenstrain[mn, :, :, ::-1]
+            forward.update_arrays(buffer, inputs[mn])  # transform straight into its slot
             forward.execute()
-            inputs.append(forward.output_array.copy())
+        forward.update_arrays(buffer, plan_output)
         acc = backward.input_array
-        tmp = np.empty(acc.shape, dtype=complex)
+        tmp = self._work
         out = np.empty((6, nx, ny, nz))
         # quadrants of the full spectrum and the mirrored rows/columns of the stored quarter
         rows = (
@@ -510,11 +539,26 @@ class EigenstrainOperator:
             backward.execute()
             out[ij] = backward.output_array[:nx, :ny, nz : 2 * nz]
             out[ij] /= COMPONENT_WEIGHTS[ij]
-        del inputs, tmp
+        tractions = dict(tractions or {})
         pressure = self._correction_pressure(layers)
-        p_spec = self.surface_stress.surface_spectrum(pressure)
-        out += self.surface_stress.stress_from_spectra({"pressure": p_spec})
+        if tractions.get("pressure") is not None:
+            pressure = pressure + tractions["pressure"]
+        tractions["pressure"] = pressure
+        spectra = {
+            name: self.surface_stress.surface_spectrum(values)
+            for name, values in tractions.items()
+            if values is not None
+        }
+        out += self.surface_stress.stress_from_spectra(spectra)
         return out
+
+    def _input_spectra(self) -> list[np.ndarray]:
+        """Six aligned spectra of the padded eigenstrain components and a work array (kept)."""
+        if self._inputs is None:
+            shape = self._volume_plans()[0].output_array.shape
+            self._inputs = [pyfftw.empty_aligned(shape, dtype="complex128") for _ in range(6)]
+            self._work = np.empty(shape, dtype=complex)
+        return self._inputs
 
     def _direct_displacement(self, layers: np.ndarray, pressure: np.ndarray) -> tuple:
         kernels = self._surface_layer_kernels(displacement=True)

@@ -156,10 +156,11 @@ def plastic_step(
     while iterations < options.plastic_max_iterations:
         iterations += 1
         strain = previous_plastic.strain + increment
-        if strain.any():
-            residual_stress, displacement = eigenstrain.evaluate(strain)
+        layers = eigenstrain.layer_spectra(strain) if strain.any() else None
+        if layers is not None:
+            displacement = eigenstrain.displacement_from_layers(layers)
         else:  # nothing has yielded yet: skip the volume transforms
-            residual_stress, displacement = None, previous_plastic.displacement
+            displacement = previous_plastic.displacement
         contact = contact_step(
             operators, previous, target, relative_residual(operators, displacement), contact_guess
         )
@@ -170,12 +171,12 @@ def plastic_step(
         tractions = {"pressure": state.pressure}
         if state.shear_x.any() or state.shear_y.any():
             tractions.update(shear_x=state.shear_x, shear_y=state.shear_y)
-        if state.pressure.any() or len(tractions) > 1:
+        if layers is not None:  # residual stress and traction stress in one pass
+            trial = eigenstrain.stress_with_tractions(strain, layers, tractions)
+        elif state.pressure.any() or len(tractions) > 1:
             trial = stress_operator.stress(**tractions)
         else:
             trial = np.zeros_like(strain)
-        if residual_stress is not None:
-            trial += residual_stress
         trial += 2.0 * shear_modulus * increment
         mapped = return_mapping(trial, previous_plastic.equivalent, hardening, shear_modulus)
         change = mapped.plastic_strain_increment - increment

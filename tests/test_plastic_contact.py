@@ -90,7 +90,9 @@ def test_unloading_and_reloading_add_no_plastic_strain():
     assert h["normal_force"][unloaded] == 0.0 and h["max_pressure"][unloaded] == 0.0
     assert h["max_plastic_strain"][loaded] > 1e-3
     growth = h["max_plastic_strain"][reloaded] - h["max_plastic_strain"][loaded]
-    assert abs(growth) < 1e-6 * h["max_plastic_strain"][loaded]
+    # zero up to the plasticity loop's tolerance (a fraction of the yield strain)
+    yield_strain = SIGMA_Y0 / STEEL["E"]
+    assert abs(growth) <= result.case.solver.plastic_tolerance * yield_strain
     # the contact at the repeated maximum load is the same, the print is permanent
     assert h["max_pressure"][reloaded] == pytest.approx(h["max_pressure"][loaded], rel=1e-6)
     assert h["residual_depth"][unloaded] > 0
