@@ -15,7 +15,9 @@ Convergence is judged on the complementarity residual
     max( rms over contact of |g|, max over non-contact of max(-g, 0) ) / mean over contact of u_z
 
 i.e. the gap error relative to the elastic displacement scale, and on the relative pressure change
-``sum |dp| dA / W``; both must fall below ``tolerance``.
+``sum |dp| dA / W``; both must fall below ``tolerance``.  A residual below ``tolerance`` with no
+descent direction left (the preconditioned gradient vanished to round-off, as when the starting
+pressure already solves the problem) is converged too; with a larger residual it is a stall.
 """
 
 from __future__ import annotations
@@ -147,8 +149,17 @@ def solve_normal(
             gz = _dot(g_contact, z)
         else:
             z, gz = g_contact, g_norm
-        if not gz > 0.0:  # no descent direction left although the residual is too large
-            message = "stalled: no descent direction"
+        if not gz > 0.0:  # no descent direction left
+            if residual < tolerance:
+                # The gradient vanished to round-off: p already solves the problem (a re-solve
+                # from the previous solution, before ``change`` could fall below the tolerance).
+                if not u_exact:  # confirm with a fresh convolution before accepting
+                    u, u_exact = operator.normal(p), True
+                    continue
+                converged = True
+                iterations -= 1
+                break
+            message = "stalled: no descent direction"  # and the residual is too large
             break
         t *= 0.0 if reset or g_norm_old <= 0.0 else gz / g_norm_old
         t += z

@@ -115,7 +115,7 @@ class CaseOperators:
         volume = case.volume_grid
         if case.plastic_body is not None:
             cells = 8 * 6 * nx * ny * volume.nz
-            total += EigenstrainOperator.memory_bytes(volume)
+            total += EigenstrainOperator.memory_bytes(volume, deviatoric=True)
             total += PLASTIC_WORK_ARRAYS * cells
         elif "stress" in case.fields:
             tractions = 3 if tangential else 1

@@ -9,7 +9,8 @@ evaluation of the fixed-point map ``d -> G(d)``:
 2. contact step with the residual displacements in the gap (``u_z^r``, doubled for the
    symmetric pair: the paper's eq. 2), warm-started from the previous evaluation;
 3. stress ``sigma = sigma^e(p, q) + sigma^r(eps_p)``, and the trial stress of the increment
-   ``sigma + 2 G d`` (the stress had ``d`` been elastic: ``d`` is deviatoric);
+   ``sigma + 2 G d`` (the stress had ``d`` been elastic: ``d`` is deviatoric); only deviators
+   are computed (all a von Mises return needs, five components instead of six);
 4. radial return (:func:`solver.plasticity.return_mapping`) from the equivalent plastic strain
    at the start of the increment: ``G(d)`` is its plastic strain increment.
 
@@ -171,8 +172,8 @@ def plastic_step(
         tractions = {"pressure": state.pressure}
         if state.shear_x.any() or state.shear_y.any():
             tractions.update(shear_x=state.shear_x, shear_y=state.shear_y)
-        if layers is not None:  # residual stress and traction stress in one pass
-            trial = eigenstrain.stress_with_tractions(strain, layers, tractions)
+        if layers is not None:  # residual and traction stress in one pass, deviators only
+            trial = eigenstrain.deviatoric_stress_with_tractions(strain, layers, tractions)
         elif state.pressure.any() or len(tractions) > 1:
             trial = stress_operator.stress(**tractions)
         else:

@@ -366,3 +366,21 @@ def test_direct_route_converges_with_the_window():
         assert recip == pytest.approx(expected, rel=1e-6)
         errors.append(abs(direct / expected - 1))
     assert errors[2] < 0.015 and errors[1] < errors[0] / 4 and errors[2] < errors[1] / 3
+
+
+def test_deviatoric_path_equals_the_deviator_of_the_full_stress():
+    """Five components in and out (the plasticity loop's path) against the full evaluation."""
+    from solver.tensor import deviator
+
+    grid = VolumeGrid(SurfaceGrid.centred(12, 10, 1.0, 0.9), 8, 0.1)
+    op = EigenstrainOperator(grid, 210e9, 0.3)
+    rng = np.random.default_rng(0)
+    strain = deviator(rng.normal(size=(6,) + grid.shape)) * 1e-3
+    layers = op.layer_spectra(strain)
+    pressure = rng.random(grid.shape[:2]) * 1e9
+    tractions = {"pressure": pressure, "shear_x": 0.3 * pressure}
+    full = op.stress_with_tractions(strain, layers, dict(tractions))
+    fast = op.deviatoric_stress_with_tractions(strain, layers, dict(tractions))
+    assert np.abs(deviator(full) - fast).max() <= 1e-13 * np.abs(full).max()
+    residual_only = op.stress_with_tractions(strain, layers, {})
+    np.testing.assert_allclose(residual_only, op.stress(strain), rtol=0, atol=1e-9)
