@@ -16,6 +16,8 @@ from __future__ import annotations
 import math
 import time
 
+import numpy as np
+
 from .bench import _isolated, format_table, peak_memory
 
 SCENE = {
@@ -178,5 +180,69 @@ def run_plastic(sizes: list[int], peers: bool = False) -> int:
     return 1 if failures else 0
 
 
+def paper_spheres(n: int, steps: int = 10) -> int:
+    """The reference paper's §3 scenes: two steel spheres R = 15 mm to p_H = 8 GPa (Swift).
+
+    E-E, E-EP and EP-EP (mu = 0 and 0.5) on an n^3 volume grid; prints p_max/p_H, the
+    central pressure, the contact radius and the maximum plastic strain at the maximum load.
+    """
+    import solver
+
+    swift = {"law": "swift", "B": 945e6, "C": 20.0, "n": 0.121}
+    rows = []
+    for label, behaviours, mu in (
+        ("E-E", ("elastic", "elastic"), 0.0),
+        ("E-EP", ("elastic", "elastic-plastic"), 0.0),
+        ("EP-EP", ("elastic-plastic", "elastic-plastic"), 0.0),
+        ("EP-EP", ("elastic-plastic", "elastic-plastic"), 0.5),
+    ):
+        bodies = []
+        for behaviour in behaviours:
+            body = {"behaviour": behaviour, "radius": 0.015, "E": 210e9, "nu": 0.3}
+            if behaviour == "elastic-plastic":
+                body["hardening"] = dict(swift)
+            bodies.append(body)
+        plastic = "elastic-plastic" in behaviours
+        case = solver.Case.from_dict(
+            {
+                "body1": bodies[0],
+                "body2": bodies[1],
+                "load": {"normal_force": 11179.0, "steps": steps},
+                "friction": {"coefficient": mu},
+                "grid": {"n": [n, n, n] if plastic else n},
+            }
+        )
+        wall = time.perf_counter()
+        result = solver.solve(case)
+        h, hertz = result.history, case.hertz
+        x, y = case.surface_grid.mesh()
+        centre = result.pressure[np.unravel_index(np.argmin(x * x + y * y), x.shape)]
+        rows.append(
+            {
+                "scene": label,
+                "mu": mu,
+                "loops": " ".join(result.loops),
+                "status": result.status,
+                "pmax/pH": h["max_pressure"][-1] / hertz.max_pressure,
+                "p_centre/pH": centre / hertz.max_pressure,
+                "a/aH": math.sqrt(h["contact_area"][-1] / math.pi) / hertz.radius,
+                "ep_max_%": 100 * h["max_plastic_strain"][-1] if plastic else 0.0,
+                "wall_s": time.perf_counter() - wall,
+            }
+        )
+    print(f"Paper §3: steel spheres R = 15 mm, W = 11179 N (p_H = 8 GPa), {steps} steps, n = {n}")
+    print(format_table(rows))
+    return 0
+
+
 if __name__ == "__main__":  # pragma: no cover
-    raise SystemExit(run_plastic([32], peers=False))
+    import argparse
+
+    parser = argparse.ArgumentParser(description="elastic-plastic benchmarks")
+    parser.add_argument("--paper", type=int, metavar="N", help="the paper's §3 scenes at N^3")
+    parser.add_argument("--sizes", type=int, nargs="+", default=[32])
+    parser.add_argument("--peers", action="store_true")
+    args = parser.parse_args()
+    if args.paper:
+        raise SystemExit(paper_spheres(args.paper))
+    raise SystemExit(run_plastic(args.sizes, peers=args.peers))
