@@ -10,6 +10,7 @@ so ``1`` and ``1.0`` give the same id.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import json
 import math
@@ -17,6 +18,8 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from .grid import SurfaceGrid, VolumeGrid
 from .materials import Body, Hardening, Pair
@@ -27,6 +30,14 @@ from .variables import OPTIONAL_FIELDS
 MIN_CELLS_ACROSS = 10
 #: Largest grid side (cells) accepted.
 MAX_CELLS = 8192
+#: Young's moduli accepted (Pa): from soft gels to beyond diamond.
+MODULUS_RANGE = (1e3, 1e15)
+#: Finite radii of curvature accepted (m); "inf" (flat) is accepted as well.
+RADIUS_RANGE = (1e-9, 1e6)
+#: Hertz peak pressure over the composite modulus, p_H / E*, accepted for every non-zero load.
+#: It is the contact's strain scale (a / R = pi/2 p_H / E* for a sphere): below 1e-9 the
+#: contact is a rounding error, above 1 the small-strain theory the solver rests on is void.
+PRESSURE_RATIO_RANGE = (1e-9, 1.0)
 
 
 class SpecError(ValueError):
@@ -52,13 +63,33 @@ def _check_keys(table: Any, path: str, allowed: set[str], required: set[str] = f
     return table
 
 
+def _plain(value: Any) -> Any:
+    """Numpy scalars and arrays as the Python bool, int, float, str or list they hold."""
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    return value
+
+
+def _show(value: int) -> str:
+    """An integer for a message: its digits, or its size when it has too many to print."""
+    if abs(value) < 10**30:
+        return str(value)
+    return f"{'a negative' if value < 0 else 'an'} integer of {value.bit_length()} bits"
+
+
 def _number(value: Any, path: str, *, positive: bool = False, allow_inf: bool = False) -> float:
+    value = _plain(value)
     if isinstance(value, str) and value.lower() in ("inf", "infinity") and allow_inf:
         return math.inf
     if isinstance(value, bool) or not isinstance(value, int | float):
         hint = ' (or "inf")' if allow_inf else ""
         _fail(path, f"must be a number{hint}, got {value!r}")
-    value = float(value)
+    try:
+        value = float(value)
+    except OverflowError:  # an int beyond the float range
+        _fail(path, f"must be finite, got {_show(value)}, beyond the float range")
     if math.isnan(value) or (math.isinf(value) and not allow_inf):
         _fail(path, f"must be finite, got {value!r}")
     if positive and not value > 0:
@@ -67,12 +98,13 @@ def _number(value: Any, path: str, *, positive: bool = False, allow_inf: bool = 
 
 
 def _integer(value: Any, path: str, low: int, high: int) -> int:
+    value = _plain(value)
     if isinstance(value, float) and value.is_integer():
         value = int(value)
     if isinstance(value, bool) or not isinstance(value, int):
         _fail(path, f"must be an integer, got {value!r}")
     if not low <= value <= high:
-        _fail(path, f"must be between {low} and {high}, got {value}")
+        _fail(path, f"must be between {low} and {high}, got {_show(value)}")
     return value
 
 
@@ -85,7 +117,7 @@ HARDENING_KEYS = {
 
 def _parse_hardening(table: Any, path: str) -> Hardening:
     _check_keys(table, path, {"law", "B", "C", "n", "yield_stress", "modulus"}, {"law"})
-    law = table["law"]
+    law = _plain(table["law"])
     if law not in HARDENING_KEYS:
         _fail(f"{path}.law", f"must be one of {', '.join(HARDENING_KEYS)}, got {law!r}")
     _check_keys(table, path, HARDENING_KEYS[law] | {"law"}, HARDENING_KEYS[law])
@@ -100,20 +132,16 @@ def _parse_hardening(table: Any, path: str) -> Hardening:
 def _parse_body(table: Any, path: str) -> Body:
     allowed = {"behaviour", "radius", "radius_x", "radius_y", "E", "nu", "hardening"}
     _check_keys(table, path, allowed, {"behaviour"})
-    behaviour = table["behaviour"]
+    behaviour = _plain(table["behaviour"])
     if behaviour not in ("rigid", "elastic", "elastic-plastic"):
         _fail(f"{path}.behaviour", f"must be rigid, elastic or elastic-plastic, got {behaviour!r}")
     if "radius" in table and ("radius_x" in table or "radius_y" in table):
         _fail(f"{path}.radius", "give either radius or radius_x/radius_y, not both")
     if "radius" in table:
-        rx = ry = _number(table["radius"], f"{path}.radius", positive=True, allow_inf=True)
+        rx = ry = _radius(table["radius"], f"{path}.radius")
     else:
-        rx = _number(
-            table.get("radius_x", "inf"), f"{path}.radius_x", positive=True, allow_inf=True
-        )
-        ry = _number(
-            table.get("radius_y", "inf"), f"{path}.radius_y", positive=True, allow_inf=True
-        )
+        rx = _radius(table.get("radius_x", "inf"), f"{path}.radius_x")
+        ry = _radius(table.get("radius_y", "inf"), f"{path}.radius_y")
     if behaviour == "rigid":
         for key in ("E", "nu", "hardening"):
             if key in table:
@@ -123,6 +151,9 @@ def _parse_body(table: Any, path: str) -> Body:
         if key not in table:
             _fail(f"{path}.{key}", f"missing required field for a {behaviour} body")
     young = _number(table["E"], f"{path}.E", positive=True)
+    low, high = MODULUS_RANGE
+    if not low <= young <= high:
+        _fail(f"{path}.E", f"Young's modulus must be in [{low:g}, {high:g}] Pa, got {young:g}")
     nu = _number(table["nu"], f"{path}.nu")
     if not -1.0 < nu <= 0.5:
         _fail(f"{path}.nu", f"Poisson's ratio must be in (-1, 0.5], got {nu}")
@@ -131,9 +162,37 @@ def _parse_body(table: Any, path: str) -> Body:
         if "hardening" not in table:
             _fail(f"{path}.hardening", "missing: an elastic-plastic body needs a hardening table")
         hardening = _parse_hardening(table["hardening"], f"{path}.hardening")
+        _check_yield_stress(hardening, young, f"{path}.hardening")
     elif "hardening" in table:
         _fail(f"{path}.hardening", "only elastic-plastic bodies take a hardening law")
     return Body(behaviour, rx, ry, young, nu, hardening)
+
+
+def _radius(value: Any, path: str) -> float:
+    """A radius of curvature (m): in :data:`RADIUS_RANGE`, or "inf" for a flat body."""
+    radius = _number(value, path, positive=True, allow_inf=True)
+    low, high = RADIUS_RANGE
+    if not (low <= radius <= high or math.isinf(radius)):
+        _fail(path, f'must be in [{low:g}, {high:g}] m or "inf" (flat), got {radius:g}')
+    return radius
+
+
+def _check_yield_stress(hardening: Hardening, young: float, path: str) -> None:
+    """The initial yield stress (Swift: B C^n) must be finite and below Young's modulus."""
+    if hardening.law == "swift":
+        try:
+            sigma = hardening.B * hardening.C**hardening.n
+        except OverflowError:
+            sigma = math.inf
+        formula = f"B C^n = {hardening.B:g} x {hardening.C:g}^{hardening.n:g}"
+    else:
+        sigma, formula = hardening.yield_stress, "yield_stress"
+    if not (math.isfinite(sigma) and 0 < sigma < young):
+        _fail(
+            path,
+            f"the initial yield stress {formula} = {sigma:g} Pa must be finite and below the "
+            f"body's E = {young:g} Pa",
+        )
 
 
 @dataclass(frozen=True)
@@ -163,6 +222,65 @@ def _load_number(value: Any, path: str, first: bool) -> float:
     return value
 
 
+_HERTZ_ERRORS = (OverflowError, ZeroDivisionError, ValueError)
+
+
+def _load_range(pair: Pair) -> str:
+    """The accepted loads for a pair, as text: p_H/E*, p_H and W ranges."""
+    e_star, curvature = pair.composite_modulus, pair.curvature
+    ratios = PRESSURE_RATIO_RANGE
+    p_low, p_high = (r * e_star for r in ratios)
+    try:
+        w_low, w_high = (hertz_force_for_pressure(p, e_star, curvature) for p in (p_low, p_high))
+        forces = f", W in [{w_low:.3g}, {w_high:.3g}] N"
+    except _HERTZ_ERRORS:
+        forces = ""
+    return (
+        f"p_H/E* must be in [{ratios[0]:g}, {ratios[1]:g}] (small strain; E* = {e_star:.4g} Pa): "
+        f"p_H in [{p_low:.3g}, {p_high:.3g}] Pa{forces} for these bodies"
+    )
+
+
+def _force_for_pressure(p_h: float, pair: Pair, path: str) -> float:
+    """Normal force (N) of a Hertz pressure (Pa), refusing pressures outside the range."""
+    e_star = pair.composite_modulus
+    if p_h == 0:
+        return 0.0
+    low, high = (r * e_star for r in PRESSURE_RATIO_RANGE)
+    if not low * (1 - 1e-12) <= p_h <= high * (1 + 1e-12):  # slack: round-off of E*
+        _fail(path, f"{_load_range(pair)}; got p_H = {p_h:g} Pa")
+    try:
+        force = hertz_force_for_pressure(p_h, e_star, pair.curvature)
+    except _HERTZ_ERRORS as error:
+        force, why = math.nan, error
+    else:
+        why = "not finite"
+    if not (math.isfinite(force) and force > 0):
+        _fail(
+            path,
+            f"the Hertz force of p_H = {p_h:g} Pa cannot be computed ({why}); {_load_range(pair)}",
+        )
+    return force
+
+
+def _check_force(force: float, pair: Pair, path: str) -> None:
+    """Refuse a non-zero normal force whose Hertz pressure is outside the accepted range."""
+    if force == 0:
+        return
+    e_star = pair.composite_modulus
+    try:
+        p_h = hertz(force, e_star, pair.curvature).max_pressure
+    except _HERTZ_ERRORS:
+        p_h = math.nan
+    low, high = (r * e_star for r in PRESSURE_RATIO_RANGE)
+    if not low * (1 - 1e-12) <= p_h <= high * (1 + 1e-12):  # slack: round-off of p_H
+        _fail(
+            path,
+            f"W = {force:g} N gives a Hertz pressure p_H = {p_h:.3g} Pa "
+            f"(p_H/E* = {p_h / e_star:.3g}); {_load_range(pair)}",
+        )
+
+
 def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool) -> tuple:
     allowed = {"hertz_pressure", "normal_force", "tangential_force", "steps"}
     _check_keys(table, path, allowed)
@@ -172,16 +290,17 @@ def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool
     if "hertz_pressure" in table:
         p_h = _load_number(table["hertz_pressure"], f"{path}.hertz_pressure", first)
         given["hertz_pressure"] = p_h
-        force = hertz_force_for_pressure(p_h, pair.composite_modulus, pair.curvature)
+        force = _force_for_pressure(p_h, pair, f"{path}.hertz_pressure")
     elif "normal_force" in table:
         force = _load_number(table["normal_force"], f"{path}.normal_force", first)
+        _check_force(force, pair, f"{path}.normal_force")
         given["normal_force"] = force
     elif first:
         _fail(path, "missing load: give hertz_pressure (Pa) or normal_force (N)")
     else:
         force = previous[0]
     if "tangential_force" in table:
-        value = table["tangential_force"]
+        value = _plain(table["tangential_force"])
         if isinstance(value, list):
             if len(value) != 2:
                 _fail(f"{path}.tangential_force", f"must be [Qx, Qy] (N), got {value!r}")
@@ -266,7 +385,7 @@ def _parse_solver(table: Any) -> SolverOptions:
             values[key] = _integer(value, path, 1, 256)
         elif rule == "memory":
             values[key] = _integer(value, path, 0, 50)
-        elif not isinstance(value, bool):
+        elif not isinstance(value := _plain(value), bool):
             _fail(path, f"must be true or false, got {value!r}")
         else:
             values[key] = value
@@ -356,6 +475,11 @@ class Case:
         ------
         SpecError
             If any field is missing, unknown, of the wrong type or non-physical.
+
+        Notes
+        -----
+        Numpy scalars (``np.int64``, ``np.float32``, ``np.bool_``, ...) are taken as the Python
+        values they hold, and numpy arrays where a list is expected; a boolean is never a number.
         """
         allowed = {"body1", "body2", "load", "friction", "grid", "solver", "output", "model"}
         _check_keys(table, "", allowed, {"body1", "body2", "load", "grid"})
@@ -409,7 +533,7 @@ class Case:
                 )
 
         grid = _parse_grid(table["grid"])
-        _check_plastic_scene(body1, body2, mu, stages, grid)
+        _check_plastic_scene(body1, body2, stages, grid)
         if grid.depth is None:
             depth = DEFAULT_DEPTH
             if body2.behaviour == "elastic-plastic":
@@ -420,7 +544,9 @@ class Case:
             grid = dataclasses.replace(grid, depth=depth)
         solver = _parse_solver(table.get("solver", {}))
         output = _check_keys(table.get("output", {}), "output", {"fields"})
-        fields = output.get("fields", [])
+        fields = _plain(output.get("fields", []))
+        if isinstance(fields, list):
+            fields = [_plain(name) for name in fields]
         if not isinstance(fields, list) or any(f not in FIELD_OUTPUTS for f in fields):
             _fail("output.fields", f"must be a list drawn from {list(FIELD_OUTPUTS)}")
         if "stress" in fields and not grid.nz:
@@ -476,12 +602,26 @@ class Case:
             )
         surface = self.surface_grid
         across = 2 * semi_min / max(surface.dx, surface.dy)
-        if across < MIN_CELLS_ACROSS:
-            need = math.ceil(max(self.grid.nx, self.grid.ny) * MIN_CELLS_ACROSS / across)
+        if not across >= MIN_CELLS_ACROSS:
+            # square cells of side 2 half_width a_max / n: across = n semi_min / (half_width a_max)
+            n_max = max(self.grid.nx, self.grid.ny)
+            need = MIN_CELLS_ACROSS * n_max / across if across > 0 else math.inf
+            if need <= MAX_CELLS:
+                _fail(
+                    "grid.n",
+                    f"mesh too coarse: the contact spans {across:.3g} cells, "
+                    f"use n >= {math.ceil(need)} (or a smaller half_width)",
+                )
+            scale = semi_min / (MIN_CELLS_ACROSS * reference.max_semi_axis)
+            at_n = ""
+            if n_max < MAX_CELLS and scale * n_max >= 1.1:
+                at_n = f" (<= {scale * n_max:.4g} at n = {n_max})"
+            need_text = str(math.ceil(need)) if need < 1e15 else f"{need:.3g}"
             _fail(
-                "grid.n",
-                f"mesh too coarse: the contact spans {across:.1f} cells, "
-                f"use n >= {need} (or a smaller half_width)",
+                "grid.half_width",
+                f"mesh too coarse: the contact spans {across:.4g} cells and would need "
+                f"n >= {need_text}, beyond the largest grid n = {MAX_CELLS}; reduce half_width "
+                f"to <= {scale * MAX_CELLS:.4g} with n = {MAX_CELLS}{at_n} (1.5 recommended)",
             )
 
     # -- derived quantities ------------------------------------------------------------------
@@ -495,9 +635,9 @@ class Case:
         """Largest normal force along the load path (N)."""
         return max(stage.normal_force for stage in self.stages)
 
-    @property
+    @functools.cached_property
     def hertz(self) -> HertzContact:
-        """Hertz reference at the largest normal force of the path."""
+        """Hertz reference at the largest normal force of the path (computed once)."""
         pair = self.pair
         return hertz(self.max_normal_force, pair.composite_modulus, pair.curvature)
 
@@ -591,8 +731,13 @@ class Case:
         return (per_solve * factor + volume) * self.total_steps
 
 
-def _check_plastic_scene(body1: Body, body2: Body, mu: float, stages, grid: GridSpec) -> None:
-    """Refuse the elastic-plastic scenes this release cannot solve (no silent elastic answer)."""
+def _check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> None:
+    """Refuse the elastic-plastic scenes this release cannot solve (no silent elastic answer).
+
+    Solved: an elastic-plastic body 2 under a rigid or elastic body 1 (frictionless: the
+    plasticity loop around the normal step; with friction or a tangential load: the four
+    loops), and the symmetric pair (eq. 2) under normal load with any friction.
+    """
     symmetric = body1.behaviour == "elastic-plastic" and body1 == body2
     if body1.behaviour == "elastic-plastic" and not symmetric:
         _fail(
@@ -603,18 +748,11 @@ def _check_plastic_scene(body1: Body, body2: Body, mu: float, stages, grid: Grid
         )
     if body2.behaviour != "elastic-plastic":
         return
-    if mu > 0 and not symmetric:
-        _fail(
-            "friction.coefficient",
-            "friction on an elastic-plastic body 2 needs the four-loop solver (tangential "
-            "residual displacements), not built yet; set friction.coefficient = 0, or use the "
-            "symmetric elastic-plastic pair",
-        )
-    if any(any(stage.tangential_force) for stage in stages):
+    if symmetric and any(any(stage.tangential_force) for stage in stages):
         _fail(
             "load.tangential_force",
-            "a tangential load on an elastic-plastic body needs the four-loop solver, not "
-            "built yet; remove tangential_force",
+            "a tangential load breaks the symmetry of the elastic-plastic pair (eq. 2); make "
+            "body 1 elastic or rigid to run the four loops, or remove tangential_force",
         )
     if not grid.nz:
         _fail(
@@ -625,8 +763,13 @@ def _check_plastic_scene(body1: Body, body2: Body, mu: float, stages, grid: Grid
 
 
 def _parse_grid(table: Any) -> GridSpec:
-    _check_keys(table, "grid", {"n", "half_width", "depth"}, {"n"})
-    n = table["n"]
+    """Parse ``[grid]``: ``n`` (nx = ny), ``[nx, ny]`` or ``[nx, ny, nz]``, and ``nz``.
+
+    ``nz`` (the volume grid's cells in depth) may be given apart from a 1- or 2-entry ``n``,
+    not as well as a 3-entry one.
+    """
+    _check_keys(table, "grid", {"n", "nz", "half_width", "depth"}, {"n"})
+    n = _plain(table["n"])
     if isinstance(n, list):
         if len(n) not in (2, 3):
             _fail("grid.n", f"must be an integer or [nx, ny] or [nx, ny, nz], got {n!r}")
@@ -634,6 +777,14 @@ def _parse_grid(table: Any) -> GridSpec:
     else:
         size = _integer(n, "grid.n", 4, MAX_CELLS)
         sizes = [size, size]
+    if "nz" in table:
+        if len(sizes) == 3:
+            _fail(
+                "grid.nz",
+                f"grid.n = {n!r} already gives nz; give either grid.n = [nx, ny, nz] or "
+                "grid.n with grid.nz, not both",
+            )
+        sizes.append(_integer(table["nz"], "grid.nz", 4, MAX_CELLS))
     nz = sizes[2] if len(sizes) == 3 else 0
     half_width = _number(table.get("half_width", 1.5), "grid.half_width", positive=True)
     depth = _number(table["depth"], "grid.depth", positive=True) if "depth" in table else None

@@ -6,6 +6,8 @@ scene                                              loops (``Result.loops``)
 elastic, frictionless or beta = 0, no shear load   load_steps, normal
 elastic, friction, beta != 0 or a tangential load  load_steps, slip_stick, normal, tangential
 elastic-plastic body 2, frictionless               load_steps, plasticity, normal, return_mapping
+elastic-plastic body 2 with friction (fretting)    load_steps, plasticity, slip_stick, normal,
+                                                   tangential, return_mapping
 symmetric EP-EP pair (seed eq. 2), any friction    load_steps, plasticity, normal_symmetric,
                                                    return_mapping
 =================================================  ============================================
@@ -37,6 +39,9 @@ from .variables import PLASTIC_ZONE_THRESHOLD
 MIN_COUPLED_STEPS = 20
 #: First sub-step of a coupled scene loaded from zero, as a fraction of the first target.
 FIRST_SUBSTEP_FRACTION = 1.0 / 64.0
+#: Smallest Hertz contact radius (cells) of a sub-step: a contact one cell wide is not a
+#: contact problem the grid can solve (the normal solve stalls on it).
+MIN_SUBSTEP_RADIUS_CELLS = 2.0
 
 _CONTACT_HISTORY = (
     "normal_force", "approach", "max_pressure", "contact_area", "normal_iterations",
@@ -52,18 +57,25 @@ _PLASTIC_HISTORY = (
 
 
 def needs_slip_stick(case: Case) -> bool:
-    """True when friction couples to the normal problem (beta != 0) or a shear load exists.
+    """True when friction acts: beta != 0, a shear load, or an elastic-plastic body 2.
 
-    The symmetric elastic-plastic pair never needs it (seed eq. 2: both bodies deform alike).
+    The tangential residual displacements of a plastic body have no match on the other body,
+    so friction with an elastic-plastic body needs the tangential loop even when beta = 0
+    (the paper's E-EP remark); the symmetric elastic-plastic pair never needs it (seed eq. 2:
+    both bodies deform alike).
     """
     if case.friction_coefficient == 0.0 or case.symmetric_plastic:
         return False
-    return case.pair.dundurs_beta != 0.0 or case.has_tangential_load
+    plastic = case.plastic_body is not None
+    return plastic or case.pair.dundurs_beta != 0.0 or case.has_tangential_load
 
 
 def scene(case: Case) -> tuple[tuple[str, ...], Callable[..., StepResult]]:
     """The loops a case runs and its contact step."""
     if case.plastic_body is not None:
+        if needs_slip_stick(case):
+            loops = ("load_steps", "plasticity", "slip_stick", "normal", "tangential")
+            return (*loops, "return_mapping"), slip_stick_step
         normal = "normal_symmetric" if case.symmetric_plastic else "normal"
         return ("load_steps", "plasticity", normal, "return_mapping"), normal_step
     if needs_slip_stick(case):
@@ -71,19 +83,21 @@ def scene(case: Case) -> tuple[tuple[str, ...], Callable[..., StepResult]]:
     return ("load_steps", "normal"), normal_step
 
 
-def load_substeps(previous: tuple, target: tuple, max_ratio: float) -> list[tuple]:
+def load_substeps(
+    previous: tuple, target: tuple, max_ratio: float, smallest: float = 0.0
+) -> list[tuple]:
     """Intermediate (W, Q_x, Q_y) targets so that W grows by at most ``max_ratio`` per step.
 
     Path-dependent coupled scenes need small relative increments while the contact grows: an
     increment that doubles the load labels the new contact ring as in a one-shot solve.  The
     sub-steps are geometric in W (from ``FIRST_SUBSTEP_FRACTION`` of the target when loading
-    from zero) with the tangential force interpolated linearly in W; ``target`` itself is not
-    included.
+    from zero, but not below ``smallest`` (N), a load whose contact the grid still resolves)
+    with the tangential force interpolated linearly in W; ``target`` itself is not included.
     """
     w0, w1 = previous[0], target[0]
     if not np.isfinite(max_ratio) or w1 <= w0 * max_ratio:
         return []
-    start = w0 if w0 > 0 else w1 * FIRST_SUBSTEP_FRACTION
+    start = w0 if w0 > 0 else min(max(w1 * FIRST_SUBSTEP_FRACTION, smallest), w1 / max_ratio)
     count = int(np.ceil(np.log(w1 / start) / np.log(max_ratio)))
     loads = start * (w1 / start) ** (np.arange(count) / count)
     if w0 > 0:
@@ -183,21 +197,36 @@ def solve(case: Case) -> Result:
     coupled = contact_step is slip_stick_step and case.pair.dundurs_beta != 0.0
     coupled = coupled and not case.solver.goodman
     previous_target = (0.0, 0.0, 0.0)
+    # Hertz radius grows as W^(1/3): the load whose contact spans MIN_SUBSTEP_RADIUS_CELLS
+    grid = case.surface_grid
+    cells = MIN_SUBSTEP_RADIUS_CELLS * max(grid.dx, grid.dy) / case.hertz.radius
+    smallest = case.max_normal_force * min(1.0, cells) ** 3
     guess, direction = None, 0.0
     faces_noted = False
     outcome = None
     for k, target in enumerate(targets):
-        if coupled:
-            for sub in load_substeps(previous_target, target, case.solver.max_load_ratio):
-                state = contact_step(operators, state, sub).state
-        messages = []
         if plastic:
             new_direction = np.sign(target[0] - previous_target[0])
             if new_direction != direction:
                 guess = None
+            direction = new_direction
+        if coupled:
+            for sub in load_substeps(previous_target, target, case.solver.max_load_ratio, smallest):
+                if plastic:  # sub-steps are increments of the plastic history too
+                    step = plastic_step(operators, contact_step, state, plastic_state, sub, guess)
+                    state, plastic_state = step.contact.state, step.plastic
+                    guess = step.increment
+                    if not step.converged:
+                        converged = False
+                        notes.append(
+                            f"step {k + 1} (sub-step to W = {sub[0]:.4g} N): {step.message}"
+                        )
+                else:
+                    state = contact_step(operators, state, sub).state
+        messages = []
+        if plastic:
             step = plastic_step(operators, contact_step, state, plastic_state, target, guess)
             outcome, plastic_state, guess = step.contact, step.plastic, step.increment
-            direction = new_direction
             step_ok = step.converged
             residual = max(outcome.residual, step.residual)
             if step.message:

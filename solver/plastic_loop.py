@@ -186,9 +186,9 @@ def plastic_step(
             best = (residual, contact, mapped, displacement)
         if not mapped.converged:
             message = f"return mapping not converged (residual {mapped.residual:.3g})"
-        if residual <= options.plastic_tolerance and contact.converged and mapped.converged:
-            converged = True
-            break
+        if residual <= options.plastic_tolerance:
+            converged = contact.converged and mapped.converged
+            break  # settled; an unconverged inner solve is reported, not iterated on
         increment = mixer(increment, change)
     if not converged:  # keep the best iterate
         residual, contact, mapped, displacement = best

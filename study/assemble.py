@@ -180,7 +180,11 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     xarray.Dataset
         See the module docstring for the layout.
     """
+    import logging
+
     import xarray as xr
+
+    from .progress import LOGGER_NAME
 
     out = Path(out)
     campaign = campaign or storage.read_campaign(out)
@@ -189,6 +193,8 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     r_over_a = np.linspace(0.0, settings.profile_extent, settings.profile_points)
     steps = max(_case_steps(case.spec) for case in campaign.cases)
     finished, failed = storage.finished_ids(out), storage.failed_ids(out)
+    corrupt = storage.corrupt_ids(out)
+    logger = logging.getLogger(LOGGER_NAME)  # names each corrupt case file once
 
     status = np.zeros(shape, dtype=np.int8)
     case_ids = np.empty(shape, dtype=object)
@@ -200,8 +206,25 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     for case in campaign.cases:
         index = tuple(case.index)
         case_ids[index] = case.case_id
+        data = None
         if case.case_id in finished:
-            data = _read_case(storage.case_path(out, case.case_id), r_over_a)
+            try:
+                data = _read_case(storage.case_path(out, case.case_id), r_over_a)
+            except (OSError, RuntimeError) as error:  # damaged beyond its header
+                corrupt[case.case_id] = f"cannot be read ({str(error).splitlines()[0]})"
+        if case.case_id in corrupt:
+            # a damaged case file: failed here, named once; `run` moves it aside and recomputes
+            status[index] = STATUS_FLAGS["failed"]
+            errors[index] = f"corrupt case file cases/{case.case_id}.nc: {corrupt[case.case_id]}"
+            logger.warning(
+                "case %s [%s]: corrupt case file cases/%s.nc, %s; counted failed "
+                "(python -m study run recomputes it)",
+                case.case_id,
+                case.label,
+                case.case_id,
+                corrupt[case.case_id],
+            )
+        elif data is not None:
             status[index] = STATUS_FLAGS.get(data["status"], STATUS_FLAGS["converged"])
             for name, value in data["scalars"].items():
                 scalars[name][index] = value

@@ -235,6 +235,77 @@ def paper_spheres(n: int, steps: int = 10) -> int:
     return 0
 
 
+def annuli(contact_state: np.ndarray) -> int:
+    """Stick/slip zones met along y = 0 from the centre outwards.
+
+    1 = one zone, 2 = stick core and slip annulus, more = alternating annuli; counted on the
+    cell row nearest y = 0.
+    """
+    from solver.result import SEPARATED
+
+    nx, ny = contact_state.shape
+    row = contact_state[nx // 2 :, ny // 2]
+    row = row[row != SEPARATED]
+    return int(1 + np.count_nonzero(np.diff(row))) if row.size else 0
+
+
+def fretting_ii(
+    n: int, steps: int, mus=(0.0, 0.1, 0.2, 0.3, 0.5), depth: float | None = None
+) -> list[dict]:
+    """The paper's §4 scene: rigid sphere R = 15 mm on Swift steel to p_H = 6 GPa, friction mu.
+
+    Prints per mu the maximum plastic strain, its depth, the stick fraction, the stick/slip
+    zones along a radius (:func:`annuli`), p_max and the cost.  ``depth`` (units of a_H) is the
+    volume depth; default: sized from the yield region.
+    """
+    import solver
+
+    rows = []
+    for mu in mus:
+        grid = {"n": [n, n, n], **({"depth": depth} if depth else {})}
+        case = solver.Case.from_dict(
+            {
+                "body1": {"behaviour": "rigid", "radius": 0.015},
+                "body2": {
+                    "behaviour": "elastic-plastic",
+                    "radius": "inf",
+                    "E": 210e9,
+                    "nu": 0.3,
+                    "hardening": {"law": "swift", "B": 945e6, "C": 20.0, "n": 0.121},
+                },
+                "load": {"hertz_pressure": 6e9, "steps": steps},
+                "friction": {"coefficient": mu},
+                "grid": grid,
+            }
+        )
+        wall, cpu = time.perf_counter(), time.process_time()
+        result = solver.solve(case)
+        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+        h, a = result.history, case.hertz.radius
+        stick = h["stick_area"][-1] / h["contact_area"][-1] if "stick_area" in h else 1.0
+        rows.append(
+            {
+                "mu": mu,
+                "n": n,
+                "steps": steps,
+                "depth/aH": case.grid.depth,
+                "status": result.status,
+                "ep_max_%": 100 * h["max_plastic_strain"][-1],
+                "z_ep/aH": h["max_plastic_strain_depth"][-1] / a,
+                "pmax/pH": h["max_pressure"][-1] / case.hertz.max_pressure,
+                "stick/contact": stick,
+                "zones": annuli(result.contact_state) if mu else 1,
+                "plastic_it": int(h["plastic_iterations"].sum()),
+                "wall_s": wall,
+                "cpu_s": cpu,
+            }
+        )
+        print(format_table(rows[-1:]), flush=True)
+    print(f"Fretting II (paper §4): rigid sphere, Swift steel, p_H = 6 GPa, n = {n}, {steps} steps")
+    print(format_table(rows))
+    return rows
+
+
 if __name__ == "__main__":  # pragma: no cover
     import argparse
 
@@ -242,7 +313,14 @@ if __name__ == "__main__":  # pragma: no cover
     parser.add_argument("--paper", type=int, metavar="N", help="the paper's §3 scenes at N^3")
     parser.add_argument("--sizes", type=int, nargs="+", default=[32])
     parser.add_argument("--peers", action="store_true")
+    parser.add_argument("--fretting", type=int, metavar="N", help="the paper's §4 scene at N^3")
+    parser.add_argument("--steps", type=int, default=20, help="load steps (--fretting)")
+    parser.add_argument("--depth", type=float, help="volume depth over a_H (--fretting)")
+    parser.add_argument("--mu", type=float, nargs="+", default=[0.0, 0.1, 0.2, 0.3, 0.5])
     args = parser.parse_args()
+    if args.fretting:
+        fretting_ii(args.fretting, args.steps, args.mu, args.depth)
+        raise SystemExit(0)
     if args.paper:
         raise SystemExit(paper_spheres(args.paper))
     raise SystemExit(run_plastic(args.sizes, peers=args.peers))

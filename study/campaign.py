@@ -37,6 +37,12 @@ its coordinates, that coordinate indexes it.
 The pseudo-key ``materials.dundurs_beta`` sets Dundurs' beta by changing body 1's elastic
 constants, see :func:`body1_for_beta`.
 
+Swept values are numbers, strings or booleans, never lists.  A volume grid is swept through
+its two keys: ``"grid.n"`` (one number: nx = ny) and ``"grid.nz"`` (cells in depth).  The rule
+for a ``"grid.n"`` axis over a base with ``grid.n = [nx, ny, nz]``: the base's nz is kept, so
+every case has the volume grid ``[n, n, nz]`` (nz is not scaled with n); to vary nz as well,
+zip ``"grid.n"`` with ``"grid.nz"`` or sweep ``"grid.nz"`` on its own axis.
+
 :func:`load_campaign` reads, expands and validates a campaign; every problem raises
 :class:`CampaignError` whose message names the key or the case (by its sweep coordinates) and
 the field.  This module imports no MPI and writes no files.
@@ -49,12 +55,13 @@ import itertools
 import math
 import re
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import solver
+from solver.case import MODULUS_RANGE
 from solver.materials import Body
 from solver.variables import reduced_scalars
 
@@ -101,6 +108,7 @@ _KEY_META = {
     "tangential_force": ("N", "tangential force along x"),
     "steps": ("1", "number of load increments"),
     "n": ("1", "grid cells per side"),
+    "nz": ("1", "volume-grid cells in depth"),
     "half_width": ("1", "domain half-width over the Hertz semi-axis"),
     "depth": ("1", "volume-grid depth over the Hertz semi-axis"),
     "E": ("Pa", "Young's modulus"),
@@ -115,6 +123,12 @@ _KEY_META = {
     "max_load_ratio": ("1", "largest normal-load ratio per coupled step"),
     "fft_threads": ("1", "FFTW threads"),
 }
+
+
+#: A progress callback: ``progress(done, total)`` (cases expanded so far, all cases).
+Progress = Callable[[int, int], None]
+#: Cases between two calls of a progress callback.
+PROGRESS_EVERY = 2000
 
 
 class CampaignError(ValueError):
@@ -380,13 +394,16 @@ class Campaign:
 
 
 # -- reading -------------------------------------------------------------------------------------
-def load_campaign(path: str | Path) -> Campaign:
+def load_campaign(path: str | Path, progress: Progress | None = None) -> Campaign:
     """Read, expand and validate a campaign file.
 
     Parameters
     ----------
     path : str or Path
         The TOML campaign file.
+    progress : callable, optional
+        ``progress(done, total)``, called every :data:`PROGRESS_EVERY` cases of the expansion
+        and at its end (for a progress line on long campaigns).
 
     Returns
     -------
@@ -408,12 +425,14 @@ def load_campaign(path: str | Path) -> Campaign:
         raise CampaignError(f"{path}: is a directory, expected a campaign file (.toml)") from None
     except OSError as error:
         raise CampaignError(f"{path}: cannot read: {error.strerror or error}") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
+    except ValueError as error:  # TOMLDecodeError, UnicodeDecodeError, an int of > 4300 digits
         raise CampaignError(f"{path}: not valid TOML: {error}") from None
-    return expand_campaign(table, name=path.stem, source=str(path))
+    return expand_campaign(table, name=path.stem, source=str(path), progress=progress)
 
 
-def expand_campaign(table: Mapping, name: str = "campaign", source: str = "") -> Campaign:
+def expand_campaign(
+    table: Mapping, name: str = "campaign", source: str = "", progress: Progress | None = None
+) -> Campaign:
     """Expand and validate a campaign table (the parsed TOML).
 
     Parameters
@@ -425,6 +444,8 @@ def expand_campaign(table: Mapping, name: str = "campaign", source: str = "") ->
         Default campaign name when ``[campaign] name`` is not given.
     source : str
         Where the table came from (recorded, used in messages).
+    progress : callable, optional
+        ``progress(done, total)`` during the expansion (see :func:`load_campaign`).
 
     Returns
     -------
@@ -458,7 +479,7 @@ def expand_campaign(table: Mapping, name: str = "campaign", source: str = "") ->
     aliases = _parse_aliases(table.get("alias", {}), [key for key, _ in _all_keys(entries)])
     axes = _build_axes(entries, aliases)
     _check_paths(base, axes)
-    cases = _expand_cases(dict(base), axes)
+    cases = _expand_cases(dict(base), axes, progress)
     return Campaign(settings, axes, cases, source, base=copy.deepcopy(dict(base)))
 
 
@@ -520,9 +541,12 @@ def _parse_settings(raw: Any, default_name: str) -> Settings:
     if not isinstance(description, str):
         raise CampaignError("campaign.description: must be a string")
     timeout = raw.get("case_timeout")
-    if timeout is not None and (not _is_number(timeout) or not timeout > 0):
+    from .driver import MAX_CASE_TIMEOUT  # setitimer's range; inf is refused, not "none"
+
+    if timeout is not None and (not _is_number(timeout) or not 0 < timeout <= MAX_CASE_TIMEOUT):
         raise CampaignError(
-            f"campaign.case_timeout: must be a number of seconds > 0, got {timeout!r}"
+            f"campaign.case_timeout: must be a number of seconds in (0, {MAX_CASE_TIMEOUT:g}] "
+            f"(leave it out for no timeout), got {timeout!r}"
         )
     return Settings(
         name=name,
@@ -675,6 +699,12 @@ def _check_values(values: Any, where: str, key: str) -> list:
                     if key.endswith("tangential_force")
                     else ""
                 )
+                + (
+                    '; sweep "grid.n" as one number per value (nx = ny; the base\'s nz is '
+                    'kept) and the depth as "grid.nz"'
+                    if key == "grid.n"
+                    else ""
+                )
             )
         if isinstance(value, float) and math.isnan(value):
             raise CampaignError(f"{where}: nan is not a value")
@@ -685,7 +715,7 @@ def _check_values(values: Any, where: str, key: str) -> list:
         raise CampaignError(f"{where}: Dundurs' beta values must be numbers, got {values!r}")
     seen = []
     for value in values:
-        normal = float(value) if _kind(value) == "number" else value
+        normal = float(value) if _is_inf(value) else value  # 1 == 1.0; no float(huge int)
         if normal in seen:
             raise CampaignError(f"{where}: value {value!r} appears twice; axis values must differ")
         seen.append(normal)
@@ -842,8 +872,18 @@ def _check_paths(base: Mapping, axes: tuple[Axis, ...]) -> None:
 
 
 # -- Dundurs' beta -------------------------------------------------------------------------------
+def _beta_factor(nu: float) -> float:
+    """g(nu1) = (1 - 2 nu1) / (2 (1 - nu1)), through which beta depends on nu1."""
+    return (1.0 - 2.0 * nu) / (2.0 * (1.0 - nu))
+
+
+def _lowest_nu1(body1: Body) -> float:
+    """Most negative nu1 with body 1's compliance held: where E1 reaches the smallest modulus."""
+    return -math.sqrt(max(1.0 - MODULUS_RANGE[0] * body1.compliance, 0.0))
+
+
 def beta_range(body1: Body, body2: Body) -> tuple[float, float]:
-    """Range [low, high) of Dundurs' beta that :func:`body1_for_beta` can reach.
+    """Range [low, high] of Dundurs' beta that :func:`body1_for_beta` can reach.
 
     Parameters
     ----------
@@ -855,11 +895,15 @@ def beta_range(body1: Body, body2: Body) -> tuple[float, float]:
     Returns
     -------
     (float, float)
-        ``low`` is reached with ``nu1 = 0.5``; ``high`` is the limit ``nu1 -> -1``.
+        ``low`` is reached with ``nu1 = 0.5``; ``high`` with the most negative nu1 whose
+        ``E1 = (1 - nu1^2)/c1`` is still the smallest modulus a case accepts
+        (:data:`solver.case.MODULUS_RANGE`, 1e3 Pa): ``nu1 -> -1`` would need ``E1 -> 0``.
+        ``high`` lies just below the limit ``(3/4 c1 - d2)/A`` (by ~1e-9 relative for steel).
+        Both ends are reachable.
     """
     c1, c2, d2 = body1.compliance, body2.compliance, body2.dilatational_compliance
     total = c1 + c2
-    return -d2 / total, (0.75 * c1 - d2) / total
+    return -d2 / total, (_beta_factor(_lowest_nu1(body1)) * c1 - d2) / total
 
 
 def body1_for_beta(beta: float, body1: Body, body2: Body) -> tuple[float, float]:
@@ -873,7 +917,9 @@ def body1_for_beta(beta: float, body1: Body, body2: Body) -> tuple[float, float]
         nu1 = (1 - 2 t) / (2 (1 - t)),     E1 = (1 - nu1^2) / c1.
 
     ``g`` falls monotonically from 3/4 (nu1 -> -1) to 0 (nu1 = 1/2), so beta is reachable for
-    ``-d2/A <= beta < (3/4 c1 - d2)/A`` (:func:`beta_range`).
+    ``-d2/A <= beta < (3/4 c1 - d2)/A``; but E1 falls to 0 as nu1 -> -1, so the upper end is
+    where E1 reaches the smallest modulus a case accepts (1e3 Pa), a hair below that limit:
+    :func:`beta_range` gives the closed range, both ends included.
 
     Parameters
     ----------
@@ -892,23 +938,36 @@ def body1_for_beta(beta: float, body1: Body, body2: Body) -> tuple[float, float]
     Raises
     ------
     ValueError
-        If beta is outside the reachable range (the message gives the range).
+        If beta is outside the reachable range (the message gives the range, rounded inwards
+        to 6 decimals so that both printed ends are reachable), or E1 would exceed the
+        largest modulus accepted.
     """
     low, high = beta_range(body1, body2)
     c1, c2, d2 = body1.compliance, body2.compliance, body2.dilatational_compliance
-    if not low - 1e-12 <= beta < high:
+    slack = 1e-12 * max(abs(low), abs(high), 1.0)  # round-off of beta_range itself
+    if not (math.isfinite(beta) and low - slack <= beta <= high + slack):
         side = (
             "for a more negative beta make body 1 stiffer (raise body1.E in [base])"
             if beta < low
             else "for a larger beta make body 1 more compliant (lower body1.E in [base])"
         )
+        shown_low, shown_high = math.ceil(low * 1e6) / 1e6, math.floor(high * 1e6) / 1e6
         raise ValueError(
-            f"{BETA_KEY} = {beta:g} is not reachable: with body 2 fixed and E* = "
-            f"{1.0 / (c1 + c2):.4g} Pa held, beta must lie in [{low:.4f}, {high:.4f}); {side}"
+            f"{BETA_KEY} = {beta!r} is not reachable: with body 2 fixed and E* = "
+            f"{1.0 / (c1 + c2):.4g} Pa held, beta must lie in [{shown_low:.6f}, "
+            f"{shown_high:.6f}] (nu1 from 0.5 down to where E1 reaches "
+            f"{MODULUS_RANGE[0]:g} Pa); {side}"
         )
-    t = max((beta * (c1 + c2) + d2) / c1, 0.0)
-    nu1 = (1.0 - 2.0 * t) / (2.0 * (1.0 - t))
-    return (1.0 - nu1 * nu1) / c1, nu1
+    nu_min = _lowest_nu1(body1)
+    t = min(max((beta * (c1 + c2) + d2) / c1, 0.0), _beta_factor(nu_min))
+    nu1 = max((1.0 - 2.0 * t) / (2.0 * (1.0 - t)), nu_min)
+    young = max((1.0 - nu1 * nu1) / c1, MODULUS_RANGE[0])  # round-off at the upper end
+    if young > MODULUS_RANGE[1]:
+        raise ValueError(
+            f"{BETA_KEY} = {beta!r} needs body1.E = {young:.4g} Pa (nu1 = {nu1:.4g}), beyond "
+            f"the largest modulus accepted, {MODULUS_RANGE[1]:g} Pa; lower body1.E in [base]"
+        )
+    return young, nu1
 
 
 def _apply_beta(table: dict, beta: float) -> None:
@@ -925,7 +984,10 @@ def _apply_beta(table: dict, beta: float) -> None:
             body2 = Body("rigid")
         else:
             body2 = Body("elastic", E=float(raw2["E"]), nu=float(raw2["nu"]))
-        if not (body1.E > 0 and -1 < body1.nu <= 0.5):
+        moduli = [body1.E] + ([] if body2.rigid else [body2.E])
+        if not all(MODULUS_RANGE[0] <= e <= MODULUS_RANGE[1] for e in moduli):
+            raise ValueError
+        if not (-1 < body1.nu <= 0.5 and (body2.rigid or -1 < body2.nu <= 0.5)):
             raise ValueError
     except (KeyError, TypeError, ValueError):
         return  # let Case.from_dict name the bad elastic constant
@@ -937,16 +999,51 @@ def _apply_beta(table: dict, beta: float) -> None:
 
 
 # -- expansion -----------------------------------------------------------------------------------
-def _expand_cases(base: dict, axes: tuple[Axis, ...]) -> tuple[CampaignCase, ...]:
+def _copy_table(value: Any) -> Any:
+    """Deep copy of a parsed TOML table (dicts, lists, immutable values): 5x copy.deepcopy."""
+    if isinstance(value, dict):
+        return {key: _copy_table(item) for key, item in value.items()}
+    if isinstance(value, list):
+        return [_copy_table(item) for item in value]
+    return value
+
+
+def _keep_volume_depth(base: dict, keys: set[str]) -> dict:
+    """A base whose ``grid.n = [nx, ny, nz]`` is written ``n = [nx, ny], nz = nz``.
+
+    Applied when ``grid.n`` is swept (a swept value is one number, nx = ny), so that the
+    sweep keeps the base's volume grid instead of dropping nz (module docstring).
+    """
+    grid = base.get("grid")
+    if "grid.n" not in keys or not isinstance(grid, dict) or "nz" in grid:
+        return base
+    n = grid.get("n")
+    if not (isinstance(n, list) and len(n) == 3):
+        return base
+    return {**base, "grid": {**grid, "n": n[:2], "nz": n[2]}}
+
+
+def _expand_cases(
+    base: dict, axes: tuple[Axis, ...], progress: Progress | None = None
+) -> tuple[CampaignCase, ...]:
     cases: list[CampaignCase] = []
     failures: list[tuple[str, str]] = []
     total = math.prod(axis.size for axis in axes)
-    seen: dict[str, str] = {}
+    seen: dict[str, int] = {}
     keys = {c.key for axis in axes for c in axis.coordinates}
     if BETA_KEY in keys and keys & {"body1.E", "body1.nu"}:
         raise CampaignError(f"{BETA_KEY} sets body1.E and body1.nu; do not sweep them as well")
+    base = _keep_volume_depth(base, keys)
+
+    def where(number: int, coords: dict) -> str:
+        label = ", ".join(f"{k}={_format_value(v)}" for k, v in coords.items())
+        return f"case {number + 1} of {total} ({label})"
+
+    coords_of: dict[int, dict] = {}
     for number, index in enumerate(itertools.product(*(range(axis.size) for axis in axes))):
-        table = copy.deepcopy(base)
+        if progress is not None and number and number % PROGRESS_EVERY == 0:
+            progress(number, total)
+        table = _copy_table(base)
         coords: dict[str, Any] = {}
         beta = None
         for axis, i in zip(axes, index, strict=True):
@@ -957,35 +1054,38 @@ def _expand_cases(base: dict, axes: tuple[Axis, ...]) -> tuple[CampaignCase, ...
                     beta = float(value)
                 else:
                     assign(table, coordinate.key, value)
-        label = ", ".join(f"{k}={_format_value(v)}" for k, v in coords.items())
-        where = f"case {number + 1} of {total} ({label})"
         try:
             if beta is not None:
                 _apply_beta(table, beta)
             case = solver.Case.from_dict(table)
         except (solver.SpecError, CampaignError) as error:
-            failures.append((where, _explain(str(error), axes)))
+            failures.append((where(number, coords), _explain(str(error), axes)))
             continue
         except Exception as error:  # a validation bug must still name the case
-            failures.append((where, f"{type(error).__name__}: {error}"))
+            failures.append((where(number, coords), f"{type(error).__name__}: {error}"))
             continue
-        if case.case_id in seen:
+        case_id = case.case_id
+        if case_id in seen:
+            first = seen[case_id]
             raise CampaignError(
-                f"{where} is the same case as {seen[case.case_id]} (case id {case.case_id}); "
-                "an axis has no effect there, remove the duplicate values"
+                f"{where(number, coords)} is the same case as {where(first, coords_of[first])} "
+                f"(case id {case_id}); an axis has no effect there, remove the duplicate values"
             )
-        seen[case.case_id] = where
+        seen[case_id] = number
+        coords_of[number] = coords
         cases.append(
             CampaignCase(
                 number=number,
                 index=tuple(index),
                 coords=coords,
-                spec=case.to_dict(),
-                case_id=case.case_id,
+                spec=case.spec,  # built for this case alone by from_dict: no copy needed
+                case_id=case_id,
                 cost=float(case.cost_estimate()),
                 memory=int(case.memory_estimate()),
             )
         )
+    if progress is not None:
+        progress(total, total)
     if failures:
         where, message = failures[0]
         field_path = message.split(":", 1)[0]
@@ -1023,4 +1123,6 @@ def _is_inf(value: Any) -> bool:
 def _format_value(value: Any) -> str:
     if isinstance(value, float):
         return f"{value:g}"
+    if _is_int(value) and abs(value) >= 10**30:
+        return f"<integer of {value.bit_length()} bits>"
     return str(value)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import stat
 import sys
 from typing import TYPE_CHECKING
 
@@ -46,7 +47,10 @@ def build_parser() -> argparse.ArgumentParser:
         "run",
         help="run a campaign (serially, or under mpiexec/srun)",
         description="Run every unfinished case of a campaign, then assemble the dataset. "
-        "Finished cases are skipped and failed ones retried, so re-running resumes. "
+        "Finished cases are skipped and failed ones retried, so re-running resumes; a corrupt "
+        "case file (one that does not open or lacks its completion marker) is moved aside to "
+        "cases/<id>.nc.corrupt and recomputed.  An output folder belongs to one campaign "
+        "(by name): running another campaign into it is refused unless --replace is given. "
         "Exit status 0 done, 1 failed cases, 2 bad campaign, 3 time limit left cases pending.",
     )
     run.add_argument("campaign", help="campaign file (.toml)")
@@ -70,7 +74,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--case-timeout",
         type=float,
         metavar="SECONDS",
-        help="a case running longer fails (default [campaign] case_timeout; none)",
+        help="a case running longer fails; 0 < SECONDS <= 1e7 (default [campaign] "
+        "case_timeout; none)",
     )
     run.add_argument(
         "--max-initial-failures",
@@ -87,6 +92,12 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument(
         "--dedicated-root", action="store_true", help="rank 0 only dispatches, computes nothing"
     )
+    run.add_argument(
+        "--replace",
+        action="store_true",
+        help="run into an output folder that holds another campaign, replacing its "
+        "campaign.json (its case files stay; cases the new campaign shares are reused)",
+    )
     run.add_argument("--no-assemble", action="store_true", help="do not assemble at the end")
     run.add_argument("-v", "--verbose", action="store_true", help="debug output on every rank")
 
@@ -94,7 +105,10 @@ def build_parser() -> argparse.ArgumentParser:
         "validate",
         help="expand and validate a campaign without running it (no MPI)",
         description="Expand and validate every case; print the axes, the case count and the "
-        "estimated cost and memory per case.  Exit status 2 for a bad campaign.",
+        "estimated cost and memory per case; warn on stderr when the largest case needs more "
+        "memory than this machine has (or than it has per core), with what one MPI rank "
+        "needs; a progress line on stderr every 10 s for campaigns that take longer than 3 s "
+        "to validate.  Exit status 2 for a bad campaign (one line on stderr).",
     )
     validate.add_argument("campaign", help="campaign file (.toml)")
     validate.add_argument("--list", action="store_true", help="list every case")
@@ -137,6 +151,7 @@ def run_options(args: argparse.Namespace) -> RunOptions:
         time_limit=args.time_limit,
         time_reserve=args.time_reserve,
         root_computes=not getattr(args, "dedicated_root", False),
+        replace=getattr(args, "replace", False),
     )
 
 
@@ -153,7 +168,7 @@ def main(argv: list[str] | None = None) -> int:
     from .report import main as report_main
 
     handlers = {"run": _run, "validate": _validate, "status": _status, "assemble": _assemble}
-    handlers["report"] = report_main
+    handlers["report"] = _report(report_main)
     try:
         return handlers[args.command](args)
     except CampaignError as error:
@@ -163,6 +178,37 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # output piped into head & co.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
+
+
+# -- campaign files ------------------------------------------------------------------------------
+def load_campaign_file(path, progress=None) -> Campaign:
+    """:func:`study.campaign.load_campaign`, refusing anything but a regular file first.
+
+    A FIFO would block the read forever and a device such as /dev/zero would fill the memory;
+    a missing file or a folder gets load_campaign's own message.
+    """
+    from .campaign import CampaignError, load_campaign
+
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        mode = None
+    if mode is not None and not stat.S_ISDIR(mode) and not stat.S_ISREG(mode):
+        kind = next(
+            (
+                name
+                for test, name in (
+                    (stat.S_ISFIFO, "a FIFO"),
+                    (stat.S_ISCHR, "a character device"),
+                    (stat.S_ISBLK, "a block device"),
+                    (stat.S_ISSOCK, "a socket"),
+                )
+                if test(mode)
+            ),
+            "not a regular file",
+        )
+        raise CampaignError(f"{path}: is {kind}, expected a campaign file (.toml)")
+    return load_campaign(path, progress=progress)
 
 
 # -- run -----------------------------------------------------------------------------------------
@@ -188,7 +234,7 @@ def _run(args: argparse.Namespace) -> int:
     os.environ.setdefault("HDF5_USE_FILE_LOCKING", "FALSE")  # one writer per file
     from pathlib import Path
 
-    from .campaign import CampaignError, load_campaign
+    from .campaign import CampaignError
     from .driver import broadcast_campaign, run_campaign
     from .progress import configure_logging
 
@@ -198,7 +244,7 @@ def _run(args: argparse.Namespace) -> int:
     logger = configure_logging(rank, size, args.verbose)
     _check_options(args)
     try:
-        campaign = broadcast_campaign(lambda: load_campaign(args.campaign), comm)
+        campaign = broadcast_campaign(lambda: load_campaign_file(args.campaign), comm)
         out = Path(args.out or campaign.settings.output)
         summary = run_campaign(campaign, out, comm, run_options(args), logger)
     except CampaignError as error:
@@ -211,10 +257,27 @@ def _run(args: argparse.Namespace) -> int:
             comm.Abort(1)
         raise
     if rank == 0 and not args.no_assemble:
-        from .assemble import assemble_to_file
-
-        logger.info("assembled %s", assemble_to_file(out, campaign))
+        path = _assemble_or_say_why(out, campaign, logger)
+        if path is None:
+            return max(summary.exit_status, 1)
+        logger.info("assembled %s", path)
     return summary.exit_status
+
+
+def _assemble_or_say_why(out, campaign, logger):
+    """Assemble ``OUT/<name>.nc``; on a write or read error log one line and return None."""
+    from . import storage
+    from .assemble import assemble_to_file
+
+    try:
+        return assemble_to_file(out, campaign)
+    except (OSError, RuntimeError) as error:
+        logger.error(
+            "assembly of %s failed: %s",
+            storage.dataset_path(out, campaign.name),
+            storage.describe_write_error(error, out),
+        )
+        return None
 
 
 def _check_options(args: argparse.Namespace) -> None:
@@ -224,8 +287,10 @@ def _check_options(args: argparse.Namespace) -> None:
         raise CampaignError(f"--fft-threads must be 1..256, got {args.fft_threads}")
     if args.time_limit is not None and args.time_limit <= 0:
         raise CampaignError(f"--time-limit must be > 0 seconds, got {args.time_limit}")
-    if args.case_timeout is not None and args.case_timeout <= 0:
-        raise CampaignError(f"--case-timeout must be > 0 seconds, got {args.case_timeout}")
+    if args.case_timeout is not None:
+        from .driver import check_case_timeout
+
+        check_case_timeout(args.case_timeout, "--case-timeout")
     if args.time_reserve < 0:
         raise CampaignError(f"--time-reserve must be >= 0 seconds, got {args.time_reserve}")
     if args.max_initial_failures is not None and args.max_initial_failures < 0:
@@ -234,11 +299,113 @@ def _check_options(args: argparse.Namespace) -> None:
 
 # -- validate ------------------------------------------------------------------------------------
 def _validate(args: argparse.Namespace) -> int:
-    from .campaign import load_campaign
-
-    campaign = load_campaign(args.campaign)
+    progress = ProgressLine()
+    campaign = load_campaign_file(args.campaign, progress=progress)
+    progress.finish()
     print(describe_campaign(campaign, list_cases=args.list))
+    for line in memory_warnings(campaign, machine_memory(), os.cpu_count()):
+        print(line, file=sys.stderr)
     return 0
+
+
+class ProgressLine:
+    """``progress(done, total)`` for a campaign expansion: a line on stderr now and then.
+
+    Silent for the first :attr:`delay` seconds (every small campaign), then one line every
+    :attr:`every` seconds with the cases validated so far, and a last line with the total time.
+    """
+
+    delay = 3.0
+    every = 10.0
+
+    def __init__(self, stream=None):
+        import time
+
+        self._clock = time.monotonic
+        self._start = self._clock()
+        self._next = self._start + self.delay
+        self._stream = stream
+        self._shown = False
+
+    def __call__(self, done: int, total: int) -> None:
+        """Print a line when one is due (never for the last call: :meth:`finish` says it)."""
+        now = self._clock()
+        if now < self._next or done >= total:
+            return
+        self._next = now + self.every
+        self._shown = True
+        print(
+            f"validating: {done}/{total} cases ({100 * done // total} %) in "
+            f"{now - self._start:.0f} s",
+            file=self._stream or sys.stderr,
+            flush=True,
+        )
+
+    def finish(self) -> None:
+        """Say how long it took, if any progress line was shown."""
+        if self._shown:
+            print(
+                f"validating: done in {self._clock() - self._start:.0f} s",
+                file=self._stream or sys.stderr,
+                flush=True,
+            )
+
+
+def machine_memory() -> int | None:
+    """Total memory of this machine (bytes): MemTotal of /proc/meminfo, else sysconf."""
+    try:
+        with open("/proc/meminfo") as handle:
+            for line in handle:
+                if line.startswith("MemTotal:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, OSError, ValueError):
+        return None
+
+
+def memory_warnings(campaign: Campaign, total: int | None, cores: int | None) -> list[str]:
+    """Warnings (one line per situation) when cases need more memory than the machine has.
+
+    Every MPI rank holds one case at a time, so a rank needs the largest case's estimate
+    (:meth:`solver.Case.memory_estimate`); the ranks per node are not known at validation,
+    so the lines say what one rank needs and how many such ranks this machine holds.
+
+    Parameters
+    ----------
+    campaign : Campaign
+        The validated campaign.
+    total : int or None
+        This machine's total memory (bytes), :func:`machine_memory`; None: no warning.
+    cores : int or None
+        This machine's cores.
+    """
+    if not total or not campaign.cases:
+        return []
+    gib = 2.0**30
+    largest = max(campaign.cases, key=lambda c: c.memory)
+    need = largest.memory
+    which = f"{largest.case_id} [{largest.label}]"
+    if need > total:
+        count = sum(1 for c in campaign.cases if c.memory > total)
+        return [
+            f"warning: {count} of {len(campaign.cases)} cases need more memory than this "
+            f"machine has: the largest, {which}, needs ~{need / gib:.1f} GiB, the machine "
+            f"{total / gib:.1f} GiB in total; each MPI rank holds one case at a time and "
+            f"needs ~{need / gib:.1f} GiB, so run them on nodes with more than that per rank"
+        ]
+    fits = int(total // need)
+    if cores and fits < cores:
+        return [
+            f"warning: the largest case, {which}, needs ~{need / gib:.1f} GiB; each MPI rank "
+            f"holds one case at a time and needs ~{need / gib:.1f} GiB, so this machine's "
+            f"{total / gib:.1f} GiB holds {fits} such rank(s), fewer than its {cores} cores: "
+            f"start at most {fits} rank(s) per node of this size (or ask the scheduler for "
+            f"~{need / gib:.1f} GiB per rank)"
+        ]
+    return []
 
 
 def describe_campaign(campaign: Campaign, list_cases: bool = False) -> str:
@@ -288,13 +455,12 @@ def _resolve(args: argparse.Namespace):
     from pathlib import Path
 
     from . import storage
-    from .campaign import load_campaign
 
     target = Path(args.target)
     if target.is_dir():
         out = Path(args.out) if args.out else target
         return storage.read_campaign(out), out
-    campaign = load_campaign(target)
+    campaign = load_campaign_file(target)
     return campaign, Path(args.out or campaign.settings.output)
 
 
@@ -302,9 +468,12 @@ def _status(args: argparse.Namespace) -> int:
     from . import storage
 
     campaign, out = _resolve(args)
+    storage.remove_temporaries(out)  # of processes that are gone; live ones are left alone
     states = storage.case_states(out, campaign)
+    corrupt = storage.corrupt_ids(out)
     counts = {s: 0 for s in ("converged", "not_converged", "failed", "pending")}
     for state in states.values():
+        state = "failed" if state == "corrupt" else state  # its data is lost until re-run
         counts[state] = counts.get(state, 0) + 1
     total = len(campaign.cases)
     done = counts["converged"] + counts["not_converged"]
@@ -314,7 +483,12 @@ def _status(args: argparse.Namespace) -> int:
         f"{counts['failed']} failed, {counts['pending']} pending"
     )
     for case in campaign.cases:
-        if states[case.case_id] == "failed":
+        if states[case.case_id] == "corrupt":
+            print(
+                f"  corrupt {case.case_id} [{case.label}]: cases/{case.case_id}.nc "
+                f"{corrupt.get(case.case_id, 'is damaged')}; run moves it aside and recomputes it"
+            )
+        elif states[case.case_id] == "failed":
             record = storage.read_failure(out, case.case_id)
             print(
                 f"  failed {case.case_id} [{case.label}] on rank {record.get('rank', '?')} "
@@ -326,9 +500,46 @@ def _status(args: argparse.Namespace) -> int:
 
 
 def _assemble(args: argparse.Namespace) -> int:
-    from .assemble import assemble_to_file
+    from . import storage
+    from .progress import configure_logging
 
+    logger = configure_logging()
     campaign, out = _resolve(args)
-    path = assemble_to_file(out, campaign)
+    storage.remove_temporaries(out)  # of processes that are gone; live ones are left alone
+    path = _assemble_or_say_why(out, campaign, logger)
+    if path is None:
+        return 1
     print(f"assembled {path}")
     return 0
+
+
+def _report(report_main):
+    """The ``report`` handler: one line per corrupt case file, no traceback.
+
+    The report reads the assembled dataset and the per-case files (stick/slip maps); when a case
+    file of the campaign is corrupt, the dataset is re-assembled first (the case counted failed,
+    left out of the figures).
+    """
+
+    def handler(args: argparse.Namespace) -> int:
+        from pathlib import Path
+
+        from . import storage
+        from .progress import configure_logging
+
+        logger = configure_logging()
+        out = Path(args.out)
+        if out.is_dir() and (out / storage.CAMPAIGN_FILE).exists():
+            campaign = storage.read_campaign(out)
+            storage.remove_temporaries(out)
+            ids = {case.case_id for case in campaign.cases}
+            if set(storage.corrupt_ids(out)) & ids:
+                if _assemble_or_say_why(out, campaign, logger) is None:
+                    return 1
+        try:
+            return report_main(args)
+        except (OSError, RuntimeError) as error:
+            logger.error("report of %s failed: %s", out, storage.describe_write_error(error, out))
+            return 1
+
+    return handler

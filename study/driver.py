@@ -51,6 +51,10 @@ _REQUEST, _TASK = 71, 72
 #: Exit status of a run that stopped at its time limit with cases left (re-run to resume).
 EXIT_INCOMPLETE = 3
 
+#: Largest case timeout (s, about 116 days): ``signal.setitimer`` overflows on huge values, and
+#: ``inf`` is refused rather than read as "none" (leave the setting out for no timeout).
+MAX_CASE_TIMEOUT = 1e7
+
 
 class NonFiniteResult(RuntimeError):
     """A solve returned NaN or infinite values."""
@@ -60,11 +64,27 @@ class CaseTimeout(RuntimeError):
     """A case ran longer than its time limit."""
 
 
+class CaseWriteError(RuntimeError):
+    """The result of a case could not be written (disk full, permissions, ...)."""
+
+
+def check_case_timeout(seconds: float | None, name: str = "case_timeout") -> None:
+    """Raise :class:`CampaignError` unless ``seconds`` is None or in (0, MAX_CASE_TIMEOUT]."""
+    if seconds is None:
+        return
+    if not (isinstance(seconds, int | float) and 0 < seconds <= MAX_CASE_TIMEOUT):
+        raise CampaignError(
+            f"{name}: must be a number of seconds in (0, {MAX_CASE_TIMEOUT:g}] (leave it out "
+            f"for no timeout), got {seconds!r}"
+        )
+
+
 @contextlib.contextmanager
 def _time_limit(seconds: float | None):
     """Raise :class:`CaseTimeout` in the block after ``seconds`` (main thread only, POSIX)."""
     if (
         not seconds
+        or not 0 < seconds <= MAX_CASE_TIMEOUT  # refused by validation; never overflow here
         or threading.current_thread() is not threading.main_thread()
         or not hasattr(signal, "setitimer")
     ):
@@ -109,6 +129,9 @@ class RunOptions:
         Also respect ``SLURM_JOB_END_TIME`` (epoch seconds) when it is set.
     root_computes : bool
         Rank 0 computes cases too (in its main thread, beside the dispatcher thread).
+    replace : bool
+        Run into an output folder that holds another campaign (another name), replacing its
+        ``campaign.json``; refused otherwise (:func:`study.storage.prepare_output`).
     poll_interval : float
         Longest sleep (s) of the dispatcher between checks for requests.
     solve : callable, optional
@@ -122,6 +145,7 @@ class RunOptions:
     time_reserve: float = 10.0
     use_slurm_end_time: bool = True
     root_computes: bool = True
+    replace: bool = False
     poll_interval: float = 0.005
     solve: Callable | None = None
 
@@ -141,9 +165,11 @@ class RunSummary:
     converged, not_converged, failed : int
         Cases of this run by outcome.
     pending : int
-        Cases with neither a result nor a failure record at the end.
+        Cases with neither a (complete) result nor a failure (recorded, or of this run) at
+        the end.
     failed_total : int
-        Cases whose latest attempt failed (this run or an earlier one), at the end.
+        Cases whose latest attempt failed (this run or an earlier one), at the end; a case of
+        this run whose failure record could not be written (a full disk) counts too.
     stopped : str
         Why the run stopped starting cases early ("" when it ran out of cases).
     elapsed : float
@@ -327,7 +353,12 @@ def run_case(
             ],
         )
         dataset = storage.case_dataset(result, campaign.settings.fields, attrs)
-        storage.write_case(out, case.case_id, dataset)
+        try:
+            storage.write_case(out, case.case_id, dataset)
+        except Exception as error:
+            reason = storage.describe_write_error(error, storage.cases_dir(out))
+            message = f"result not written to cases/{case.case_id}.nc: {reason}"
+            raise CaseWriteError(message) from error
         report["status"] = result.status
     except Exception as error:
         report["status"] = "failed"
@@ -347,8 +378,11 @@ def run_case(
         }
         try:
             storage.write_failure(out, case.case_id, record)
-        except Exception as second:  # the report still reaches rank 0
-            report["error"] += f" (failure record not written: {second})"
+            report["failure_record"] = True
+        except Exception as second:  # the report still reaches rank 0, and counts as failed
+            report["failure_record"] = False
+            reason = storage.describe_write_error(second, storage.cases_dir(out))
+            report["error"] += f" (failure record not written: {reason})"
         logger.debug("case %s failed: %s", case.case_id, report["error"])
     report["case_time"] = time.perf_counter() - start
     return report
@@ -425,13 +459,15 @@ class _Scheduler:
             if report["status"] == "failed":
                 self.failures += 1
                 self.logger.warning(
-                    "case %s [%s] failed on rank %s (%s): %s; details in cases/%s.failed.json",
+                    "case %s [%s] failed on rank %s (%s): %s; %s",
                     case.case_id,
                     case.label,
                     report["rank"],
                     report["host"],
                     report.get("error", ""),
-                    case.case_id,
+                    f"details in cases/{case.case_id}.failed.json"
+                    if report.get("failure_record", True)
+                    else "no failure record was written",
                 )
             else:
                 self.successes += 1
@@ -494,11 +530,15 @@ def run_campaign(
     if k is None:
         k = campaign.settings.max_initial_failures
 
+    timeout = options.case_timeout or campaign.settings.case_timeout
+    check_case_timeout(timeout)  # the same on every rank: all raise together
+
     scheduler = None
     message: tuple = ("ok", None)
     if rank == 0:
         try:
-            storage.prepare_output(out, campaign)
+            storage.prepare_output(out, campaign, replace=options.replace)
+            _quarantine_corrupt(campaign, out, logger)
             finished = storage.finished_ids(out)
             todo = [c for c in campaign.cases if c.case_id not in finished]
             scheduler = _Scheduler(todo, options, k, logger)
@@ -518,8 +558,6 @@ def run_campaign(
         message = comm.bcast(message, root=0)
     if message[0] == "error":
         raise CampaignError(message[1])
-
-    timeout = options.case_timeout or campaign.settings.case_timeout
 
     def compute(case: CampaignCase) -> dict:
         return run_case(
@@ -553,6 +591,28 @@ def run_campaign(
     if rank == 0:
         logger.info("%s", summary.describe())
     return summary
+
+
+def _quarantine_corrupt(campaign: Campaign, out: Path, logger: logging.Logger) -> None:
+    """Move the campaign's corrupt case files aside (``.nc.corrupt``) so they are recomputed."""
+    wanted = {case.case_id: case for case in campaign.cases}
+    for case_id, problem in sorted(storage.corrupt_ids(out).items()):
+        if case_id not in wanted:
+            continue
+        try:
+            moved = storage.quarantine_case(out, case_id)
+        except OSError as error:
+            raise CampaignError(
+                f"{storage.case_path(out, case_id)}: corrupt case file ({problem}) that cannot "
+                f"be moved aside: {error.strerror or error}"
+            ) from None
+        logger.warning(
+            "case %s [%s]: corrupt case file, %s; moved to cases/%s, recomputing it",
+            case_id,
+            wanted[case_id].label,
+            problem,
+            moved.name,
+        )
 
 
 def _serve_self(scheduler: _Scheduler, compute: Callable, rank: int) -> None:
@@ -638,6 +698,8 @@ def _summarise(campaign: Campaign, out: Path, scheduler: _Scheduler, elapsed: fl
     finished, failed = storage.finished_ids(out), storage.failed_ids(out)
     ids = {c.case_id for c in campaign.cases}
     reports = scheduler.reports
+    # a failure of this run counts even when its record could not be written (a full disk)
+    failed = (failed | {r["case_id"] for r in reports if r["status"] == "failed"}) - finished
     per_rank: dict[int, int] = {}
     for report in reports:
         per_rank[report["rank"]] = per_rank.get(report["rank"], 0) + 1

@@ -9,12 +9,25 @@ Layout of an output folder ``OUT``::
 
 Every file has one writer and is written atomically: to a temporary name in the same folder
 (``*.tmp<pid>``), flushed to disk, then renamed over the final name with :func:`os.replace`, so
-a run killed at any moment leaves either the old file or the new one, never half a file.  A
-case counts as finished when its ``.nc`` file exists; a re-run skips it and retries failures.
+a run killed at any moment leaves either the old file or the new one, never half a file.
+Temporaries are never read; the ones whose process is gone are deleted by ``run``, ``status``
+and ``assemble`` (:func:`remove_temporaries`).
+
+A case file gets the global attribute ``slipstick_complete = 1`` last, after the dataset is
+written and before the rename (:data:`COMPLETE_ATTR`).  A case counts as finished when its
+``.nc`` file opens and carries that marker (:func:`check_case_file`); a re-run skips it and
+retries failures.  A file that does not open or lacks the marker (truncated, overwritten, copied
+half-way, or written by a version before the marker) is *corrupt*: ``status`` and ``assemble``
+name it and count the case failed, ``run`` moves it aside to ``cases/<id>.nc.corrupt`` and
+recomputes the case (:func:`quarantine_case`).
+
+Write errors are reported as what they are: a full disk reads "no space left on device" even
+when the netCDF library reports it as an HDF or permission error (:func:`describe_write_error`).
 """
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import resource
@@ -41,6 +54,12 @@ CASES_DIR = "cases"
 COMPRESSION_LEVEL = 4
 #: The netCDF engine (``netCDF4`` is a declared dependency).
 ENGINE = "netcdf4"
+#: Global attribute of a case file, set to 1 after everything else is written.
+COMPLETE_ATTR = "slipstick_complete"
+#: Suffix of a case file moved aside as corrupt (``cases/<id>.nc.corrupt``).
+CORRUPT_SUFFIX = ".corrupt"
+#: Free bytes below which a failed write is put down to a full disk.
+LOW_SPACE = 1 << 20
 
 
 # -- paths ---------------------------------------------------------------------------------------
@@ -88,7 +107,7 @@ def atomic_write_text(path: str | Path, text: str) -> None:
         temporary.unlink(missing_ok=True)
 
 
-def write_netcdf(dataset: xr.Dataset, path: str | Path) -> None:
+def write_netcdf(dataset: xr.Dataset, path: str | Path, *, mark_complete: bool = False) -> None:
     """Write an :class:`xarray.Dataset` to netCDF4 atomically, zlib-compressing numeric data.
 
     Parameters
@@ -97,6 +116,9 @@ def write_netcdf(dataset: xr.Dataset, path: str | Path) -> None:
         The dataset.
     path : str or Path
         Final file name.
+    mark_complete : bool
+        Add the global attribute :data:`COMPLETE_ATTR` = 1 after the dataset is written (case
+        files), so that a reader can tell a complete file from a damaged one.
     """
     path = Path(path)
     encoding = {}
@@ -106,26 +128,107 @@ def write_netcdf(dataset: xr.Dataset, path: str | Path) -> None:
     temporary = _temporary(path)
     try:
         dataset.to_netcdf(temporary, engine=ENGINE, encoding=encoding)
+        if mark_complete:
+            import netCDF4
+
+            with netCDF4.Dataset(temporary, "a") as handle:
+                handle.setncattr(COMPLETE_ATTR, np.int8(1))
         _sync(temporary)
         os.replace(temporary, path)
     finally:
         temporary.unlink(missing_ok=True)
 
 
+def _temporary_pid(path: Path) -> int | None:
+    """The pid in a ``*.tmp<pid>`` name (None when there is none)."""
+    digits = path.name.rpartition(".tmp")[2]
+    return int(digits) if digits.isdigit() else None
+
+
+def _alive(pid: int) -> bool:
+    """Whether a process with this pid exists on this host."""
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError, OSError):
+        return True  # exists (another user's), or cannot tell: keep the file
+    return True
+
+
 def remove_temporaries(out: str | Path) -> int:
-    """Delete temporary files a killed run left behind; returns how many."""
+    """Delete the temporary files (``*.tmp<pid>``) of processes that are gone; returns how many.
+
+    A temporary of a live process (another ``assemble``, say) is left alone, and so are names
+    without a pid.  Files that cannot be deleted (a read-only folder) are skipped: temporaries
+    are never read, only cleaned up.
+    """
     count = 0
     for folder in (Path(out), cases_dir(out)):
-        if folder.is_dir():
-            for path in folder.glob("*.tmp*"):
+        if not folder.is_dir():
+            continue
+        for path in folder.glob("*.tmp*"):
+            pid = _temporary_pid(path)
+            if pid is None or _alive(pid):
+                continue
+            try:
                 path.unlink(missing_ok=True)
-                count += 1
+            except OSError:
+                continue
+            count += 1
     return count
 
 
+def free_bytes(folder: str | Path) -> int | None:
+    """Bytes available to this user in the file system of ``folder`` (None when unknown)."""
+    try:
+        stats = os.statvfs(folder)
+    except (OSError, AttributeError):
+        return None
+    return int(stats.f_bavail) * int(stats.f_frsize)
+
+
+def describe_write_error(error: BaseException, folder: str | Path) -> str:
+    """One line saying why a write into ``folder`` failed.
+
+    ENOSPC and EDQUOT read "no space left on device" and "disk quota exceeded"; so does any
+    other error (netCDF's "HDF error", "Permission denied") when the file system of ``folder``
+    has less than :data:`LOW_SPACE` bytes free, since a full disk is then the likely cause.
+    """
+    text = f"{type(error).__name__}: {error}".splitlines()[0]
+    code = getattr(error, "errno", None)
+    if code == errno.ENOSPC:
+        return f"no space left on device (in {folder})"
+    if code == errno.EDQUOT:
+        return f"disk quota exceeded (in {folder})"
+    free = free_bytes(folder)
+    if free is not None and free < LOW_SPACE:
+        return f"no space left on device ({free} bytes free in {folder}; the writer said {text})"
+    return text
+
+
 # -- campaign.json -------------------------------------------------------------------------------
-def prepare_output(out: str | Path, campaign: Campaign) -> None:
-    """Create the output folders, clear temporaries and (re)write ``campaign.json``."""
+def prepare_output(out: str | Path, campaign: Campaign, *, replace: bool = False) -> None:
+    """Create the output folders, clear stale temporaries and (re)write ``campaign.json``.
+
+    Parameters
+    ----------
+    out : str or Path
+        Output folder.
+    campaign : Campaign
+        The campaign to record.
+    replace : bool
+        Replace the ``campaign.json`` of a *different* campaign (another name).  Without it
+        that is refused: the folder belongs to the other campaign.  Its case files stay (case
+        ids are content hashes: cases the new campaign shares are reused, others are ignored).
+
+    Raises
+    ------
+    CampaignError
+        When the folder cannot be created or written, or holds another campaign.
+    """
     out = Path(out)
     try:
         cases_dir(out).mkdir(parents=True, exist_ok=True)
@@ -134,9 +237,38 @@ def prepare_output(out: str | Path, campaign: Campaign) -> None:
     if not os.access(cases_dir(out), os.W_OK):
         raise CampaignError(f"{out}: the output folder is not writable")
     remove_temporaries(out)
+    if not replace:
+        _check_same_campaign(out, campaign)
     record = campaign.to_dict()
     record["written"] = _now()
-    atomic_write_text(out / CAMPAIGN_FILE, json.dumps(record, indent=1, allow_nan=True))
+    try:
+        atomic_write_text(out / CAMPAIGN_FILE, json.dumps(record, indent=1, allow_nan=True))
+    except OSError as error:
+        raise CampaignError(
+            f"{out}: cannot write {CAMPAIGN_FILE}: {describe_write_error(error, out)}"
+        ) from None
+
+
+def _check_same_campaign(out: Path, campaign: Campaign) -> None:
+    """Refuse to overwrite the ``campaign.json`` of another campaign (compared by name)."""
+    path = out / CAMPAIGN_FILE
+    if not path.exists():
+        return
+    try:
+        with open(path, encoding="utf-8") as handle:
+            record = json.load(handle)
+        name, source = str(record["name"]), str(record.get("source") or "a table")
+    except (OSError, ValueError, KeyError, TypeError) as error:
+        raise CampaignError(
+            f"{path}: unreadable campaign record ({error}); refusing to replace it with campaign "
+            f"{campaign.name!r}: use another --out, or run with --replace"
+        ) from None
+    if name != campaign.name:
+        raise CampaignError(
+            f"{out} holds campaign {name!r} (from {source}); refusing to run campaign "
+            f"{campaign.name!r} (from {campaign.source or 'a table'}) into it: use another "
+            f"--out, or --replace to make {campaign.name!r} the campaign of this folder"
+        )
 
 
 def read_campaign(out: str | Path) -> Campaign:
@@ -160,12 +292,75 @@ def read_campaign(out: str | Path) -> Campaign:
 
 
 # -- case states ---------------------------------------------------------------------------------
-def finished_ids(out: str | Path) -> set[str]:
-    """Ids of cases with a result file."""
+#: str(path) -> ((inode, size, mtime_ns), problem, status): checks of case files, redone when
+#: the file changes.
+_CHECKED: dict[str, tuple[tuple[int, int, int], str, str]] = {}
+
+
+def _inspect(path: Path) -> tuple[str, str]:
+    """(problem, status) of a case file; problem is "" for a complete file."""
+    try:
+        stat = path.stat()
+    except OSError as error:
+        return f"cannot be read ({error.strerror or error})", ""
+    key = (stat.st_ino, stat.st_size, stat.st_mtime_ns)
+    cached = _CHECKED.get(str(path))
+    if cached is not None and cached[0] == key:
+        return cached[1], cached[2]
+    import netCDF4
+
+    problem, status = "", ""
+    try:
+        with netCDF4.Dataset(path, "r") as handle:
+            attrs = {name: handle.getncattr(name) for name in handle.ncattrs()}
+    except Exception as error:  # netCDF/HDF5 raise OSError or RuntimeError on a damaged file
+        text = str(error).splitlines()[0] if str(error) else type(error).__name__
+        problem = f"does not open ({text})"
+    else:
+        try:
+            complete = int(np.asarray(attrs.get(COMPLETE_ATTR)).item()) == 1
+        except (TypeError, ValueError):
+            complete = False
+        if not complete:
+            problem = f"has no completion marker (global attribute {COMPLETE_ATTR} = 1)"
+        status = str(attrs.get("status", "converged"))
+    _CHECKED[str(path)] = (key, problem, status)
+    return problem, status
+
+
+def check_case_file(path: str | Path) -> str:
+    """What is wrong with a case file: "" when it opens and carries its completion marker.
+
+    The check opens the file's header only (milliseconds) and is cached until the file changes.
+    """
+    return _inspect(Path(path))[0]
+
+
+def _case_files(out: str | Path) -> dict[str, str]:
+    """Map case id -> problem ("" for a complete file) for every ``cases/*.nc``."""
     folder = cases_dir(out)
     if not folder.is_dir():
-        return set()
-    return {p.name[: -len(".nc")] for p in folder.glob("*.nc")}
+        return {}
+    return {p.name[: -len(".nc")]: check_case_file(p) for p in sorted(folder.glob("*.nc"))}
+
+
+def finished_ids(out: str | Path) -> set[str]:
+    """Ids of cases with a complete result file (:func:`check_case_file`)."""
+    return {case_id for case_id, problem in _case_files(out).items() if not problem}
+
+
+def corrupt_ids(out: str | Path) -> dict[str, str]:
+    """Case files that do not open or lack the completion marker: case id -> problem."""
+    return {case_id: problem for case_id, problem in _case_files(out).items() if problem}
+
+
+def quarantine_case(out: str | Path, case_id: str) -> Path:
+    """Move a corrupt case file aside to ``cases/<id>.nc.corrupt`` (replacing an older one)."""
+    path = case_path(out, case_id)
+    target = path.with_name(path.name + CORRUPT_SUFFIX)
+    os.replace(path, target)
+    _CHECKED.pop(str(path), None)
+    return target
 
 
 def failed_ids(out: str | Path) -> set[str]:
@@ -187,15 +382,18 @@ def read_failure(out: str | Path, case_id: str) -> dict:
 
 
 def case_states(out: str | Path, campaign: Campaign) -> dict[str, str]:
-    """State of every case: pending, converged, not_converged or failed.
+    """State of every case: pending, converged, not_converged, failed or corrupt.
 
-    Finished cases are opened to read their ``status`` attribute.
+    Finished cases are opened to read their ``status`` attribute; ``corrupt`` is a case file
+    that does not open or lacks its completion marker (:func:`corrupt_ids` says why).
     """
-    finished, failed = finished_ids(out), failed_ids(out)
+    files = _case_files(out)
+    failed = failed_ids(out)
     states = {}
     for case in campaign.cases:
-        if case.case_id in finished:
-            states[case.case_id] = read_case_attrs(out, case.case_id).get("status", "converged")
+        if case.case_id in files:
+            problem, status = _inspect(case_path(out, case.case_id))
+            states[case.case_id] = "corrupt" if problem else status
         elif case.case_id in failed:
             states[case.case_id] = "failed"
         else:
@@ -374,9 +572,9 @@ def _netcdf_attrs(attrs: dict[str, Any]) -> dict[str, Any]:
 
 
 def write_case(out: str | Path, case_id: str, dataset: xr.Dataset) -> Path:
-    """Write a finished case atomically and drop any stale failure record."""
+    """Write a finished case atomically, marked complete, and drop any stale failure record."""
     path = case_path(out, case_id)
-    write_netcdf(dataset, path)
+    write_netcdf(dataset, path, mark_complete=True)
     failure_path(out, case_id).unlink(missing_ok=True)
     return path
 

@@ -172,13 +172,35 @@ def test_report_without_plots(campaign_out):
     assert "Speed versus error" in text and "campaign.json sha256" in text
 
 
+def _png_size(path):
+    """(width, height) in pixels from the PNG's IHDR chunk."""
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and data[12:16] == b"IHDR"
+    return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
+
+
 def test_report_plots(campaign_out):
     pytest.importorskip("matplotlib")
+    import matplotlib.image
+
     assert report.main([str(campaign_out)]) == 0
-    for suffix in ("convergence_grid_n", "speed_error", "profiles", "stick_slip"):
+    dataset = xr.open_dataset(campaign_out / "tiny_cattaneo.nc")
+    # panels: one per quantity (convergence), one per tangential force (profiles and the
+    # stick/slip maps of the finest mesh, 4 columns at most); pixels = figsize (in) x 110 dpi
+    quantities = len(analysis.quantities(analysis.with_derived(dataset)))
+    forces = dataset.sizes["tangential_force"]
+    expected = {
+        "convergence_grid_n": (4.2 * quantities, 4.0),
+        "speed_error": (10, 4.2),
+        "profiles": (4.0 * forces, 6.5),
+        "stick_slip": (3.6 * min(4, forces), 3.4 * -(-forces // 4)),
+    }
+    assert quantities >= 3 and forces == 2
+    for suffix, (width, height) in expected.items():
         png = campaign_out / f"tiny_cattaneo_{suffix}.png"
-        assert png.is_file() and png.stat().st_size > 1000
-        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        assert _png_size(png) == (round(width * 110), round(height * 110)), suffix
+        pixels = matplotlib.image.imread(png)[..., :3]
+        assert pixels.std() > 0.05, suffix  # something is drawn, not a blank canvas
         assert f"({png.name})" in (campaign_out / "report.md").read_text()
 
 

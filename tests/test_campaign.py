@@ -1,5 +1,6 @@
 """Campaign files: expansion, zip, aliases, Dundurs beta, and one clear message per bad file."""
 
+import itertools
 import json
 import os
 import subprocess
@@ -84,8 +85,38 @@ def test_beta_range_and_inversion():
     assert body1_for_beta(0.0, steel, steel) == pytest.approx((210e9, 0.3))
     # rigid body 2: beta = (1 - 2 nu1) / (2 (1 - nu1)) in [0, 3/4)
     assert beta_range(steel, Body("rigid")) == pytest.approx((0.0, 0.75))
-    with pytest.raises(ValueError, match=r"not reachable.*\[-0\.1429, 0\.2321\)"):
+    with pytest.raises(ValueError, match=r"not reachable.*\[-0\.142857, 0\.232142\]"):
         body1_for_beta(-0.3, steel, steel)
+
+
+def _steel_beta_campaign(tmp_path, beta):
+    return write(tmp_path, f'[sweep]\n"materials.dundurs_beta" = [{beta!r}]\n' + NORMAL_BASE)
+
+
+def test_beta_range_both_ends_are_reachable(tmp_path):
+    """Both ends of beta_range give valid cases; the limit nu1 -> -1 (E1 -> 0) is refused."""
+    steel = Body("elastic", E=210e9, nu=0.3)
+    c1, d2 = 0.91 / 210e9, 1.3 * 0.4 / (2 * 210e9)
+    low, high = beta_range(steel, steel)
+    # upper end: nu1 = -sqrt(1 - E_min c1), where E1 = (1 - nu1^2)/c1 reaches E_min = 1e3 Pa
+    nu_min = -((1 - 1e3 * c1) ** 0.5)
+    g = (1 - 2 * nu_min) / (2 * (1 - nu_min))
+    assert high == pytest.approx((g * c1 - d2) / (2 * c1), rel=1e-14)
+    limit = (0.75 * c1 - d2) / (2 * c1)  # the old, unreachable bound
+    assert high < limit and limit - high < 1e-8
+    for beta, nu1 in ((low, 0.5), (high, nu_min)):
+        case = load_campaign(_steel_beta_campaign(tmp_path, beta)).cases[0].case()
+        assert case.pair.dundurs_beta == pytest.approx(beta, abs=1e-9)
+        assert case.body1.nu == pytest.approx(nu1, abs=1e-9)
+        assert case.pair.composite_modulus == pytest.approx(210e9 / (2 * 0.91), rel=1e-7)
+        assert 1e3 <= case.body1.E <= 1e15
+    # just beyond either end, and the reported value just below the limit: a clear message
+    for beta in (limit, 0.23214285714285712, low - 1e-9):
+        with pytest.raises(CampaignError) as info:
+            load_campaign(_steel_beta_campaign(tmp_path, beta))
+        message = str(info.value)
+        assert f"materials.dundurs_beta = {beta!r} is not reachable" in message, message
+        assert "[-0.142857, 0.232142]" in message and "body1.E:" not in message
 
 
 # -- bad campaign files: one clear message each, exit status 2 -----------------------------------
@@ -126,7 +157,25 @@ BAD = {
         "appears twice",
     ),
     "nan value": ('[sweep]\n"friction.coefficient" = [nan]\n' + NORMAL_BASE, "nan is not"),
-    "list values": ('[sweep]\n"grid.n" = [[32, 32]]\n' + NORMAL_BASE, "must be numbers"),
+    "list values": (
+        '[sweep]\n"grid.n" = [[32, 32]]\n' + NORMAL_BASE,
+        'must be numbers, strings or booleans, got [32, 32]; sweep "grid.n" as one number',
+    ),
+    "grid.nz with a 3-entry base n": (
+        '[sweep]\n"grid.nz" = [8, 16]\n'
+        + NORMAL_BASE.replace("n = 24,", "n = [24, 24, 16],").replace(
+            "grid = {", 'output = { fields = ["stress"] }\ngrid = {'
+        ),
+        "grid.nz: grid.n = [24, 24, 16] already gives nz",
+    ),
+    "huge force": (
+        '[sweep]\n"load.path.0.normal_force" = [100.0, 1e300]\n' + CATTANEO_BASE,
+        "case 2 of 2 (load_path_0_normal_force=1e+300): load.path[0].normal_force: W = 1e+300 N",
+    ),
+    "beta at the old limit": (
+        '[sweep]\n"materials.dundurs_beta" = [0.0, 0.23214285714285712]\n' + NORMAL_BASE,
+        "materials.dundurs_beta = 0.23214285714285712 is not reachable",
+    ),
     "impossible beta": (
         '[sweep]\n"materials.dundurs_beta" = [0.0, 0.5]\n' + NORMAL_BASE,
         "materials.dundurs_beta = 0.5 is not reachable",
@@ -248,12 +297,23 @@ def test_validate_command_needs_no_mpi(tmp_path):
 
 
 def test_campaigns_shipped_are_valid():
+    import math
+    import tomllib
     from pathlib import Path
 
     folder = Path(__file__).resolve().parent.parent / "campaigns"
     for name in ("quickstart", "convergence_hertz", "convergence_cattaneo"):
-        campaign = load_campaign(folder / f"{name}.toml")
-        assert campaign.name == name and len(campaign.cases) >= 10
+        path = folder / f"{name}.toml"
+        campaign = load_campaign(path)
+        # the full product of the [sweep] lists, read from the file itself, one case each
+        sweep = tomllib.loads(path.read_text())["sweep"]
+        sizes = tuple(len(values) for values in sweep.values())
+        assert campaign.name == name and campaign.shape == sizes
+        assert len(campaign.cases) == math.prod(sizes) >= 10
+        assert len({case.case_id for case in campaign.cases}) == len(campaign.cases)
+        assert [case.index for case in campaign.cases] == list(
+            itertools.product(*(range(size) for size in sizes))
+        )
 
 
 def test_campaign_error_is_a_value_error():
@@ -268,3 +328,124 @@ def test_cli_limits_blas_threads_before_numpy_loads():
     env = {k: v for k, v in os.environ.items() if "NUM_THREADS" not in k}
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
     assert done.returncode == 0 and done.stdout.strip() == "1", done.stderr
+
+
+# -- volume grids in sweeps ----------------------------------------------------------------------
+VOLUME_BASE = NORMAL_BASE.replace("n = 24,", "n = [24, 24, 16],").replace(
+    "grid = {", 'output = { fields = ["stress"] }\ngrid = {'
+)
+
+
+def test_grid_n_sweep_keeps_the_base_nz(tmp_path):
+    """A scalar "grid.n" sweep over grid.n = [nx, ny, nz] keeps nz (module docstring rule)."""
+    campaign = load_campaign(write(tmp_path, '[sweep]\n"grid.n" = [24, 32]\n' + VOLUME_BASE))
+    assert [c.spec["grid"]["n"] for c in campaign.cases] == [[24, 24, 16], [32, 32, 16]]
+    assert [c.case().volume_grid.nz for c in campaign.cases] == [16, 16]
+    assert campaign.base["grid"]["n"] == [24, 24, 16]  # the recorded base is as written
+    # the same cases as writing each volume grid out in full
+    for case in campaign.cases:
+        n = case.coords["grid_n"]
+        table = solver.Case.from_dict({**case.spec, "grid": {"n": [n, n, 16], "half_width": 1.5}})
+        assert table.case_id == case.case_id
+
+
+def test_grid_nz_sweeps_and_zips_with_grid_n(tmp_path):
+    base = VOLUME_BASE.replace("n = [24, 24, 16],", "n = 24, nz = 8,")
+    swept = load_campaign(write(tmp_path, '[sweep]\n"grid.nz" = [8, 12]\n' + base))
+    assert [c.spec["grid"]["n"] for c in swept.cases] == [[24, 24, 8], [24, 24, 12]]
+    assert swept.axes[0].coordinates[0].units == "1"
+    text = '[zip.mesh]\n"grid.n" = [24, 32]\n"grid.nz" = [8, 12]\n' + VOLUME_BASE
+    zipped = load_campaign(write(tmp_path, text))
+    assert [c.spec["grid"]["n"] for c in zipped.cases] == [[24, 24, 8], [32, 32, 12]]
+
+
+# -- validate: memory warnings and progress ------------------------------------------------------
+def test_memory_warning_names_the_largest_case_and_the_machine(tmp_path, capsys, monkeypatch):
+    import study.cli as cli
+
+    campaign = load_campaign(small_campaign(tmp_path))
+    largest = max(campaign.cases, key=lambda c: c.memory)
+    gib = 2**30
+    # more than the machine has: one line, naming the case, its memory and the machine's
+    lines = cli.memory_warnings(campaign, largest.memory - 1, cores=2)
+    assert len(lines) == 1 and lines[0].startswith("warning: 1 of 4 cases need more memory")
+    assert largest.case_id in lines[0] and f"~{largest.memory / gib:.1f} GiB" in lines[0]
+    assert f"{(largest.memory - 1) / gib:.1f} GiB in total" in lines[0]
+    assert "each MPI rank" in lines[0]
+    # fits once but not once per core: how many ranks fit
+    lines = cli.memory_warnings(campaign, 3 * largest.memory, cores=8)
+    assert len(lines) == 1 and "holds 3 such rank(s), fewer than its 8 cores" in lines[0]
+    assert cli.memory_warnings(campaign, 8 * largest.memory, cores=8) == []
+    assert cli.memory_warnings(campaign, None, cores=8) == []
+    # through the command: stdout unchanged ("valid" last), the warning on stderr, status 0
+    monkeypatch.setattr(cli, "machine_memory", lambda: largest.memory // 2)
+    assert main(["validate", str(small_campaign(tmp_path))]) == 0
+    captured = capsys.readouterr()
+    assert captured.out.strip().endswith("valid")
+    assert captured.err.count("\n") == 1 and captured.err.startswith("warning: ")
+
+
+def test_machine_memory_reads_meminfo():
+    from study.cli import machine_memory
+
+    total = machine_memory()
+    with open("/proc/meminfo") as handle:
+        kib = next(int(line.split()[1]) for line in handle if line.startswith("MemTotal:"))
+    assert total == kib * 1024
+
+
+def test_n8192_warns_on_this_machine(tmp_path, capsys):
+    """n = 8192 needs ~28 GiB (surface operator and work arrays): warned when above MemTotal."""
+    from study.cli import machine_memory
+
+    text = '[sweep]\n"friction.coefficient" = [0.0]\n' + NORMAL_BASE.replace("n = 24", "n = 8192")
+    path = write(tmp_path, text)
+    assert main(["validate", str(path)]) == 0
+    captured = capsys.readouterr()
+    memory = load_campaign(path).cases[0].memory
+    assert memory > 25 * 2**30
+    if memory > machine_memory():
+        assert captured.err.startswith("warning: 1 of 1 cases need more memory")
+        assert f"~{memory / 2**30:.1f} GiB" in captured.err
+    else:
+        assert "than this machine has" not in captured.err
+
+
+def test_progress_lines_on_a_long_expansion(tmp_path, monkeypatch):
+    import io
+
+    import study.cli as cli
+
+    stream = io.StringIO()
+    ticks = iter(range(0, 1000, 2))  # a clock that advances 2 s per reading
+    monkeypatch.setattr(cli.ProgressLine, "delay", 3.0)
+    monkeypatch.setattr(cli.ProgressLine, "every", 4.0)
+    progress = cli.ProgressLine(stream)
+    progress._clock = lambda: next(ticks)
+    progress._start, progress._next = 0, 3.0
+    for done in range(0, 10001, 2000):
+        progress(done, 10000)
+    progress.finish()
+    lines = stream.getvalue().splitlines()
+    # calls at t = 0, 2, ..., 10 s (done 0, 2000, ..., 10000): silent for 3 s, then every 4 s;
+    # none for the last call (done = total), finish() at t = 12 s
+    assert lines == [
+        "validating: 4000/10000 cases (40 %) in 4 s",
+        "validating: 8000/10000 cases (80 %) in 8 s",
+        "validating: done in 12 s",
+    ]
+    quiet = io.StringIO()
+    cli.ProgressLine(quiet).finish()
+    assert quiet.getvalue() == ""
+
+
+def test_expansion_reports_progress(tmp_path):
+    from study.campaign import PROGRESS_EVERY
+
+    calls = []
+    values = ", ".join(str(0.001 * i) for i in range(PROGRESS_EVERY + 1))
+    text = f'[sweep]\n"friction.coefficient" = [{values}]\n' + NORMAL_BASE
+    campaign = load_campaign(write(tmp_path, text), progress=lambda *a: calls.append(a))
+    total = PROGRESS_EVERY + 1
+    assert len(campaign.cases) == total
+    assert calls == [(PROGRESS_EVERY, total), (total, total)]

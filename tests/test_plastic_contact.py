@@ -138,7 +138,7 @@ def test_symmetric_pair_ignores_friction_and_orders_like_the_paper():
 @pytest.mark.parametrize(
     "change, field",
     [
-        ({"friction": {"coefficient": 0.3}}, "friction.coefficient"),
+        ({"friction": {"coefficient": 0.3}}, None),  # the four loops
         ({"grid": {"n": 32}}, "grid.n"),
         ({"body1": {**RIGID, "behaviour": "elastic", **STEEL}}, None),  # allowed: E on EP
         (
@@ -167,6 +167,19 @@ def test_unbuilt_plastic_scenes_are_refused(change, field):
         solver.Case.from_dict(table)
         return
     with pytest.raises(solver.SpecError, match=field.replace(".", r"\.")):
+        solver.Case.from_dict(table)
+
+
+def test_tangential_load_on_the_symmetric_pair_is_refused():
+    body = {"radius": 0.015, "behaviour": "elastic-plastic", **STEEL, "hardening": SWIFT}
+    table = {
+        "body1": dict(body),
+        "body2": copy.deepcopy(body),
+        "load": {"path": [{"normal_force": 1000.0}, {"tangential_force": 100.0}]},
+        "friction": {"coefficient": 0.3},
+        "grid": {"n": [16, 16, 16]},
+    }
+    with pytest.raises(solver.SpecError, match=r"load\.tangential_force"):
         solver.Case.from_dict(table)
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -192,7 +193,19 @@ def test_campaign_job(cluster, job_env, tmp_path):
     assert (out / "logs" / f"{job}.0.log").exists()
     ds = _dataset(out / "small.nc")
     assert (ds.status.values == 1).all()
-    assert sorted(np.unique(ds.mpi_rank.values)) in ([0], [1], [0, 1])
+    # the rank recorded for each case is the rank that computed it: the dataset's counts per
+    # rank are the job summary's "(rank 0: i, rank 1: j)", i + j = 4 cases over 2 tasks
+    match = re.search(r"\((rank \d+: \d+(?:, rank \d+: \d+)*)\); overhead", text)
+    assert match, text
+    logged = {int(r): int(n) for r, n in re.findall(r"rank (\d+): (\d+)", match.group(1))}
+    ranks, counts = np.unique(ds.mpi_rank.values, return_counts=True)
+    assert dict(zip(ranks.tolist(), counts.tolist(), strict=True)) == logged
+    assert set(logged) <= {0, 1} and sum(logged.values()) == 4
+    import xarray as xr
+
+    for case_id, rank in zip(ds.case_id.values.ravel(), ds.mpi_rank.values.ravel(), strict=True):
+        with xr.open_dataset(out / "cases" / f"{case_id}.nc") as case:
+            assert case.attrs["rank"] == rank, case_id
     status = _status(out)
     assert status.returncode == 0 and "4/4 finished" in status.stdout, status.stdout
 

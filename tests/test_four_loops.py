@@ -1,0 +1,119 @@
+"""Four loops: tangential residual displacements in the slip-stick loop, fretting scenes."""
+
+import copy
+
+import numpy as np
+import pytest
+
+import solver
+from solver.operators import CaseOperators
+from solver.steps import ContactState, ResidualDisplacement, slip_stick_step
+
+SWIFT = {"law": "swift", "B": 945e6, "C": 20, "n": 0.121}
+STEEL = {"E": 210e9, "nu": 0.3}
+
+
+def e_on_ep(mu, n=32, nz=8, **extra):
+    table = {
+        "body1": {"radius": 0.015, "behaviour": "elastic", **STEEL},
+        "body2": {"radius": "inf", "behaviour": "elastic-plastic", **STEEL, "hardening": SWIFT},
+        "load": {"normal_force": 1000.0},
+        "friction": {"coefficient": mu},
+        "grid": {"n": [n, n, nz]},
+    }
+    table.update(extra)
+    return solver.Case.from_dict(table)
+
+
+def test_shear_plastic_layer_shifts_the_surface_and_friction_resists_it():
+    """A patch of pure-shear plastic strain e_xz under the contact centre moves body 2's surface
+    by u_x = -2 h e_xz there (tests/test_eigenstrain.py); in full stick (beta = 0, mu = 2) the
+    friction traction resists it: K_t q + u^r - Delta = 0 on the stick cells, q_x > 0 where
+    the surface moved towards -x, no net force."""
+    case = e_on_ep(2.0)
+    assert case.pair.dundurs_beta == 0.0
+    operators = CaseOperators.build(case)
+    volume = case.volume_grid
+    target = (1000.0, 0.0, 0.0)
+    loaded = slip_stick_step(operators, ContactState.unloaded(operators.gap.shape), target)
+    assert loaded.converged and not loaded.state.shear_x.any()  # beta = 0: no shear yet
+    # the plastic patch: two layers deep, a third of the contact radius wide
+    x, y = volume.surface.mesh()
+    a = case.hertz.radius
+    patch = (np.hypot(x, y) < a / 3)[:, :, None] & (volume.z < 2.01 * volume.dz)[None, None, :]
+    e_xz = 1e-3
+    strain = np.zeros((6,) + volume.shape)
+    strain[4][patch] = e_xz
+    ux, uy, uz = operators.eigenstrain.surface_displacement(strain)
+    # a narrow patch moves its centre by a fraction of the wide-layer value -2 h e_xz
+    shift = ux[np.hypot(x, y) < 0.5 * a / 3].mean()
+    assert -2 * (2 * volume.dz) * e_xz < shift < 0
+    residual = ResidualDisplacement(ux, uy, uz)
+    step = slip_stick_step(operators, loaded.state, target, residual)
+    assert step.converged, step.message
+    qx = step.state.shear_x
+    contact = step.state.pressure > 0
+    assert step.stick[contact].all()  # mu = 2: everything sticks
+    assert qx[np.hypot(x, y) < a / 4].mean() > 0  # resists the -x residual shift
+    assert abs(qx.sum()) * volume.surface.cell_area < 1e-8 * np.abs(qx).max() * a * a
+    # stick: the elastic displacement of q cancels the residual one up to the rigid shift
+    kx, _ = operators.surface.tangential(qx, step.state.shear_y)
+    slip = kx + ux - step.state.shift[0]
+    assert np.abs(slip[contact]).max() < 1e-3 * np.abs(ux).max()
+    # frictionless, the same residual displacement produces no shear at all
+    free = CaseOperators.build(e_on_ep(0.0))
+    assert not free.case.friction_coefficient
+
+
+def test_fretting_ii_runs_all_four_loops_and_friction_raises_plastic_strain():
+    """Rigid sphere on Swift steel to p_H = 6 GPa (beta = -0.29): the four loops run, every step
+    converges, the shear tractions stay within the Coulomb disk, a stick zone exists, and the
+    traction on body 2 points outwards (the pressure pulls its surface inwards, Boussinesq's
+    u_r = -(1 + nu)(1 - 2 nu) P / (2 pi E r), and friction resists that)."""
+    base = {
+        "body1": {"radius": 0.015, "behaviour": "rigid"},
+        "body2": {"radius": "inf", "behaviour": "elastic-plastic", **STEEL, "hardening": SWIFT},
+        "load": {"hertz_pressure": 6e9, "steps": 6},
+        "grid": {"n": [20, 20, 20]},
+    }
+    results = {}
+    for mu in (0.0, 0.3):
+        table = copy.deepcopy(base)
+        table["friction"] = {"coefficient": mu}
+        results[mu] = solver.solve(solver.Case.from_dict(table))
+    frictional = results[0.3]
+    assert frictional.loops == (
+        "load_steps", "plasticity", "slip_stick", "normal", "tangential", "return_mapping"
+    )  # fmt: skip
+    assert frictional.history["step_converged"].all(), frictional.notes
+    q = np.hypot(frictional.shear_x, frictional.shear_y)
+    assert np.all(q <= 0.3 * frictional.pressure * (1 + 1e-9) + 1e-6 * q.max())
+    assert q.max() > 0.05 * frictional.pressure.max()
+    h = frictional.history
+    assert 0 < h["stick_area"][-1] < h["contact_area"][-1]
+    x, y = frictional.grid.mesh()
+    assert (frictional.shear_x * x + frictional.shear_y * y).sum() > 0  # outwards
+    assert np.isfinite(frictional.fields["plastic_strain"]).all()
+    assert results[0.0].history["max_plastic_strain"][-1] > 0
+    assert h["max_plastic_strain"][-1] > 0
+
+
+@pytest.mark.parametrize("mu, pressure, steps", [(1.0, 10e9, 5), (0.5, 10e9, 40), (1.0, 3e9, 2)])
+def test_four_loop_hard_cases_finish_with_status(mu, pressure, steps):
+    """High friction, far past yield, few and many steps, a coarse mesh: finite, status
+    reported, the Coulomb disk respected."""
+    table = {
+        "body1": {"radius": 0.015, "behaviour": "rigid"},
+        "body2": {"radius": "inf", "behaviour": "elastic-plastic", **STEEL, "hardening": SWIFT},
+        "load": {"hertz_pressure": pressure, "steps": steps},
+        "friction": {"coefficient": mu},
+        "grid": {"n": [16, 16, 16]},
+    }
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.converged, result.notes
+    assert result.history["step_converged"].all()
+    for values in (result.pressure, result.shear_x, result.fields["plastic_strain"]):
+        assert np.isfinite(values).all()
+    q = np.hypot(result.shear_x, result.shear_y)
+    assert np.all(q <= mu * result.pressure * (1 + 1e-9) + 1e-6 * q.max())
+    assert result.history["max_plastic_strain"][-1] > 0
