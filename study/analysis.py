@@ -143,19 +143,60 @@ def is_plastic(dataset) -> bool:
 
 # -- closed forms --------------------------------------------------------------------------------
 def with_derived(dataset):
-    """A copy with derived quantities: ``stick_ratio = stick_radius / hertz_radius``.
+    """A copy with derived quantities: ``stick_ratio = min(stick_radius / hertz_radius, 1)``.
 
-    Added only when some case has friction and a non-zero stick radius.
+    ``stick_radius`` is ``sqrt(stick_area / pi)`` with the stick area counted in whole cells,
+    like the contact area.  Under full stick (friction, no tangential load, beta = 0) every
+    contact cell sticks, so the plain ratio would be the counted contact radius over the Hertz
+    radius, which overshoots 1 by up to about half a cell (1.0048 at 48^2); a stick zone never
+    exceeds the contact zone (c <= a), so the ratio is clipped to 1.  Below 1 it is the counted
+    stick radius over the Hertz radius, the c / a of Cattaneo-Mindlin (``(1 - Q / (mu W))^(1/3)``
+    for beta = 0).  Added only when some case has friction and a non-zero stick radius; NaN
+    where mu = 0.
     """
     dataset = dataset.copy()
     if "stick_radius" in dataset and "hertz_radius" in dataset:
         mu = friction_coefficient(dataset)
         stick = dataset["stick_radius"].where(mu > 0)
         if bool(np.any(np.nan_to_num(stick.values) > 0)):
-            dataset["stick_ratio"] = (stick / dataset["hertz_radius"]).assign_attrs(
-                units="1", long_name="stick radius over the Hertz radius"
+            dataset["stick_ratio"] = (
+                (stick / dataset["hertz_radius"])
+                .clip(max=1.0)
+                .assign_attrs(
+                    units="1",
+                    long_name="stick radius over the Hertz radius (cell counts, at most 1)",
+                )
             )
     return dataset
+
+
+def cell_counts(dataset):
+    """Grid cells of every case (``nx ny``, or ``nx ny nz`` with a volume grid), over the axes.
+
+    From the ``grid_cells`` variable of the dataset (each case's normalised spec, written by
+    :mod:`study.assemble`); for datasets assembled before it existed, from the ``grid.n`` input
+    (swept or base: ``n^2`` or the product of ``[nx, ny(, nz)]``) times a swept or base
+    ``grid.nz``.  NaN where unknown.
+    """
+    import xarray as xr
+
+    if "grid_cells" in dataset.variables:
+        return dataset["grid_cells"].astype(float)
+    n = _base_value(dataset, "grid.n")
+    if isinstance(n, list) and n:
+        base = float(np.prod([float(v) for v in n]))
+    elif isinstance(n, int | float):
+        base = float(n) ** 2
+    else:
+        base = math.nan
+    cells = xr.DataArray(base)
+    for coord in dataset.coords.values():
+        if coord.attrs.get("campaign_key") == "grid.n" and coord.dtype.kind in "iuf":
+            cells = coord.astype(float) ** 2
+    nz = _case_input(dataset, "grid.nz", math.nan)
+    if bool(np.all(np.isfinite(nz.values))) and not (isinstance(n, list) and len(n) == 3):
+        cells = cells * nz
+    return cells.broadcast_like(dataset["status"])
 
 
 def closed_forms(dataset) -> dict:
@@ -624,7 +665,8 @@ def speed_error_table(dataset):
     Returns
     -------
     pandas.DataFrame
-        One row per finished case: axis values, ``cells``, ``wall_time`` (s), ``peak_rss_mib``,
+        One row per finished case: axis values, ``cells`` (:func:`cell_counts`; -1 unknown),
+        ``wall_time`` (s), ``peak_rss_mib``,
         ``err_<quantity>`` (signed relative error), ``error_basis`` ("closed form" or
         "extrapolated"), ``error`` and ``pareto``.
     """
@@ -650,14 +692,14 @@ def speed_error_table(dataset):
             basis[q] = "extrapolated"
     usable = _usable(dataset)
     rows = []
-    n_coord = {d: mesh_coordinate(dataset, d) for d in mesh}
+    cells = cell_counts(dataset)
     for labels, isel in _slices(dataset, []):
         if not bool(usable.isel(isel)):
             continue
-        n = [float(n_coord[d].values[isel[d]]) for d in mesh]
+        n_cells = float(cells.isel(isel))
         row = {
             **labels,
-            "cells": int(n[0] ** 2) if n else -1,
+            "cells": int(n_cells) if np.isfinite(n_cells) else -1,
             "wall_time": float(dataset["wall_time"].isel(isel)),
             "peak_rss_mib": float(dataset["peak_rss"].isel(isel)) / 2**20,
         }

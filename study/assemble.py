@@ -73,6 +73,7 @@ SCALARS = {
     "case_time": ("s", "wall time of the case on its rank before writing (set-up, solve, checks)"),
     "peak_rss": ("byte", "peak resident memory of the computing process after the case"),
     "mpi_rank": ("1", "MPI rank that computed the case (-1: none)"),
+    "grid_cells": ("1", "grid cells of the case: nx ny, or nx ny nz with a volume grid"),
     "hertz_radius": ("m", "Hertz contact radius sqrt(a b) at the largest normal force"),
     "hertz_semi_axis_x": ("m", "Hertz semi-axis along x at the largest normal force"),
     "hertz_pressure": ("Pa", "Hertz peak pressure at the largest normal force"),
@@ -96,6 +97,11 @@ _ATTRS = (
 
 def _case_steps(spec: dict) -> int:
     return int(sum(stage.get("steps", 1) for stage in spec["load"]["path"]))
+
+
+def _grid_cells(spec: dict) -> int:
+    """Cells of a case's grid from its normalised spec (``grid.n`` = [nx, ny] or [nx, ny, nz])."""
+    return int(np.prod([int(n) for n in spec["grid"]["n"]]))
 
 
 def profile(x: np.ndarray, line: np.ndarray, radius: float, r_over_a: np.ndarray) -> np.ndarray:
@@ -206,6 +212,7 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     for case in campaign.cases:
         index = tuple(case.index)
         case_ids[index] = case.case_id
+        scalars["grid_cells"][index] = _grid_cells(case.spec)
         data = None
         if case.case_id in finished:
             try:
@@ -243,6 +250,7 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
             errors[index] = storage.read_failure(out, case.case_id).get("error", "")
     ranks = scalars.pop("mpi_rank")
     rank = np.where(np.isnan(ranks), -1, ranks).astype(np.int32)
+    cells = scalars.pop("grid_cells").astype(np.int64)
 
     coords: dict = {
         "step": ("step", np.arange(1, steps + 1), {"units": "1", "long_name": "load step"}),
@@ -271,6 +279,7 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
         "case_id": (dims, case_ids.astype(str), {"long_name": "case id (file cases/<id>.nc)"}),
         "error": (dims, errors.astype(str), {"long_name": "error of a failed case"}),
         "mpi_rank": (dims, rank, {"units": "1", "long_name": SCALARS["mpi_rank"][1]}),
+        "grid_cells": (dims, cells, {"units": "1", "long_name": SCALARS["grid_cells"][1]}),
     }
     for name, values in scalars.items():
         if name in coords:  # an axis holds this input (e.g. dundurs_beta): keep the coordinate

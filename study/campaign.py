@@ -83,6 +83,7 @@ RESERVED_NAMES = frozenset(
         "case_id",
         "error",
         "mpi_rank",
+        "grid_cells",
         "step",
         "r_over_a",
         "z_over_a",

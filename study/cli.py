@@ -140,6 +140,36 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: Test hook (tests/test_slurm.py): every case of a ``run`` takes at least this many seconds.
+TEST_CASE_SECONDS = "SLIPSTICK_TEST_CASE_SECONDS"
+
+
+def _test_solve():
+    """The solve of a ``run`` under the :data:`TEST_CASE_SECONDS` hook, or None (the default).
+
+    With ``SLIPSTICK_TEST_CASE_SECONDS=s`` each solve is followed by a sleep up to ``s`` seconds
+    in all, counted in the case time (which predicts the next cases' durations) but not in the
+    solve time written to the case file.  The Slurm tests use it to give cases a known duration
+    on any machine, so that a job's real time limit stops the run after a known number of
+    cases.  Not for production runs.
+    """
+    value = os.environ.get(TEST_CASE_SECONDS, "")
+    if not value:
+        return None
+    seconds = float(value)
+    import time
+
+    import solver
+
+    def solve(case):
+        start = time.perf_counter()
+        result = solver.solve(case)
+        time.sleep(max(0.0, seconds - (time.perf_counter() - start)))
+        return result
+
+    return solve
+
+
 def run_options(args: argparse.Namespace) -> RunOptions:
     """Driver options from parsed ``run`` arguments (shared with ``slurm/slices.py``)."""
     from .driver import RunOptions
@@ -152,6 +182,7 @@ def run_options(args: argparse.Namespace) -> RunOptions:
         time_reserve=args.time_reserve,
         root_computes=not getattr(args, "dedicated_root", False),
         replace=getattr(args, "replace", False),
+        solve=_test_solve(),
     )
 
 

@@ -29,9 +29,16 @@ import numpy as np
 
 from . import analysis
 
-#: Most panels / lines drawn in one figure.
-MAX_PANELS = 12
+#: Most panels in one figure (further slices are named as not shown in its title and in
+#: report.md), most lines (cases or slices) in one panel, most panel columns.
+MAX_PANELS = 24
 MAX_LINES = 16
+MAX_COLUMNS = 4
+#: Resolution of the PNG figures (dots per inch) and height (inches) added for the title.
+DPI = 110
+TITLE_HEIGHT = 0.7
+#: Height (inches) added per row of a legend below the panels.
+LEGEND_ROW = 0.25
 _STATE_NAMES = ("separated", "stick", "slip")
 #: Table columns printed with 9 significant digits (values close to each other).
 VALUE_COLUMNS = ("value", "finest", "extrapolated", "reference")
@@ -111,11 +118,133 @@ def _units(dataset, name: str) -> str:
 
 
 # -- figures -------------------------------------------------------------------------------------
+def _title(labels: dict, width: int = 30) -> str:
+    """A panel title from slice labels: one line when short, else one ``name=value`` per line."""
+    parts = [f"{k}={_fmt(v)}" for k, v in labels.items()]
+    text = ", ".join(parts)
+    return text if len(text) <= width else "\n".join(parts)
+
+
+def _panel_grid(
+    plt, count: int, width: float, height: float, extra: float = 0.0, below: float = 0.0, **kwargs
+):
+    """A constrained-layout figure of ``count`` panels in at most :data:`MAX_COLUMNS` columns.
+
+    Each panel is ``width`` x ``height`` inches; ``extra`` inches are added to the width (for a
+    colour bar), ``below`` to the height (for a legend below the panels).  Returns the figure,
+    the ``count`` panels in reading order and the columns.
+    """
+    columns = min(MAX_COLUMNS, count)
+    rows = math.ceil(count / columns)
+    fig, axes = plt.subplots(
+        rows,
+        columns,
+        figsize=(width * columns + extra, height * rows + TITLE_HEIGHT + below),
+        squeeze=False,
+        layout="constrained",
+        dpi=DPI,
+        **kwargs,
+    )
+    fig.get_layout_engine().set(h_pad=0.08, hspace=0.04)  # a row's labels clear of the next titles
+    flat = list(axes.ravel())
+    for ax in flat[count:]:
+        ax.set_visible(False)
+    return fig, flat[:count], columns
+
+
+def _save(plt, fig, path: str | Path) -> None:
+    """Write a figure as PNG and close it.
+
+    The constrained layout is settled by a first draw without rendering: the first layout pass
+    of a figure with many panels can let a row's axis labels run into the next row's titles.
+    """
+    fig.draw_without_rendering()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+
+
+def _suptitle(fig, *lines: str, fontsize: float = 10) -> None:
+    """A figure title of several lines, each wrapped to the figure's width."""
+    import textwrap
+
+    width = max(40, int(fig.get_figwidth() * 72 / (0.55 * fontsize)))  # ~0.55 em per character
+    text = "\n".join(textwrap.fill(line, width) for line in lines if line)
+    fig.suptitle(text, fontsize=fontsize)
+
+
+def _panel_note(
+    shown: int, total: int, missing: int, noun: str, why: str = "without a finished case"
+) -> str:
+    """Which panels a figure shows, e.g. "all 20 cases" or "24 of 30 slices (...)"."""
+    if shown == total:
+        return f"all {total} {noun}"
+    reasons = []
+    if missing:
+        reasons.append(f"{missing} {why}")
+    if shown < total - missing:
+        reasons.append(f"only the first {MAX_PANELS} in axis order: {MAX_PANELS} panels at most")
+    return f"{shown} of {total} {noun} ({'; '.join(reasons)})"
+
+
+def _slice_noun(dataset, mesh: list[str], finest: bool) -> str:
+    others = [d for d in analysis.axis_dims(dataset) if d not in mesh]
+    if not mesh:
+        return "cases"
+    what = "finest mesh" if finest else "every mesh"
+    return f"slices over {', '.join(others)} ({what} of each)" if others else f"meshes ({what})"
+
+
+def _log_subs(values) -> tuple[float, ...]:
+    """Mantissas of the labelled ticks of a log axis: fewer the more decades the data span."""
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values) & (values > 0)]
+    decades = np.log10(values.max() / values.min()) if len(values) else 0.0
+    if decades < 1.2:
+        return (1.0, 2.0, 3.0, 5.0, 7.0)
+    return (1.0, 2.0, 5.0) if decades < 2.5 else (1.0,)
+
+
+def _log_ticks(axis, values) -> None:
+    """Readable tick labels on a log axis: :func:`_log_tick_values` as plain numbers."""
+    from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
+
+    axis.set_major_locator(FixedLocator(_log_tick_values(values)))
+    axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:.3g}"))
+    axis.set_minor_formatter(NullFormatter())
+
+
+def _log_tick_values(values) -> list[float]:
+    """Tick values within the range of positive ``values`` on a log scale.
+
+    Round mantissas (:func:`_log_subs`) inside the range; when fewer than two fall inside it,
+    its ends rounded inwards to two significant digits.
+    """
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values) & (values > 0)]
+    if not len(values):
+        return []
+    lo, hi = float(np.min(values)), float(np.max(values))
+    decades = range(math.floor(math.log10(lo)), math.floor(math.log10(hi)) + 1)
+    ticks = [float(f"{m * 10.0**d:.3g}") for d in decades for m in _log_subs(values)]
+    inside = [t for t in ticks if lo * (1 - 1e-9) <= t <= hi * (1 + 1e-9)]
+    if len(inside) >= 2 or hi == lo:
+        return inside or [lo]
+    scale = 10.0 ** (math.floor(math.log10(hi)) - 1)
+    ends = [
+        float(f"{math.ceil(lo / scale) * scale:.3g}"),
+        float(f"{math.floor(hi / scale) * scale:.3g}"),
+    ]
+    ends = ends if ends[0] < ends[1] else [lo, hi]
+    return sorted(set(inside) | set(ends))
+
+
 def plot_convergence(dataset, mesh_dim: str, path: str | Path) -> Path | None:
     """Log-log relative error against cells per side, one panel per quantity.
 
     The error is relative to the closed form where one applies, else to the Richardson
     extrapolation of the slice; dashed lines are the fits ``C h^p`` with the observed order.
+    Panels wrap into at most :data:`MAX_COLUMNS` columns; at most :data:`MAX_LINES` slices are
+    drawn per panel (the title says so when there are more).
 
     Parameters
     ----------
@@ -136,15 +265,16 @@ def plot_convergence(dataset, mesh_dim: str, path: str | Path) -> Path | None:
     names = analysis.quantities(dataset)
     if plt is None or not names:
         return None
+    from matplotlib.ticker import FixedLocator, FuncFormatter, NullLocator
+
     refs = analysis.closed_forms(dataset)
-    fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 4.0), squeeze=False)
-    for ax, name in zip(axes[0], names, strict=True):
+    slices = list(analysis._slices(dataset, [mesh_dim]))
+    fig, axes, _ = _panel_grid(plt, len(names), 4.2, 3.6)
+    for ax, name in zip(axes, names, strict=True):
         table = analysis.convergence_table(dataset, name, mesh_dim)
         basis = "closed form" if name in refs else "extrapolated"
         column = "rel_error" if name in refs else "rel_error_extrapolated"
-        for k, (labels, _) in enumerate(analysis._slices(dataset, [mesh_dim])):
-            if k >= MAX_LINES:
-                break
+        for labels, _ in slices[:MAX_LINES]:
             rows = table
             for key, value in labels.items():
                 rows = rows[rows[key] == value]
@@ -166,25 +296,49 @@ def plot_convergence(dataset, mesh_dim: str, path: str | Path) -> Path | None:
                     color=line.get_color(),
                     label=f"fit, order {order:.2f}",
                 )
-        from matplotlib.ticker import NullFormatter, ScalarFormatter
-
-        ax.xaxis.set_major_formatter(ScalarFormatter())
-        ax.xaxis.set_minor_formatter(NullFormatter())
+        ns = np.unique(analysis.mesh_coordinate(dataset, mesh_dim).values.astype(float))
+        ns = ns[:: max(1, math.ceil(len(ns) / 8))]  # at most 8 labels
+        ax.xaxis.set_major_locator(FixedLocator(ns))
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        ax.xaxis.set_minor_locator(NullLocator())
         ax.set_xlabel(f"cells per side {mesh_dim} (1)")
-        ax.set_ylabel(f"|relative error| vs {basis} (1)")
-        ax.set_title(analysis.QUANTITIES.get(name, (None, name))[1])
+        ax.set_ylabel(f"|rel. error| vs {basis} (1)")
+        ax.set_title(analysis.QUANTITIES.get(name, (None, name))[1], fontsize=10)
         ax.grid(True, which="both", alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=7)
-    fig.suptitle(f"{dataset.attrs.get('campaign', '')}: mesh convergence along {mesh_dim}")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    title = f"{dataset.attrs.get('campaign', '')}: mesh convergence along {mesh_dim}"
+    _suptitle(fig, title, _convergence_note(dataset, mesh_dim) if len(slices) > MAX_LINES else "")
+    _save(plt, fig, path)
     return Path(path)
+
+
+def _convergence_note(dataset, mesh_dim: str) -> str:
+    slices = len(list(analysis._slices(dataset, [mesh_dim])))
+    if slices <= MAX_LINES:
+        return f"all {slices} slice(s), every quantity"
+    return f"the first {MAX_LINES} of {slices} slices in axis order, every quantity"
+
+
+def speed_error_note(table) -> str:
+    """Which cases :func:`plot_speed_error` draws (those with a finite, non-zero error)."""
+    if len(table) == 0:
+        return "no finished case"
+    error = table["error"].to_numpy(dtype=float)
+    drawn = int(np.count_nonzero(np.isfinite(error) & (error > 0)))
+    if drawn == len(table):
+        return f"all {drawn} finished cases"
+    return (
+        f"{drawn} of {len(table)} finished cases; the others have no finite non-zero error "
+        "(no closed form, no mesh axis to extrapolate along)"
+    )
 
 
 def plot_speed_error(table, title: str, path: str | Path) -> Path | None:
     """Wall time and peak memory against the error of every case, Pareto front marked.
+
+    Points are coloured by the grid cells of the case when these differ (colour bar in cells);
+    when every case has the same grid the title gives its size instead.
 
     Parameters
     ----------
@@ -206,31 +360,43 @@ def plot_speed_error(table, title: str, path: str | Path) -> Path | None:
     ok = np.isfinite(table["error"].to_numpy(dtype=float)) & (table["error"] > 0)
     if not np.any(ok):
         return None
+    from matplotlib.colors import LogNorm
+
     data = table[ok]
-    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4.2))
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4.2), layout="constrained", dpi=DPI)
     cells = data["cells"].to_numpy(dtype=float)
+    known = cells[cells > 0]
+    varying = len(np.unique(known)) > 1
+    colour = {"c": cells, "cmap": "viridis", "norm": LogNorm(known.min(), known.max())}
     for ax, column, xlabel, xscale in (
         (left, "wall_time", "solve wall time (s)", "log"),
         (right, "peak_rss_mib", "peak resident memory (MiB)", "linear"),
     ):
         x = data[column].to_numpy(dtype=float)
         y = data["error"].to_numpy(dtype=float)
-        scatter = ax.scatter(x, y, c=np.log2(np.maximum(cells, 1)), cmap="viridis", zorder=3)
+        style = colour if varying else {"color": "C0"}
+        scatter = ax.scatter(x, y, zorder=3, **style)
         front = analysis.pareto_front(x, y)
         order = np.argsort(x[front])
         ax.plot(x[front][order], y[front][order], "r-", lw=1.2, label="Pareto front", zorder=2)
         ax.scatter(x[front], y[front], s=90, facecolors="none", edgecolors="r", zorder=4)
         ax.set_xscale(xscale)
         ax.set_yscale("log")
+        if xscale == "log":
+            _log_ticks(ax.xaxis, x)
         ax.set_xlabel(xlabel)
         ax.set_ylabel("largest |relative error| (1)")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-    fig.colorbar(scatter, ax=right, label="log2(cells)")
-    fig.suptitle(f"{title}: speed versus error ({data['error_basis'].iloc[0]})", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    if varying:
+        bar = fig.colorbar(scatter, ax=right, label="grid cells (nx ny [nz])")
+        ticks = _log_tick_values(known)
+        bar.set_ticks(ticks, labels=[f"{t:g}" for t in ticks])
+        bar.minorticks_off()
+    grid = "" if varying or not len(known) else f", every case {int(known[0])} cells"
+    basis = data["error_basis"].iloc[0]
+    _suptitle(fig, f"{title}: speed versus error ({basis}{grid})", speed_error_note(table))
+    _save(plt, fig, path)
     return Path(path)
 
 
@@ -241,11 +407,44 @@ def _cattaneo_shear(r: np.ndarray, mu: float, p0: float, ratio: float) -> np.nda
     return outer - np.where(r < ratio, inner, 0.0)
 
 
-def plot_profiles(dataset, path: str | Path) -> Path | None:
-    """Pressure and shear along y = 0 against r / a, one column per slice of the non-mesh axes.
+def profile_panels(dataset) -> tuple[list, str]:
+    """The panels of :func:`plot_profiles` and a note saying which slices they show.
 
-    Each column shows the cases along the mesh axes (or the single case), with the Hertz
-    pressure and the Cattaneo-Mindlin shear dashed where they apply.
+    Returns
+    -------
+    (list, str)
+        ``(labels, isel, cases)`` per panel (slices of the non-mesh axes with a finished case,
+        at most :data:`MAX_PANELS`; ``cases`` the finished ones along the mesh axes), and the
+        note (e.g. "all 20 cases").
+    """
+    mesh = analysis.mesh_axes(dataset)
+    usable = analysis._usable(dataset)
+    slices = list(analysis._slices(dataset, mesh))
+    missing = len(slices) - int(usable.any(dim=mesh).sum()) if mesh else int((~usable).sum())
+    shown = []
+    for labels, isel in slices:
+        if len(shown) >= MAX_PANELS:
+            break
+        ok = usable.isel(isel)
+        cases = [c for c in analysis._slices(dataset.isel(isel), []) if bool(ok.isel(c[1]))]
+        if cases:
+            shown.append((labels, isel, cases))
+    noun = _slice_noun(dataset, mesh, False)
+    note = _panel_note(len(shown), len(slices), missing, noun)
+    if any(len(cases) > MAX_LINES for _, _, cases in shown):
+        note += f"; the first {MAX_LINES} meshes per panel"
+    return shown, note
+
+
+def plot_profiles(dataset, path: str | Path) -> Path | None:
+    """Pressure and shear along y = 0 against r / a, one panel per slice of the non-mesh axes.
+
+    Each panel shows the finished cases along the mesh axes (or the single case): pressure
+    solid, shear ``q_x`` dashed in the same colour, with the Hertz pressure and the
+    Cattaneo-Mindlin shear as thick grey lines where they apply; one colour per mesh, the same
+    in every panel (legend below the panels).  Panels wrap into at most
+    :data:`MAX_COLUMNS` columns; the title says which slices are shown
+    (:func:`profile_panels`).
 
     Parameters
     ----------
@@ -257,65 +456,136 @@ def plot_profiles(dataset, path: str | Path) -> Path | None:
     Returns
     -------
     Path or None
-        The PNG, or None without matplotlib.
+        The PNG, or None without matplotlib or finished cases.
     """
     plt = _pyplot()
     if plt is None or "pressure_profile" not in dataset:
         return None
+    panels, note = profile_panels(dataset)
+    if not panels:
+        return None
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import MultipleLocator
+
     refs = analysis.closed_forms(analysis.with_derived(dataset))
-    mesh = analysis.mesh_axes(dataset)
-    slices = list(analysis._slices(dataset, mesh))[:MAX_PANELS]
-    fig, axes = plt.subplots(
-        2, len(slices), figsize=(4.0 * len(slices), 6.5), squeeze=False, sharex=True
-    )
+    status = dataset["status"]
+    p_ref = refs["max_pressure"].broadcast_like(status) if "max_pressure" in refs else None
+    c_ref = refs["stick_ratio"].broadcast_like(status) if "stick_ratio" in refs else None
+    mu_all = analysis.friction_coefficient(dataset).broadcast_like(status)
     r = dataset["r_over_a"].values
-    usable = analysis._usable(dataset)
-    mu_all = analysis.friction_coefficient(dataset).broadcast_like(dataset["status"])
-    for column, (labels, isel) in enumerate(slices):
+    # one colour per mesh (the same in every panel), named in the legend below the panels
+    meshes = [label for label, _ in analysis._slices(dataset.isel(panels[0][1]), [])]
+    entries = 4 + (len(meshes) if len(meshes) > 1 else 0)  # legend rows of 6 entries
+    fig, axes, columns = _panel_grid(
+        plt, len(panels), 4.0, 3.0, below=LEGEND_ROW * -(-entries // 6)
+    )
+    grey = {"color": "0.65", "lw": 3.0, "zorder": 1}
+    drawn = {"Hertz p": False, "Cattaneo-Mindlin q_x": False}
+    names = [_label(label) if label else "" for label in meshes]
+    colours = [
+        f"C{j}" if len(meshes) <= 10 else plt.get_cmap("viridis")(j / (len(meshes) - 1))
+        for j in range(len(meshes))
+    ]
+    used = set()
+    for k, (ax, (labels, isel, cases)) in enumerate(zip(axes, panels, strict=True)):
         sub = dataset.isel(isel)
-        sub_ok = usable.isel(isel)
-        cases = list(analysis._slices(sub, []))[:MAX_LINES]
-        for case_labels, case_isel in cases:
-            if not bool(sub_ok.isel(case_isel)):
-                continue
+        for case_labels, case_isel in cases[:MAX_LINES]:
             case = sub.isel(case_isel)
-            name = _label(case_labels) if case_labels else "case"
-            axes[0, column].plot(r, case["pressure_profile"].values / 1e9, label=name)
-            axes[1, column].plot(r, case["shear_x_profile"].values / 1e9, label=name)
-        first = sub.isel(cases[0][1]) if cases else sub
-        index = {**isel, **(cases[0][1] if cases else {})}
-        if "max_pressure" in refs:
-            p0 = float(refs["max_pressure"].broadcast_like(dataset["status"]).isel(index))
-            if np.isfinite(p0):
-                hertz = p0 * np.sqrt(np.clip(1.0 - r**2, 0.0, None))
-                axes[0, column].plot(r, hertz / 1e9, "k--", label="Hertz")
-                ratio = math.nan
-                if "stick_ratio" in refs:
-                    ratio = float(refs["stick_ratio"].broadcast_like(dataset["status"]).isel(index))
-                mu = float(mu_all.isel(index))
-                if np.isfinite(ratio) and mu > 0 and ratio < 1:
-                    shear = _cattaneo_shear(r, mu, p0, ratio)
-                    sign = np.sign(np.nanmean(first["shear_x_profile"].values)) or 1.0
-                    axes[1, column].plot(r, sign * shear / 1e9, "k--", label="Cattaneo-Mindlin")
-        axes[0, column].set_title(_label(labels), fontsize=9)
-        axes[0, column].set_ylabel("pressure p (GPa)")
-        axes[1, column].set_ylabel("shear traction q_x (GPa)")
-        axes[1, column].set_xlabel("r / a (1), along +x at y = 0")
-        for ax in axes[:, column]:
-            ax.grid(True, alpha=0.3)
-            ax.legend(fontsize=6)
-    fig.suptitle(f"{dataset.attrs.get('campaign', '')}: traction profiles")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+            j = names.index(_label(case_labels)) if case_labels else 0
+            used.add(j)
+            colour = colours[j]
+            ax.plot(r, case["pressure_profile"].values / 1e9, "-", color=colour)
+            ax.plot(r, case["shear_x_profile"].values / 1e9, "--", color=colour)
+        index = {**isel, **cases[0][1]}
+        p0 = float(p_ref.isel(index)) if p_ref is not None else math.nan
+        if np.isfinite(p0):
+            ax.plot(r, p0 * np.sqrt(np.clip(1.0 - r**2, 0.0, None)) / 1e9, "-", **grey)
+            drawn["Hertz p"] = True
+            ratio = float(c_ref.isel(index)) if c_ref is not None else math.nan
+            mu = float(mu_all.isel(index))
+            if np.isfinite(ratio) and mu > 0 and ratio < 1:
+                first = sub.isel(cases[0][1])
+                sign = np.sign(np.nanmean(first["shear_x_profile"].values)) or 1.0
+                shear = sign * _cattaneo_shear(r, mu, p0, ratio) / 1e9
+                ax.plot(r, shear, "--", **grey)
+                drawn["Cattaneo-Mindlin q_x"] = True
+        ax.set_title(_title(labels), fontsize=8)
+        ax.set_xlim(0.0, float(r[-1]))
+        ax.xaxis.set_major_locator(MultipleLocator(0.5))
+        ax.set_xlabel("r / a (1)")
+        if k % columns == 0:
+            ax.set_ylabel("traction (GPa)")
+        ax.grid(True, alpha=0.3)
+    styles = [
+        Line2D([], [], color="k", ls="-", label="pressure p"),
+        Line2D([], [], color="k", ls="--", label="shear q_x"),
+    ]
+    styles += [
+        Line2D([], [], ls="-" if name.startswith("Hertz") else "--", label=name, **grey)
+        for name, shown in drawn.items()
+        if shown
+    ]
+    if len(meshes) > 1:
+        styles += [Line2D([], [], color=colours[j], label=names[j]) for j in sorted(used)]
+    columns = min(len(styles), 6)
+    fig.legend(handles=styles, loc="outside lower center", ncols=columns, fontsize=8)
+    _suptitle(
+        fig,
+        f"{dataset.attrs.get('campaign', '')}: traction along y = 0, x >= 0 (r / a: over the "
+        "Hertz semi-axis)",
+        note,
+    )
+    _save(plt, fig, path)
     return Path(path)
+
+
+def stick_slip_panels(dataset, cases_dir: str | Path) -> tuple[list, str]:
+    """The panels of :func:`plot_stick_slip` and a note saying which slices they show.
+
+    Returns
+    -------
+    (list, str)
+        ``(labels, index, file)`` per panel (the finest mesh of each slice of the non-mesh
+        axes whose case finished and has a ``contact_state`` field, at most
+        :data:`MAX_PANELS`) and the note (slices whose finest case did not finish, or has no
+        file or field, count as missing).
+    """
+    import xarray as xr
+
+    mesh = analysis.mesh_axes(dataset)
+    usable = analysis._usable(dataset)
+    slices = list(analysis._slices(dataset, mesh))
+    found, missing = [], 0
+    for labels, isel in slices:
+        index = dict(isel)
+        for dim in mesh:
+            index[dim] = int(np.argmax(analysis.mesh_coordinate(dataset, dim).values))
+        if not bool(usable.isel(index)):
+            missing += 1
+            continue
+        if len(found) >= MAX_PANELS:
+            continue  # finished, not shown (the note says so)
+        file = Path(cases_dir) / f"{dataset['case_id'].isel(index).item()}.nc"
+        has_state = False
+        if file.exists():
+            with xr.open_dataset(file) as case:
+                has_state = "contact_state" in case
+        if has_state:
+            found.append((labels, index, file))
+        else:
+            missing += 1
+    noun = _slice_noun(dataset, mesh, True)
+    why = "without a finished case with a contact-state map"
+    return found, _panel_note(len(found), len(slices), missing, noun, why)
 
 
 def plot_stick_slip(dataset, cases_dir: str | Path, path: str | Path) -> Path | None:
     """Contact-state maps (separated / stick / slip) from the per-case files.
 
-    One panel per slice of the non-mesh axes, on the finest mesh of the slice, at most
-    :data:`MAX_PANELS`; the Hertz radius and the Cattaneo stick radius are drawn as circles.
+    One panel per slice of the non-mesh axes, on the finest mesh of the slice, in at most
+    :data:`MAX_COLUMNS` columns and :data:`MAX_PANELS` panels (the title says which slices are
+    shown, :func:`stick_slip_panels`); the Hertz radius (dashed) and the Cattaneo stick radius
+    (dotted) are drawn as circles.
 
     Parameters
     ----------
@@ -334,36 +604,23 @@ def plot_stick_slip(dataset, cases_dir: str | Path, path: str | Path) -> Path | 
     plt = _pyplot()
     if plt is None:
         return None
-    import xarray as xr
-    from matplotlib.colors import ListedColormap
-
-    refs = analysis.closed_forms(analysis.with_derived(dataset))
-    mesh = analysis.mesh_axes(dataset)
-    usable = analysis._usable(dataset)
-    panels = []
-    for labels, isel in analysis._slices(dataset, mesh):
-        index = dict(isel)
-        for dim in mesh:
-            index[dim] = int(np.argmax(analysis.mesh_coordinate(dataset, dim).values))
-        if not bool(usable.isel(index)):
-            continue
-        file = Path(cases_dir) / f"{dataset['case_id'].isel(index).item()}.nc"
-        if file.exists():
-            panels.append((labels, index, file))
-        if len(panels) >= MAX_PANELS:
-            break
+    panels, note = stick_slip_panels(dataset, cases_dir)
     if not panels:
         return None
-    columns = min(4, len(panels))
-    rows = math.ceil(len(panels) / columns)
-    fig, axes = plt.subplots(rows, columns, figsize=(3.6 * columns, 3.4 * rows), squeeze=False)
+    import xarray as xr
+    from matplotlib.colors import ListedColormap
+    from matplotlib.ticker import MultipleLocator
+
+    refs = analysis.closed_forms(analysis.with_derived(dataset))
+    c_ref = None
+    if "stick_ratio" in refs:
+        c_ref = refs["stick_ratio"].broadcast_like(dataset["status"])
+    mesh = analysis.mesh_axes(dataset)
+    fig, axes, columns = _panel_grid(plt, len(panels), 3.0, 3.0, extra=1.0)
     cmap = ListedColormap(["#eeeeee", "#2b83ba", "#fdae61"])
-    drawn = 0
-    for ax, (labels, index, file) in zip(axes.ravel(), panels, strict=False):
+    t = np.linspace(0, 2 * np.pi, 200)
+    for k, (ax, (labels, index, file)) in enumerate(zip(axes, panels, strict=True)):
         with xr.open_dataset(file) as case:
-            if "contact_state" not in case:
-                ax.set_visible(False)
-                continue
             a = float(case.attrs.get("hertz_semi_axis_x", case.attrs.get("hertz_radius", 1.0)))
             x, y = case["x"].values / a, case["y"].values / a
             state = case["contact_state"].values
@@ -378,28 +635,27 @@ def plot_stick_slip(dataset, cases_dir: str | Path, path: str | Path) -> Path | 
             vmax=2.5,
             interpolation="nearest",
         )
-        drawn += 1
-        t = np.linspace(0, 2 * np.pi, 200)
-        ax.plot(np.cos(t), np.sin(t), "k--", lw=0.8, label="Hertz a")
-        if "stick_ratio" in refs:
-            ratio = float(refs["stick_ratio"].broadcast_like(dataset["status"]).isel(index))
-            if np.isfinite(ratio) and ratio < 1:
-                ax.plot(ratio * np.cos(t), ratio * np.sin(t), "k:", lw=1.0, label="Cattaneo c")
-        n_label = ", ".join(f"{d}={_fmt(dataset[d].values[index[d]])}" for d in mesh)
-        ax.set_title(", ".join(filter(None, [_label(labels), n_label])), fontsize=8)
+        ax.plot(np.cos(t), np.sin(t), "k--", lw=0.8)
+        ratio = float(c_ref.isel(index)) if c_ref is not None else math.nan
+        if np.isfinite(ratio) and ratio < 1:
+            ax.plot(ratio * np.cos(t), ratio * np.sin(t), "k:", lw=1.2)
+        n_label = {d: dataset[d].values[index[d]] for d in mesh}
+        ax.set_title(_title({**labels, **n_label}), fontsize=8)
+        ax.xaxis.set_major_locator(MultipleLocator(1.0))
+        ax.yaxis.set_major_locator(MultipleLocator(1.0))
         ax.set_xlabel("x / a (1)")
-        ax.set_ylabel("y / a (1)")
-        ax.legend(fontsize=6, loc="upper right")
-    for ax in axes.ravel()[len(panels) :]:
-        ax.set_visible(False)
-    if not drawn:
-        plt.close(fig)
-        return None
-    bar = fig.colorbar(image, ax=list(axes.ravel()), ticks=[0, 1, 2], shrink=0.8)
+        if k % columns == 0:
+            ax.set_ylabel("y / a (1)")
+    rows = math.ceil(len(axes) / columns)
+    bar = fig.colorbar(image, ax=axes, ticks=[0, 1, 2], shrink=min(0.9, 1.8 / rows))
     bar.ax.set_yticklabels(_STATE_NAMES)
-    fig.suptitle(f"{dataset.attrs.get('campaign', '')}: contact state (finest mesh)")
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _suptitle(
+        fig,
+        f"{dataset.attrs.get('campaign', '')}: contact state{' (finest mesh)' if mesh else ''}",
+        "dashed circle: Hertz radius a; dotted: Cattaneo-Mindlin stick radius c",
+        note,
+    )
+    _save(plt, fig, path)
     return Path(path)
 
 
@@ -473,7 +729,7 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
     lines.append("- quantities: " + ", ".join(f"{q} ({_units(dataset, q)})" for q in names))
     lines.append("")
 
-    figures: list[tuple[str, Path]] = []
+    figures: list[tuple[str, Path, str]] = []
     plt = _pyplot() if plots else None
     if plots and plt is None:
         lines += ["_matplotlib is not installed: no figures (pip install slipstick[plot])._", ""]
@@ -500,7 +756,8 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
         if plt is not None:
             png = plot_convergence(dataset, dim, out / f"{name}_convergence_{dim}.png")
             if png:
-                figures.append((f"Mesh convergence along {dim}", png))
+                note = _convergence_note(dataset, dim)
+                figures.append((f"Mesh convergence along {dim}", png, note))
                 lines += [f"![convergence along {dim}]({png.name})", ""]
 
     sensitivity = analysis.sensitivity_axes(dataset)
@@ -531,19 +788,24 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
     if plt is not None:
         png = plot_speed_error(speed, name, out / f"{name}_speed_error.png")
         if png:
-            figures.append(("Speed versus error", png))
-            lines += [f"![speed versus error]({png.name})", ""]
+            note = speed_error_note(speed)
+            figures.append(("Speed versus error", png, note))
+            lines += [f"![speed versus error]({png.name})", "", f"Shown: {note}.", ""]
         png = plot_profiles(dataset, out / f"{name}_profiles.png")
         if png:
-            figures.append(("Traction profiles", png))
-            lines += ["## Profiles", "", f"![profiles]({png.name})", ""]
-        png = plot_stick_slip(dataset, storage.cases_dir(out), out / f"{name}_stick_slip.png")
+            note = profile_panels(dataset)[1]
+            figures.append(("Traction profiles", png, note))
+            lines += ["## Profiles", "", f"![profiles]({png.name})", "", f"Shown: {note}.", ""]
+        cases = storage.cases_dir(out)
+        png = plot_stick_slip(dataset, cases, out / f"{name}_stick_slip.png")
         if png:
-            figures.append(("Stick/slip maps", png))
+            note = stick_slip_panels(dataset, cases)[1]
+            figures.append(("Stick/slip maps", png, note))
             lines += ["## Stick and slip", "", f"![stick and slip]({png.name})", ""]
+            lines += [f"Shown: {note}.", ""]
     if figures:
         lines += ["## Figures", ""]
-        lines += [f"- {title}: `{png.name}`" for title, png in figures]
+        lines += [f"- {title}: `{png.name}` ({note})" for title, png, note in figures]
         lines.append("")
     report = out / "report.md"
     storage.atomic_write_text(report, "\n".join(lines))

@@ -1,13 +1,14 @@
 """Analysis and report of campaign datasets (study.analysis, study.report)."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
 
 from study import analysis, report
-from study.assemble import assemble_to_file
+from study.assemble import _grid_cells, assemble_to_file
 from study.campaign import expand_campaign
 from study.driver import run_campaign
 
@@ -139,6 +140,36 @@ CATTANEO = {
 }
 
 
+#: 5 fast normal-contact cases on one 24^2 grid (no mesh axis), mu = 0 ... 0.4, beta = 0:
+#: full stick wherever mu > 0.  The quickstart's axis names.
+FIVE = {
+    "campaign": {"name": "five"},
+    "base": {
+        "body1": {"behaviour": "elastic", "radius": 0.01, "E": 210e9, "nu": 0.3},
+        "body2": {"behaviour": "elastic", "radius": "inf", "E": 210e9, "nu": 0.3},
+        "load": {"hertz_pressure": 1e9, "steps": 1},
+        "grid": {"n": 24, "half_width": 1.5},
+    },
+    "sweep": {
+        "friction.coefficient": [0.0, 0.1, 0.2, 0.3, 0.4],
+        "materials.dundurs_beta": [0.0],  # long panel titles, as in the quickstart
+    },
+    "alias": {
+        "friction.coefficient": "friction_coefficient",
+        "materials.dundurs_beta": "dundurs_beta",
+    },
+}
+
+
+@pytest.fixture(scope="module")
+def five_out(tmp_path_factory):
+    out = tmp_path_factory.mktemp("five") / "out"
+    campaign = expand_campaign(FIVE, name="five")
+    assert run_campaign(campaign, out).exit_status == 0
+    assemble_to_file(out, campaign)
+    return out
+
+
 @pytest.fixture(scope="module")
 def campaign_out(tmp_path_factory):
     out = tmp_path_factory.mktemp("analysis") / "out"
@@ -179,29 +210,200 @@ def _png_size(path):
     return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
 
 
-def test_report_plots(campaign_out):
+def _figures(monkeypatch):
+    """Capture every matplotlib figure the report saves (still written to its file)."""
+    from matplotlib.figure import Figure
+
+    figures = {}
+    original = Figure.savefig
+
+    def savefig(self, path, *args, **kwargs):
+        done = original(self, path, *args, **kwargs)
+        self.problems = _layout_problems(self)  # with the renderer that drew the PNG
+        figures[Path(path).name] = self
+        return done
+
+    monkeypatch.setattr(Figure, "savefig", savefig)
+    return figures
+
+
+def _panels(figure):
+    """The visible data panels of a figure (no colour bar), as (columns, rows) used."""
+    axes = [ax for ax in figure.axes if ax.get_visible() and ax.get_label() != "<colorbar>"]
+    columns = {round(ax.get_position().x0, 3) for ax in axes}
+    rows = {round(ax.get_position().y0, 3) for ax in axes}
+    return axes, len(columns), len(rows)
+
+
+def _layout_problems(figure):
+    """What makes a drawn figure hard to read: overlapping or clipped texts, unlabelled axes.
+
+    Texts are the titles, axis labels and drawn tick labels; every data panel needs at least
+    two labelled ticks on each axis.
+    """
+    from matplotlib.legend import Legend
+
+    renderer = figure.canvas.get_renderer()
+    boxes = [(t.get_text(), t.get_window_extent(renderer)) for t in _labels(figure)]
+    boxes = [(text, box) for text, box in boxes if text]
+    legends = list(figure.legends) + [
+        child for ax in figure.axes for child in ax.get_children() if isinstance(child, Legend)
+    ]
+    boxes += [("legend", legend.get_window_extent(renderer)) for legend in legends]
+    page = figure.bbox
+    problems = [
+        ("overlap", a, b)
+        for i, (a, box_a) in enumerate(boxes)
+        for b, box_b in boxes[i + 1 :]
+        if box_a.overlaps(box_b)
+    ]
+    problems += [
+        ("clipped", text)
+        for text, box in boxes
+        if box.x0 < page.x0 - 1
+        or box.x1 > page.x1 + 1
+        or box.y0 < page.y0 - 1
+        or box.y1 > page.y1 + 1
+    ]
+    for ax in _panels(figure)[0]:
+        for axis in (ax.xaxis, ax.yaxis):
+            labelled = [
+                t for t in axis._update_ticks() if t.label1.get_visible() and t.label1.get_text()
+            ]
+            if len(labelled) < 2:
+                problems.append(("ticks", ax.get_title(), axis.axis_name, len(labelled)))
+    return problems
+
+
+def _labels(figure):
+    """Every title, axis label and visible tick label of a figure's panels."""
+    texts = [figure._suptitle] if figure._suptitle else []
+    for ax in figure.axes:
+        if not ax.get_visible():
+            continue
+        texts += [ax.title, ax.xaxis.label, ax.yaxis.label]
+        for axis in (ax.xaxis, ax.yaxis):  # the ticks drawn (major and minor, in view)
+            texts += [tick.label1 for tick in axis._update_ticks() if tick.label1.get_visible()]
+    return texts
+
+
+def test_report_plots(campaign_out, monkeypatch):
     pytest.importorskip("matplotlib")
     import matplotlib.image
 
+    figures = _figures(monkeypatch)
     assert report.main([str(campaign_out)]) == 0
     dataset = xr.open_dataset(campaign_out / "tiny_cattaneo.nc")
+    text = (campaign_out / "report.md").read_text()
     # panels: one per quantity (convergence), one per tangential force (profiles and the
-    # stick/slip maps of the finest mesh, 4 columns at most); pixels = figsize (in) x 110 dpi
+    # stick/slip maps of the finest mesh); at most 4 columns; pixels = figsize (in) x 110 dpi
     quantities = len(analysis.quantities(analysis.with_derived(dataset)))
     forces = dataset.sizes["tangential_force"]
-    expected = {
-        "convergence_grid_n": (4.2 * quantities, 4.0),
-        "speed_error": (10, 4.2),
-        "profiles": (4.0 * forces, 6.5),
-        "stick_slip": (3.6 * min(4, forces), 3.4 * -(-forces // 4)),
-    }
     assert quantities >= 3 and forces == 2
-    for suffix, (width, height) in expected.items():
+    title = report.TITLE_HEIGHT
+    columns = min(4, quantities)
+    expected = {
+        "convergence_grid_n": (4.2 * columns, 3.6 * -(-quantities // 4) + title, quantities),
+        "speed_error": (10, 4.2, 2),
+        "profiles": (4.0 * forces, 3.0 + title + 2 * report.LEGEND_ROW, forces),  # 7 entries
+        "stick_slip": (3.0 * forces + 1.0, 3.0 + title, forces),
+    }
+    for suffix, (width, height, panels) in expected.items():
         png = campaign_out / f"tiny_cattaneo_{suffix}.png"
         assert _png_size(png) == (round(width * 110), round(height * 110)), suffix
         pixels = matplotlib.image.imread(png)[..., :3]
         assert pixels.std() > 0.05, suffix  # something is drawn, not a blank canvas
-        assert f"({png.name})" in (campaign_out / "report.md").read_text()
+        assert f"({png.name})" in text
+        figure = figures[png.name]
+        assert len(_panels(figure)[0]) == panels, suffix
+        assert _panels(figure)[1] <= 4, suffix
+        assert not figure.problems, suffix
+    # which panels are shown is said in the figure and in report.md
+    for suffix in ("profiles", "stick_slip"):
+        assert (
+            "all 2 slices over tangential_force"
+            in figures[f"tiny_cattaneo_{suffix}.png"]._suptitle.get_text()
+        )
+    assert text.count("Shown: all 2 slices over tangential_force") == 2
+    assert "Shown: all 6 finished cases." in text
+    # the colour bar of the speed-error figure spans the cells of the cases (16^2 ... 28^2)
+    speed = figures["tiny_cattaneo_speed_error.png"]
+    (bar,) = [ax for ax in speed.axes if ax.get_label() == "<colorbar>"]
+    assert sorted(bar.get_ylim()) == pytest.approx([16**2, 28**2])
+
+
+def test_figures_wrap_into_four_columns_and_say_what_they_show(five_out, monkeypatch):
+    """20-ish panels wrap into at most 4 columns; a panel limit is stated, not silent."""
+    pytest.importorskip("matplotlib")
+    figures = _figures(monkeypatch)
+    assert report.main([str(five_out)]) == 0
+    text = (five_out / "report.md").read_text()
+    for suffix in ("profiles", "stick_slip"):
+        figure = figures[f"five_{suffix}.png"]
+        panels, columns, rows = _panels(figure)
+        assert (len(panels), columns, rows) == (5, 4, 2), suffix
+        assert "all 5 cases" in figure._suptitle.get_text()
+        assert not figure.problems, suffix
+    assert text.count("Shown: all 5 cases.") == 2
+    # one grid for every case: no colour bar of a constant, the grid size in the title
+    speed = figures["five_speed_error.png"]
+    assert [ax.get_label() for ax in speed.axes].count("<colorbar>") == 0
+    assert "every case 576 cells" in speed._suptitle.get_text()
+    # the closed forms apply to mu = 0 and to the full stick of beta = 0: all 5 cases drawn
+    assert "all 5 finished cases" in speed._suptitle.get_text()
+
+    monkeypatch.setattr(report, "MAX_PANELS", 3)
+    figures.clear()
+    assert report.main([str(five_out)]) == 0
+    text = (five_out / "report.md").read_text()
+    for suffix in ("profiles", "stick_slip"):
+        figure = figures[f"five_{suffix}.png"]
+        assert len(_panels(figure)[0]) == 3
+        note = "3 of 5 cases (only the first 3 in axis order: 3 panels at most)"
+        assert note in figure._suptitle.get_text(), suffix
+        assert f"Shown: {note}." in text
+
+
+def test_speed_error_cells_from_the_case_spec(campaign_out, five_out):
+    dataset = xr.open_dataset(campaign_out / "tiny_cattaneo.nc")
+    assert dataset["grid_cells"].sel(grid_n=20).values.tolist() == [400, 400]
+    speed = analysis.speed_error_table(dataset)
+    assert (speed["cells"] == speed["grid_n"] ** 2).all()
+    # no mesh axis: the cells still come from the spec (was -1 in every row)
+    five = analysis.speed_error_table(xr.open_dataset(five_out / "five.nc"))
+    assert (five["cells"] == 24 * 24).all()
+    # datasets assembled before grid_cells existed: from grid.n (swept, or base n / [nx, ny, nz])
+    assert analysis.cell_counts(dataset.drop_vars("grid_cells")).sel(grid_n=28).values.tolist() == [
+        784,
+        784,
+    ]
+    old = xr.open_dataset(five_out / "five.nc").drop_vars("grid_cells")
+    assert (analysis.cell_counts(old) == 576).all()
+    old.attrs["campaign_base"] = json.dumps({"grid": {"n": [16, 12, 8]}})
+    assert (analysis.cell_counts(old) == 16 * 12 * 8).all()
+    old.attrs["campaign_base"] = json.dumps({"grid": {"n": 16, "nz": 8}})
+    assert (analysis.cell_counts(old) == 16 * 16 * 8).all()
+    # volume grids count their layers
+    assert _grid_cells({"grid": {"n": [16, 12, 8], "half_width": 1.5}}) == 16 * 12 * 8
+    assert _grid_cells({"grid": {"n": [16, 16], "half_width": 1.5}}) == 256
+
+
+def test_stick_ratio_never_exceeds_one(five_out):
+    """Full stick: the stick zone (counted in cells) is the contact zone, which overshoots a_H."""
+    dataset = xr.open_dataset(five_out / "five.nc")
+    raw = (dataset.stick_radius / dataset.hertz_radius).sel(friction_coefficient=slice(0.1, None))
+    assert (raw > 1.001).all()  # the counted contact radius at 24^2: 1.017 a_H
+    ratio = analysis.with_derived(dataset)["stick_ratio"]
+    assert np.isnan(ratio.sel(friction_coefficient=0.0))
+    np.testing.assert_array_equal(ratio.sel(friction_coefficient=slice(0.1, None)), 1.0)
+    speed = analysis.speed_error_table(dataset)
+    assert (speed["err_stick_ratio"].dropna() == 0).all()
+    # partial slip below 1 is left alone
+    synthetic = synthetic_dataset()
+    synthetic["stick_radius"][:] = 1e-4 * np.array([0.5, 0.999, 1.0048])
+    derived = analysis.with_derived(synthetic)["stick_ratio"]
+    np.testing.assert_allclose(derived.isel(grid_n=0), [0.5, 0.999, 1.0])
+    assert float(derived.max()) == 1.0
 
 
 def test_report_subcommand_parser():

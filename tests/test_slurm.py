@@ -4,14 +4,17 @@ Debian's ``slurm-wlm`` and ``munge`` are installed with apt-get when missing (ro
 is skipped otherwise) and started on 127.0.0.1 with 2 CPUs (:mod:`slurm_cluster`).  Then:
 
 - a small campaign through ``slurm/campaign.sbatch`` on 2 ranks (srun --mpi=pmi2);
-- a campaign whose first job hits its (1 minute) time limit with cases pending, resubmitted: the
-  second job finishes it without recomputing a finished case, and the dataset equals an
-  uninterrupted run;
+- a campaign whose first job reaches its (1 minute) time limit with cases pending, resubmitted:
+  the second job finishes it without recomputing a finished case, and the dataset equals an
+  uninterrupted run.  The first job's cases take a known 8 s (the ``SLIPSTICK_TEST_CASE_SECONDS``
+  hook of ``study.cli``) and its reserve leaves a 16 s window, so exactly the first wave (one
+  case per rank) runs, on any machine; the other cases take ~0.4 s;
 - the same small campaign as a 3-task job array with a dependent merge/assemble job
   (``slurm/submit.sh --slices 3``).
 
-About 1-2 minutes.  Run with ``python -m pytest -m slurm tests/test_slurm.py`` (without
-``-m slurm`` or SLIPSTICK_SLURM_TESTS=1 the cluster tests are skipped: they may install packages).
+47 s on 2 cores (README, section Slurm).  Run with ``python -m pytest -m slurm
+tests/test_slurm.py`` (without ``-m slurm`` or SLIPSTICK_SLURM_TESTS=1 the cluster tests are
+skipped: they may install packages).
 """
 
 from __future__ import annotations
@@ -37,8 +40,8 @@ REPO = Path(__file__).resolve().parents[1]
 SBATCH = REPO / "slurm" / "campaign.sbatch"
 SUBMIT = REPO / "slurm" / "submit.sh"
 
-#: 12 coupled slip-stick cases (friction with beta != 0), about 5 s each on one core here, so
-#: that 2 ranks need ~30 s, well beyond the ~8 s window of the time-limit test.
+#: 12 coupled slip-stick cases (friction with beta != 0) of equal estimated cost, ~0.4 s each
+#: on one core (16^2 cells, 20 steps).
 SLOW_CAMPAIGN = """
 [campaign]
 name = "slow"
@@ -61,7 +64,7 @@ hertz_pressure = 1.5e9
 steps = 20
 
 [base.grid]
-n = 64
+n = 16
 half_width = 1.5
 
 [sweep]
@@ -215,11 +218,14 @@ def test_time_limit_then_resubmit(cluster, job_env, tmp_path):
     campaign = study_fixtures.write(tmp_path, SLOW_CAMPAIGN, "slow.toml")
     out = tmp_path / "out"
     first_log = tmp_path / "first-%j.out"
-    # --time=1 (60 s) and a 52 s reserve leave a window of ~8 s: the first wave of cases
-    # (one per rank) always starts, later ones only when predicted to end in the window.
+    # Job 1: Slurm's time limit --time=1 (60 s, the job's real end time) less a 44 s reserve
+    # leaves a 16 s window, and every case takes 8 s (test hook).  The first wave (one case per
+    # rank) starts when the run is up within the window; when it ends, >= 8 s of it are gone and
+    # the next case is predicted to take 1.25 x 8 = 10 s > 16 - 8 s left: none starts, exit 3.
     first = cluster.sbatch(
         "--ntasks=2", "--time=1", f"--output={first_log}", str(SBATCH), str(campaign), str(out),
-        cwd=REPO, env={**job_env, "SLIPSTICK_TIME_RESERVE": "52"},
+        cwd=REPO,
+        env={**job_env, "SLIPSTICK_TIME_RESERVE": "44", "SLIPSTICK_TEST_CASE_SECONDS": "8"},
     )  # fmt: skip
     first_log = Path(str(first_log).replace("%j", first))
     state = cluster.wait(first, 240)
@@ -228,9 +234,11 @@ def test_time_limit_then_resubmit(cluster, job_env, tmp_path):
     # exit status 3: stopped by the time limit with cases pending (not killed by Slurm)
     assert state == "FAILED" and info.get("ExitCode") == "3:0", _job_log(cluster, first_log)
     assert "time limit: cases pending" in text
+    run_log = (out / "logs" / f"{first}.0.log").read_text()
+    assert "too little for the 10 remaining case(s)" in run_log, run_log[-3000:]
     assert not list(out.glob("**/*.tmp*")), "a temporary file was left behind"
     before = _case_files(out)
-    assert 1 <= len(before) < 12, f"{len(before)} cases finished by job 1"
+    assert len(before) == 2, f"{len(before)} cases finished by job 1 (one per rank expected)"
     status = _status(out)
     assert f"{len(before)}/12 finished" in status.stdout, status.stdout
     assert f"{12 - len(before)} pending" in status.stdout, status.stdout

@@ -6,6 +6,7 @@ from study_fixtures import write
 
 import solver
 from solver.reference import hertz_yield_depth
+from study.analysis import speed_error_table
 from study.assemble import Z_OVER_A, assemble
 from study.campaign import load_campaign
 from study.driver import RunOptions, run_campaign
@@ -63,5 +64,8 @@ def test_plastic_campaign_assembles_scalars_histories_and_axis_profile(tmp_path)
     assert case.grid.depth >= 1.2 * hertz_yield_depth(5e9, 1.3579e9, 0.3) - 1e-12
     assert np.isnan(profile.sel(z_over_a=3.9, method="nearest"))
     assert ds.max_plastic_strain.attrs["units"] == "1"
+    # the volume grid's layers count in the cells of the report's speed-versus-error table
+    assert (ds.grid_cells == 20 * 20 * 20).all()
+    assert (speed_error_table(ds)["cells"] == 8000).all()
     with pytest.raises(KeyError):
         ds["tangential_force_x"]  # no slip-stick history in this campaign
