@@ -98,6 +98,9 @@ RESERVED_NAMES = frozenset(
     }
     | set(reduced_scalars())
 )
+#: Largest case timeout (s, about 116 days): ``signal.setitimer`` overflows on huge values, and
+#: ``inf`` is refused rather than read as "none" (leave the setting out for no timeout).
+MAX_CASE_TIMEOUT = 1e7
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _CAMPAIGN_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]*$")
 
@@ -542,8 +545,6 @@ def _parse_settings(raw: Any, default_name: str) -> Settings:
     if not isinstance(description, str):
         raise CampaignError("campaign.description: must be a string")
     timeout = raw.get("case_timeout")
-    from .driver import MAX_CASE_TIMEOUT  # setitimer's range; inf is refused, not "none"
-
     if timeout is not None and (not _is_number(timeout) or not 0 < timeout <= MAX_CASE_TIMEOUT):
         raise CampaignError(
             f"campaign.case_timeout: must be a number of seconds in (0, {MAX_CASE_TIMEOUT:g}] "

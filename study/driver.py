@@ -43,17 +43,13 @@ import numpy as np
 import solver
 
 from . import storage
-from .campaign import Campaign, CampaignCase, CampaignError
+from .campaign import MAX_CASE_TIMEOUT, Campaign, CampaignCase, CampaignError
 from .progress import LOGGER_NAME, Progress, format_duration
 
 _REQUEST, _TASK = 71, 72
 
 #: Exit status of a run that stopped at its time limit with cases left (re-run to resume).
 EXIT_INCOMPLETE = 3
-
-#: Largest case timeout (s, about 116 days): ``signal.setitimer`` overflows on huge values, and
-#: ``inf`` is refused rather than read as "none" (leave the setting out for no timeout).
-MAX_CASE_TIMEOUT = 1e7
 
 
 class NonFiniteResult(RuntimeError):
