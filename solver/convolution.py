@@ -1,13 +1,14 @@
 """DC-FFT surface operators: non-periodic convolution of cell tractions with the influence kernels.
 
 Discrete convolution–FFT (Liu, Wang & Liu 2000): a field on the (nx, ny) grid is zero-padded to
-(2nx, 2ny), the kernel is laid out in wrap-around order on the same padded grid
+(Lx, Ly), the smallest 7-smooth lengths >= (2nx - 1, 2ny - 1) (:func:`solver.grid.fft_length`),
+the kernel is laid out in wrap-around order on the same padded grid
 (:meth:`solver.grid.SurfaceGrid.offsets`), and the cyclic convolution of the padded arrays, cut
 back to (nx, ny), equals the linear (aperiodic) sum ``u_i = sum_j K(x_i - x_j) f_j`` exactly up to
 round-off.
 
 FFT normalisation: the forward real transform is unnormalised; the inverse is FFTW's
-unnormalised backward transform, so the factor 1/(4 nx ny) is folded into the stored kernel
+unnormalised backward transform, so the factor 1/(Lx Ly) is folded into the stored kernel
 spectra once.  Kernel spectra and pyfftw plans are built once per operator and reused across
 iterations, load steps and cases of the same grid and materials (:func:`surface_operator`).
 """
@@ -19,7 +20,7 @@ import functools
 import numpy as np
 import pyfftw
 
-from .grid import SurfaceGrid
+from .grid import SurfaceGrid, fft_length
 from .influence import surface_kernels
 from .materials import Pair
 
@@ -51,10 +52,11 @@ class SurfaceOperator:
     ):
         self.grid = grid
         self.pair = pair
-        nx, ny = grid.shape
-        self._padded = pyfftw.empty_aligned((2 * nx, 2 * ny), dtype="float64")
-        self._spectrum = pyfftw.empty_aligned((2 * nx, ny + 1), dtype="complex128")
-        self._output = pyfftw.empty_aligned((2 * nx, 2 * ny), dtype="float64")
+        self.lengths = self.padded_lengths(grid)
+        lx, ly = self.lengths
+        self._padded = pyfftw.empty_aligned((lx, ly), dtype="float64")
+        self._spectrum = pyfftw.empty_aligned((lx, ly // 2 + 1), dtype="complex128")
+        self._output = pyfftw.empty_aligned((lx, ly), dtype="float64")
         self._padded[...] = 0.0
         flags = (planner,)
         self._forward = pyfftw.FFTW(
@@ -71,14 +73,17 @@ class SurfaceOperator:
         self._padded[...] = 0.0
         self._kernels: dict[str, np.ndarray] = {}
         self._precondition = None
+        self._pair = None
+        self._tangential_precondition = None
+        self._diagonal = None
         self._planner = planner
 
     def kernel_spectrum(self, name: str) -> np.ndarray:
         """Normalised spectrum of kernel block ``name`` (:data:`solver.influence.COMPONENTS`)."""
         if name not in self._kernels:
-            ox, oy = self.grid.offsets()
+            ox, oy = self.grid.offsets(self.lengths)
             kernels = surface_kernels(self.pair, ox, oy, self.grid.dx, self.grid.dy)
-            scale = 1.0 / (4 * self.grid.nx * self.grid.ny)
+            scale = 1.0 / (self.lengths[0] * self.lengths[1])
             wanted = ("zz",) if name == "zz" else tuple(k for k in kernels if k != "zz")
             for key in wanted:
                 self._kernels[key] = self._transform(kernels[key]) * scale
@@ -141,6 +146,52 @@ class SurfaceOperator:
         backward.execute()
         return real.copy()
 
+    def inverse_tangential(
+        self, displacement_x: np.ndarray, displacement_y: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Approximate inverse of :meth:`tangential` (a preconditioner): shear (Pa) from u_t (m).
+
+        The periodic symbol of the pair's tangential block is
+        ``(2/|k|) [(A + S) I - S k k^T/k^2]`` (Cerruti; ``A`` the pair's compliance, ``S`` its
+        shear coupling, so that along ``k`` it is Boussinesq's ``2A/|k|``); its inverse
+        ``(|k|/2) [k k^T/(k^2 A) + (I - k k^T/k^2)/(A + S)]`` is applied with periodic FFTs on
+        the unpadded grid.
+        """
+        if self._tangential_precondition is None:
+            nx, ny = self.grid.shape
+            real = pyfftw.empty_aligned((2, nx, ny), dtype="float64")
+            spectrum = pyfftw.empty_aligned((2, nx, ny // 2 + 1), dtype="complex128")
+            work = pyfftw.empty_aligned((nx, ny // 2 + 1), dtype="complex128")
+            forward = pyfftw.FFTW(real, spectrum, axes=(1, 2), flags=(self._planner,))
+            backward = pyfftw.FFTW(
+                spectrum, real, axes=(1, 2), direction="FFTW_BACKWARD",
+                flags=(self._planner, "FFTW_DESTROY_INPUT"),
+            )  # fmt: skip
+            kx = 2 * np.pi * np.fft.fftfreq(nx, self.grid.dx)[:, None]
+            ky = 2 * np.pi * np.fft.rfftfreq(ny, self.grid.dy)[None, :]
+            k2 = kx * kx + ky * ky
+            k = np.sqrt(k2)
+            along = 1.0 / self.pair.compliance
+            across = 1.0 / (self.pair.compliance + self.pair.shear_coupling)
+            ratio = np.divide(1.0, k2, out=np.zeros_like(k2), where=k2 > 0)
+            scale = 0.5 * k / (nx * ny)  # FFTW's backward transform is unnormalised
+            cxx = scale * (across + (along - across) * kx * kx * ratio)
+            cyy = scale * (across + (along - across) * ky * ky * ratio)
+            cxy = scale * (along - across) * kx * ky * ratio
+            self._tangential_precondition = (real, spectrum, work, forward, backward, cxx, cyy, cxy)
+        real, spectrum, work, forward, backward, cxx, cyy, cxy = self._tangential_precondition
+        real[0] = displacement_x
+        real[1] = displacement_y
+        forward.execute()
+        sx, sy = spectrum
+        np.multiply(cxy, sx, out=work)
+        sx *= cxx
+        sx += cxy * sy
+        sy *= cyy
+        sy += work
+        backward.execute()
+        return real[0].copy(), real[1].copy()
+
     def normal(self, pressure: np.ndarray) -> np.ndarray:
         """u_z (m) from pressure ``p`` (Pa)."""
         return self.apply("zz", pressure)
@@ -159,11 +210,40 @@ class SurfaceOperator:
         return ux, uy, uz
 
     def tangential(self, shear_x: np.ndarray, shear_y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(u_x, u_y) (m) from shear tractions (q_x, q_y) (Pa), the tangential block only."""
-        sx, sy = self.spectrum(shear_x), self.spectrum(shear_y)
+        """(u_x, u_y) (m) from shear tractions (q_x, q_y) (Pa), the tangential block only.
+
+        The slip-stick loop's inner operator: both components go through one batched transform
+        pair on preallocated buffers, and the 2x2 spectral product is formed in place.
+        """
+        if self._pair is None:
+            lx, ly = self.lengths
+            padded = pyfftw.empty_aligned((2, lx, ly), dtype="float64")
+            spectrum = pyfftw.empty_aligned((2, lx, ly // 2 + 1), dtype="complex128")
+            work = pyfftw.empty_aligned((2, lx, ly // 2 + 1), dtype="complex128")
+            padded[...] = 0.0
+            flags = (self._planner,)
+            forward = pyfftw.FFTW(padded, spectrum, axes=(1, 2), flags=flags)
+            backward = pyfftw.FFTW(
+                spectrum, padded, axes=(1, 2), direction="FFTW_BACKWARD",
+                flags=(*flags, "FFTW_DESTROY_INPUT"),
+            )  # fmt: skip
+            self._pair = (padded, spectrum, work, forward, backward)
+        padded, spectrum, work, forward, backward = self._pair
         k = self.kernel_spectrum
-        kxy = k("xy")
-        return self.inverse(k("xx") * sx + kxy * sy), self.inverse(kxy * sx + k("yy") * sy)
+        nx, ny = self.grid.shape
+        padded[...] = 0.0
+        padded[0, :nx, :ny] = shear_x
+        padded[1, :nx, :ny] = shear_y
+        forward.execute()
+        sx, sy = spectrum
+        np.multiply(k("xy"), sy, out=work[0])
+        np.multiply(k("xy"), sx, out=work[1])
+        sx *= k("xx")
+        sx += work[0]
+        sy *= k("yy")
+        sy += work[1]
+        backward.execute()
+        return padded[0, :nx, :ny].copy(), padded[1, :nx, :ny].copy()
 
     def normal_from_shear(self, shear_x: np.ndarray, shear_y: np.ndarray) -> np.ndarray:
         """u_z (m) from shear tractions (Pa): the beta coupling term."""
@@ -178,21 +258,38 @@ class SurfaceOperator:
             self.kernel_spectrum("yp") * sp
         )
 
+    def tangential_diagonal(self) -> float:
+        """Self-compliance (m/Pa) of a cell: u_x at a cell per unit q_x on it (larger of x, y)."""
+        if self._diagonal is None:
+            nx, ny = self.grid.shape
+            unit = np.zeros(self.grid.shape)
+            unit[nx // 2, ny // 2] = 1.0
+            xx = self.tangential(unit, np.zeros_like(unit))[0][nx // 2, ny // 2]
+            yy = self.tangential(np.zeros_like(unit), unit)[1][nx // 2, ny // 2]
+            self._diagonal = float(max(xx, yy))
+        return self._diagonal
+
     def tangential_norm(self) -> float:
         """Largest eigenvalue (m/Pa) of the circulant tangential block, >= that of K_t."""
         k = self.kernel_spectrum
         a, b, d = k("xx"), k("xy"), k("yy")
         half = 0.5 * (a.real + d.real)
         radius = np.sqrt((0.5 * (a.real - d.real)) ** 2 + np.abs(b) ** 2)
-        return float((np.abs(half) + radius).max()) * 4 * self.grid.nx * self.grid.ny
+        return float((np.abs(half) + radius).max()) * self.lengths[0] * self.lengths[1]
+
+    @staticmethod
+    def padded_lengths(grid: SurfaceGrid) -> tuple[int, int]:
+        """Zero-padded FFT lengths (Lx, Ly) of the DC-FFT (module docstring)."""
+        return fft_length(2 * grid.nx - 1), fft_length(2 * grid.ny - 1)
 
     @staticmethod
     def memory_bytes(grid: SurfaceGrid, tangential: bool) -> int:
         """Bytes held by an operator: FFT buffers plus the cached kernel spectra."""
-        nx, ny = grid.shape
-        real = 8 * 4 * nx * ny
-        spec = 16 * 2 * nx * (ny + 1)
-        return 2 * real + spec * (1 + (6 if tangential else 1))
+        lx, ly = SurfaceOperator.padded_lengths(grid)
+        real = 8 * lx * ly
+        spec = 16 * lx * (ly // 2 + 1)
+        pair = 2 * real + 4 * spec if tangential else 0  # batched buffers of :meth:`tangential`
+        return 2 * real + spec * (1 + (6 if tangential else 1)) + pair
 
 
 @functools.lru_cache(maxsize=8)

@@ -58,17 +58,46 @@ class SurfaceGrid:
         """Cell-centre coordinates as two (nx, ny) arrays (m), ``indexing="ij"``."""
         return np.meshgrid(self.x, self.y, indexing="ij")
 
-    def offsets(self) -> tuple[np.ndarray, np.ndarray]:
-        """Centre-to-centre offsets of the (2nx, 2ny) wrap-around convolution layout (m).
+    def offsets(self, lengths: tuple[int, int] | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Centre-to-centre offsets of the wrap-around convolution layout (m).
 
-        Index ``i < nx`` holds offset ``i dx``, index ``2nx - i`` holds ``-i dx``; index ``nx``
-        (an offset no pair of cells has) is set to ``nx dx`` and its kernel value is never used.
+        The layout has ``lengths`` = (Lx, Ly) >= (2nx - 1, 2ny - 1) points, (2nx, 2ny) by
+        default.  Index ``i < nx`` holds offset ``i dx``, index ``Lx - i`` holds ``-i dx``; the
+        indices in between (offsets no pair of cells has) hold ``nx dx`` and their kernel values
+        multiply only the zero padding.
         """
-        ix = np.fft.fftfreq(2 * self.nx, 1.0 / (2 * self.nx))
-        iy = np.fft.fftfreq(2 * self.ny, 1.0 / (2 * self.ny))
-        ix[self.nx] = self.nx
-        iy[self.ny] = self.ny
-        return np.meshgrid(ix * self.dx, iy * self.dy, indexing="ij")
+        lx, ly = lengths if lengths is not None else (2 * self.nx, 2 * self.ny)
+        if lx < 2 * self.nx - 1 or ly < 2 * self.ny - 1:
+            raise ValueError(f"padded lengths {(lx, ly)} too short for the grid {self.shape}")
+        return np.meshgrid(
+            _wrapped(self.nx, lx) * self.dx, _wrapped(self.ny, ly) * self.dy, indexing="ij"
+        )
+
+
+def _wrapped(n: int, length: int) -> np.ndarray:
+    """Cell offsets (in cells) of a wrap-around layout of ``length`` points for ``n`` cells."""
+    index = np.full(length, float(n))
+    index[:n] = np.arange(n)
+    index[length - n + 1 :] = -np.arange(n - 1, 0, -1)
+    return index
+
+
+def fft_length(minimum: int) -> int:
+    """Smallest even 5-smooth integer (2^a 3^b 5^c, a >= 1) >= ``minimum``: fast for FFTW.
+
+    A padded length with a large prime factor (2 x 92 = 184 = 8 x 23) costs FFTW's estimated
+    plans twice as much as 192, and odd lengths (189 = 27 x 7) three times as much.
+    """
+    length = max(int(minimum), 2)
+    length += length % 2
+    while True:
+        rest = length
+        for prime in (2, 3, 5):
+            while rest % prime == 0:
+                rest //= prime
+        if rest == 1:
+            return length
+        length += 2
 
 
 @dataclass(frozen=True)

@@ -135,6 +135,40 @@ def cattaneo_stick_ratio(tangential_force: float, friction_coefficient: float, n
     return (1.0 - tangential_force / (friction_coefficient * normal_force)) ** (1.0 / 3.0)
 
 
+def cattaneo_shift(
+    tangential_force: float, friction_coefficient: float, normal_force: float, compliance: float
+) -> float:
+    """Tangential shift (m) of a Cattaneo-Mindlin contact loaded monotonically to Q (beta = 0).
+
+    ``delta = C [1 - (1 - Q/(mu W))^(2/3)]`` with the full-slip shift ``C`` (m); for a sphere on
+    a flat of shear modulus G (Johnson 1985, eq. 7.42 per body) ``C = 3 mu W (2 - nu)/(16 G a)``,
+    twice that for two identical bodies.
+    """
+    ratio = tangential_force / (friction_coefficient * normal_force)
+    return compliance * (1.0 - (1.0 - ratio) ** (2.0 / 3.0))
+
+
+def mindlin_deresiewicz_energy(
+    amplitude: float, friction_coefficient: float, normal_force: float, compliance: float
+) -> float:
+    """Energy (J) dissipated per cycle of Q between -Q* and +Q* (Mindlin & Deresiewicz, beta = 0).
+
+    The loop's branches are ``delta = +-[delta* - 2 C psi((Q* -+ Q)/(2 mu W))]`` with
+    ``psi(x) = 1 - (1 - x)^(2/3)`` and ``C`` the full-slip shift of :func:`cattaneo_shift`;
+    integrating their difference over Q gives, with ``x = Q*/(mu W)``,
+
+        Delta W = 4 C mu W [6/5 - x - x (1 - x)^(2/3) - (6/5)(1 - x)^(5/3)],
+
+    which for one body on a rigid flat is Johnson's (1985) eq. 7.64.
+    """
+    x = amplitude / (friction_coefficient * normal_force)
+    rest = 1.0 - x
+    return (
+        4.0 * compliance * friction_coefficient * normal_force
+        * (1.2 - x - x * rest ** (2.0 / 3.0) - 1.2 * rest ** (5.0 / 3.0))
+    )  # fmt: skip
+
+
 def hertz_axis_stress(depth_over_radius, nu: float):
     """Stresses on the axis below a circular Hertz contact, over p_0 (Johnson 1985, eq. 3.45).
 

@@ -33,12 +33,18 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .anderson import Anderson
 from .normal import solve_normal
 from .reference import hertz
 from .tangential import solve_tangential
 
 if TYPE_CHECKING:
     from .operators import CaseOperators
+
+
+#: Inner solves of a coupling pass run at ``INEXACT`` times the last pressure change (at most
+#: 1e-2): 0.03 took Spence's scene (64^2, 10 steps) from 9.3 s to 6.5 s against 0.1.
+INEXACT = 0.03
 
 
 @dataclass(frozen=True)
@@ -210,10 +216,11 @@ def slip_stick_step(
     counts = {"normal": 0, "slip": 0, "coupling": 0}
     converged_all, worst, change = True, 0.0, np.inf
     messages = []
+    mixer = Anderson(options.anderson_memory)  # on the shear tractions, the coupling's state
     for loop in range(1, options.coupling_max_iterations + 1):
         # Inexact fixed point: inner solves only as tight as the coupling is converged; the
         # final pass (change below the coupling tolerance) runs at the full inner tolerances.
-        inexact = min(1e-2, 0.1 * change) if coupled else 0.0
+        inexact = min(1e-2, INEXACT * change) if coupled else 0.0
         extra = base_gap + surface.normal_from_shear(qx, qy) if coupled else base_gap
         normal = solve_normal(
             surface,
@@ -239,7 +246,12 @@ def slip_stick_step(
             tolerance=max(options.slip_tolerance, inexact),
             max_iterations=options.slip_max_iterations,
         )
-        qx, qy, shift = tangential.shear_x, tangential.shear_y, np.array(tangential.shift)
+        shift = np.array(tangential.shift)
+        if coupled:  # Anderson-accelerated fixed point q -> T(N(q))
+            shear = np.stack((qx, qy))
+            qx, qy = mixer(shear, np.stack((tangential.shear_x, tangential.shear_y)) - shear)
+        else:
+            qx, qy = tangential.shear_x, tangential.shear_y
         counts["normal"] += normal.iterations
         counts["slip"] += tangential.iterations
         counts["coupling"] = loop
@@ -260,7 +272,10 @@ def slip_stick_step(
             f"slip-stick loop not converged after {options.coupling_max_iterations} iterations "
             f"(pressure change {change:.3g})"
         )
-    state = ContactState(pressure, qx, qy, shift, pxs, pys, res_x, res_y)
+    # the state is the last solve's (not the mixed iterate)
+    state = ContactState(
+        pressure, tangential.shear_x, tangential.shear_y, shift, pxs, pys, res_x, res_y
+    )
     return StepResult(
         state,
         converged_all,

@@ -16,19 +16,28 @@ minimum complementary energy)
 
     minimise  1/2 q.K_t q + q.c   subject to  |q_i| <= mu p_i  and  sum q dA = Q,
 
-with ``Delta`` the multiplier of the force constraint.  It is solved by an accelerated
-projected gradient (FISTA, Beck & Teboulle 2009, with O'Donoghue & Candes' gradient restart):
-a gradient step of length 1/L (L the largest eigenvalue of the circulant ``K_t``), then the
-exact Euclidean projection onto {disks} and {sum q = Q} (:func:`project_onto_feasible`, a 2-D
-Newton iteration for the force multiplier).  Convergence is guaranteed for this convex problem
-whatever the stick set does.  (An active-set CG in the style of Polonsky & Keer converged faster
-on Cattaneo-Mindlin but stalled or oscillated when the stick zone was small, as in Spence's
-problem, where the force constraint has to be carried by a few stick cells.)
+with ``Delta`` the multiplier of the force constraint.  Two methods, the second a safety net:
+
+1. **Active-set Newton** (:func:`_active_set`): split the contact into stick and slip by the
+   trial traction ``q - rho s`` (a primal-dual active set), then take one Newton step on the
+   stick tractions *and the slip directions* (slip magnitudes stay mu p; the circle's curvature
+   ``nu/(mu p)`` enters the Hessian), solved by CG preconditioned with the inverse Cerruti symbol
+   (:meth:`SurfaceOperator.inverse_tangential`), so the iteration count hardly depends on the
+   mesh.  The force is restored by a multiplier on every cell, not on the stick cells alone
+   (which overloaded them when the stick zone is small, as in Spence's problem).  On
+   Cattaneo-Mindlin at 64^2 a tangential load in 10 steps costs 245 operator applications
+   instead of 2,715 with the projected gradient alone.
+2. **Accelerated projected gradient** (FISTA, Beck & Teboulle 2009, with O'Donoghue & Candes'
+   gradient restart) from the best active-set iterate, when that stagnates: a gradient step of
+   length 1/L (L the largest eigenvalue of the circulant ``K_t``), then the exact Euclidean
+   projection onto {disks} and {sum q = Q} (:func:`project_onto_feasible`, a 2-D Newton
+   iteration for the force multiplier).  It converges for this convex problem whatever the
+   stick set does.
 
 Convergence: the residual ``max(rms of |s| on stick cells, rms over the contact of the slip-cell
-error |s + |s| q/|q||) / scale`` measures every optimality condition that the iteration does not
-enforce by construction (the disks and the force are enforced exactly); ``scale`` is the largest
-of the caller's scale, the rms of ``K_t q`` over the contact and the shift.
+error |s + |s| q/|q|| and of the excess over the disks (times the cell self-compliance)) /
+scale`` measures every optimality condition (the force is enforced exactly); ``scale`` is the
+largest of the caller's scale, the rms of ``K_t q`` over the contact and the shift.
 """
 
 from __future__ import annotations
@@ -55,7 +64,7 @@ class TangentialSolution:
     stick : ndarray of bool
         Stick cells (in contact, |q| < mu p).
     iterations : int
-        CG iterations.
+        Applications of the tangential operator (both methods).
     residual : float
         Final relative residual.
     converged : bool
@@ -148,12 +157,16 @@ def project_onto_feasible(
     return qx, qy, lam
 
 
-def _optimality(operator, qx, qy, cx, cy, shift, bound, contact, scale):
-    """Relative KKT residual of the Coulomb problem at ``q``, and the stick mask."""
+def _optimality(ux, uy, qx, qy, cx, cy, shift, bound, contact, scale, compliance=0.0):
+    """Relative KKT residual of the Coulomb problem at ``q`` (``u = K_t q``), and the stick mask.
+
+    ``compliance`` (m/Pa) converts a traction above the bound into a displacement error; the
+    projected gradient's iterates never exceed it, the active-set iterates may.
+    """
     n_contact = max(int(contact.sum()), 1)
-    ux, uy = operator.tangential(qx, qy)
     sx, sy = ux + cx - shift[0], uy + cy - shift[1]
     magnitude = np.hypot(qx, qy)
+    excess = np.maximum(magnitude - bound, 0.0) * compliance
     stick = contact & (magnitude < bound * (1.0 - 1e-9))
     slip = contact & ~stick
     s_mag = np.hypot(sx, sy)
@@ -161,11 +174,234 @@ def _optimality(operator, qx, qy, cx, cy, shift, bound, contact, scale):
     ex = np.where(slip, sx + s_mag * qx / safe, 0.0)
     ey = np.where(slip, sy + s_mag * qy / safe, 0.0)
     stick_error = _sum(np.where(stick, sx * sx + sy * sy, 0.0)) / max(int(stick.sum()), 1)
-    slip_error = _sum(ex * ex + ey * ey) / n_contact
+    slip_error = _sum(ex * ex + ey * ey + excess * excess) / n_contact
     displacement = max(
         scale, np.sqrt(_sum((ux * ux + uy * uy) * contact) / n_contact), float(np.hypot(*shift))
     )
     return float(np.sqrt(max(stick_error, slip_error)) / displacement), stick
+
+
+#: Split parameter: a contact cell sticks when |q - rho s| <= mu p, rho = SPLIT / (the cell's
+#: self-compliance).  Small values keep the split close to |q| < mu p (cells enter slip when
+#: their traction reaches the bound and return when they slip backwards); 0.3 was the fastest
+#: of 0.01-3 on Cattaneo-Mindlin and Spence.
+SPLIT = 0.3
+#: Passes without a 10 % fall of the residual after which the active-set iteration hands over
+#: to the projected gradient.
+STAGNATION = 5
+#: CG iterations of one Newton step at most.
+NEWTON_MAX_ITERATIONS = 100
+
+
+def _newton_solve(operator, qx, qy, ux, uy, cx, cy, stick, slip, bound, tolerance, max_iterations):
+    """One Newton step for a fixed stick/slip split, solved by preconditioned CG.
+
+    Unknowns: the traction of every stick cell and the direction of every slip cell (whose
+    magnitude stays mu p); the force is held fixed.  The Hessian on these directions is
+    ``P K_t P + nu/(mu p)`` (``P`` the restriction to the admissible directions, ``nu = -s.e``
+    the slip multiplier: the curvature of the circle); the preconditioner is the inverse
+    Cerruti symbol (:meth:`SurfaceOperator.inverse_tangential`) restricted alike.  Updates
+    ``q`` (slip tractions retracted to their circles, the force restored on the stick cells)
+    and ``u = K_t q`` in place; returns (shift, operator applications).
+    """
+    magnitude = np.hypot(qx, qy)
+    slip = slip & (magnitude > 0.0)
+    safe = np.where(slip, magnitude, 1.0)
+    ex, ey = np.where(slip, qx / safe, 0.0), np.where(slip, qy / safe, 0.0)
+    tx, ty = -ey, ex
+    on_stick = stick.astype(float)
+
+    def restrict(fx, fy):
+        along = fx * tx + fy * ty
+        return fx * on_stick + along * tx, fy * on_stick + along * ty
+
+    # force constraint: the admissible images of the unit x and y tractions
+    ones, zeros = np.ones_like(qx), np.zeros_like(qx)
+    ax, ay = restrict(ones, zeros), restrict(zeros, ones)
+    gram = np.array(
+        [[_sum(ax[0] * ax[0] + ax[1] * ax[1]), _sum(ax[0] * ay[0] + ax[1] * ay[1])],
+         [0.0, _sum(ay[0] * ay[0] + ay[1] * ay[1])]]
+    )  # fmt: skip
+    gram[1, 0] = gram[0, 1]
+    gram_inverse = np.linalg.pinv(gram)
+
+    def coefficients(fx, fy):
+        return gram_inverse @ np.array(
+            [_sum(ax[0] * fx + ax[1] * fy), _sum(ay[0] * fx + ay[1] * fy)]
+        )
+
+    def project(fx, fy):
+        c = coefficients(fx, fy)
+        return fx - c[0] * ax[0] - c[1] * ay[0], fy - c[0] * ax[1] - c[1] * ay[1]
+
+    gx, gy = restrict(ux + cx, uy + cy)
+    shift = coefficients(gx, gy)
+    sx, sy = ux + cx - shift[0], uy + cy - shift[1]
+    nu = np.maximum(-(sx * ex + sy * ey), 0.0)
+    curvature = np.where(slip, nu / np.where(slip, bound, 1.0), 0.0)
+    rx, ry = project(-gx, -gy)  # CG residual b - H d at d = 0, b the negative gradient
+    dx, dy = np.zeros_like(qx), np.zeros_like(qy)
+    kdx, kdy = np.zeros_like(qx), np.zeros_like(qy)
+    px, py = np.zeros_like(qx), np.zeros_like(qy)
+    count = max(float(np.count_nonzero(stick | slip)), 1.0)
+    rz_old, applications = 0.0, 0
+    for _ in range(max_iterations):
+        if np.sqrt(_sum(rx * rx + ry * ry) / count) <= tolerance:
+            break
+        zx, zy = project(*restrict(*operator.inverse_tangential(rx, ry)))
+        rz = _sum(rx * zx + ry * zy)
+        if not rz > 0.0:
+            break
+        beta = rz / rz_old if rz_old > 0.0 else 0.0
+        px, py = zx + beta * px, zy + beta * py
+        rz_old = rz
+        wx, wy = operator.tangential(px, py)
+        applications += 1
+        hx, hy = project(*restrict(wx + curvature * px, wy + curvature * py))
+        denominator = _sum(px * hx + py * hy)
+        if not denominator > 0.0:
+            break
+        alpha = rz / denominator
+        dx += alpha * px
+        dy += alpha * py
+        kdx += alpha * wx
+        kdy += alpha * wy
+        rx -= alpha * hx
+        ry -= alpha * hy
+    # update: stick cells linearly, slip cells retracted onto their circles
+    new_x, new_y = qx + dx, qy + dy
+    norm = np.hypot(new_x, new_y)
+    ratio = np.where(slip, bound / np.where(norm > 0.0, norm, 1.0), 1.0)
+    new_x *= ratio
+    new_y *= ratio
+    n_stick = max(float(stick.sum()), 1.0)
+    new_x += on_stick * ((_sum(qx) - _sum(new_x)) / n_stick)
+    new_y += on_stick * ((_sum(qy) - _sum(new_y)) / n_stick)
+    # u follows linearly; the retraction's (second-order) correction needs one more product
+    cor_x, cor_y = new_x - qx - dx, new_y - qy - dy
+    if np.any(cor_x) or np.any(cor_y):
+        ex_, ey_ = operator.tangential(cor_x, cor_y)
+        applications += 1
+        kdx += ex_
+        kdy += ey_
+    qx[...], qy[...] = new_x, new_y
+    ux += kdx
+    uy += kdy
+    return coefficients(*restrict(ux + cx, uy + cy)), applications
+
+
+def _active_set(operator, bound, contact, cx, cy, target, qx, qy, shift, scale, tolerance, budget):
+    """Active-set Newton iteration (module docstring).
+
+    Each pass splits the contact by the trial traction ``z = q - rho s`` (``rho`` =
+    :data:`SPLIT` over the cell self-compliance): stick where ``|z| <= mu p``; the slip cells
+    move to ``z`` and the whole field is projected onto the disks and the force
+    (:func:`project_onto_feasible`); then one Newton step (:func:`_newton_solve`) for that split.
+    It stops when the KKT residual is below ``tolerance`` and gives up, returning the best
+    iterate, when the stick set empties, the residual has not fallen by 10 % in
+    :data:`STAGNATION` passes, or ``budget`` operator applications are spent.
+
+    Returns (qx, qy, ux, uy, shift, residual, stick, applications, converged).
+    """
+    compliance = operator.tangential_diagonal()
+    rho = SPLIT / compliance
+    area_target = np.asarray(target, dtype=float)
+    qx, qy, multiplier = project_onto_feasible(qx, qy, bound, area_target, np.zeros(2))
+    ux, uy = operator.tangential(qx, qy)
+    applications = 1
+    inside = contact & (np.hypot(qx, qy) < bound)  # the shift is the mean slip-free motion
+    weight = (inside if inside.any() else contact).astype(float)
+    shift = np.array([_sum((ux + cx) * weight), _sum((uy + cy) * weight)]) / _sum(weight)
+    residual, stick = _optimality(ux, uy, qx, qy, cx, cy, shift, bound, contact, scale, compliance)
+    best = (residual, qx.copy(), qy.copy(), ux.copy(), uy.copy(), shift.copy(), stick)
+    stagnant = 0
+    while residual >= tolerance and applications < budget and stagnant < STAGNATION:
+        # split by the trial traction z = q - rho s; slip cells move to z
+        zx = qx - rho * (ux + cx - shift[0])
+        zy = qy - rho * (uy + cy - shift[1])
+        stick_set = contact & (np.hypot(zx, zy) <= bound)
+        if not stick_set.any():
+            break
+        # the force is restored by the projection's multiplier on every cell, not by the few
+        # stick cells alone (which would overload them when the stick zone is small)
+        new_x, new_y, multiplier = project_onto_feasible(
+            np.where(stick_set, qx, zx), np.where(stick_set, qy, zy), bound, area_target, multiplier
+        )
+        dux, duy = operator.tangential(new_x - qx, new_y - qy)
+        applications += 1
+        qx, qy, ux, uy = new_x, new_y, ux + dux, uy + duy
+        displacement = max(
+            scale,
+            np.sqrt(_sum((ux * ux + uy * uy) * contact) / max(int(contact.sum()), 1)),
+            float(np.hypot(*shift)),
+        )
+        inner = displacement * max(0.3 * tolerance, min(1e-3, 0.1 * residual))
+        shift, used = _newton_solve(
+            operator, qx, qy, ux, uy, cx, cy, stick_set, contact & ~stick_set, bound, inner,
+            min(budget - applications, NEWTON_MAX_ITERATIONS),
+        )  # fmt: skip
+        applications += used
+        residual, stick = _optimality(
+            ux, uy, qx, qy, cx, cy, shift, bound, contact, scale, compliance
+        )
+        if not np.isfinite(residual):
+            break
+        if residual < 0.9 * best[0]:
+            stagnant = 0
+        else:
+            stagnant += 1
+        if residual < best[0]:
+            best = (residual, qx.copy(), qy.copy(), ux.copy(), uy.copy(), shift.copy(), stick)
+    residual, qx, qy, ux, uy, shift, stick = best
+    return qx, qy, ux, uy, shift, residual, stick, applications, residual < tolerance
+
+
+def _projected_gradient(
+    operator, bound, contact, cx, cy, target, qx, qy, shift, scale, tolerance, budget, check_every
+):
+    """Accelerated projected gradient (FISTA with gradient restart) from ``q``.
+
+    Returns (qx, qy, ux, uy, shift, residual, stick, applications, converged).
+    """
+    step = 1.0 / operator.tangential_norm()  # 1/L, L the largest eigenvalue of K_t (m/Pa)
+    multiplier = -np.asarray(shift, dtype=float) * step
+    qx, qy, multiplier = project_onto_feasible(qx, qy, bound, target, multiplier)
+    # One operator application per iteration: K_t y follows from K_t q and K_t q_old by
+    # linearity, and the optimality check at q reuses K_t q.
+    ux, uy = operator.tangential(qx, qy)
+    old_ux, old_uy = ux, uy
+    yx, yy, factor = qx, qy, 0.0
+    momentum = 1.0
+    residual, converged, iterations = np.inf, False, 1
+    shift = -multiplier / step
+    stick = contact
+    for iterations in range(2, max(budget, 2) + 1):
+        gx = ux + factor * (ux - old_ux) + cx
+        gy = uy + factor * (uy - old_uy) + cy
+        new_x, new_y, multiplier = project_onto_feasible(
+            yx - step * gx, yy - step * gy, bound, target, multiplier
+        )
+        dx, dy = new_x - qx, new_y - qy
+        if _sum((yx - new_x) * dx + (yy - new_y) * dy) > 0.0:
+            momentum = 1.0  # restart: the momentum points uphill
+        next_momentum = 0.5 * (1.0 + np.sqrt(1.0 + 4.0 * momentum * momentum))
+        factor = (momentum - 1.0) / next_momentum
+        momentum = next_momentum
+        qx, qy = new_x, new_y
+        yx, yy = qx + factor * dx, qy + factor * dy
+        old_ux, old_uy = ux, uy
+        ux, uy = operator.tangential(qx, qy)
+        if iterations % check_every and iterations < budget:
+            continue
+        # optimality check at q: stick cells s = 0, slip cells s anti-parallel to q
+        shift = -multiplier / step
+        residual, stick = _optimality(ux, uy, qx, qy, cx, cy, shift, bound, contact, scale)
+        if residual < tolerance:
+            converged = True
+            break
+        if not np.isfinite(residual):
+            break
+    return qx, qy, ux, uy, shift, residual, stick, iterations, converged
 
 
 def solve_tangential(
@@ -206,9 +442,10 @@ def solve_tangential(
     tolerance : float
         Relative tolerance.
     max_iterations : int
-        Iteration cap; reaching it gives ``converged=False``.
+        Cap on applications of the tangential operator (half of it for the active-set
+        iteration); reaching it gives ``converged=False``.
     check_every : int
-        Iterations between optimality checks (each costs one operator application).
+        Projected-gradient iterations between optimality checks.
 
     Returns
     -------
@@ -223,45 +460,21 @@ def solve_tangential(
     if scale is None:
         scale = np.sqrt(_sum((cx * cx + cy * cy) * contact) / n_contact)
     scale = max(scale, 1e-300)
-    step = 1.0 / operator.tangential_norm()  # 1/L, L the largest eigenvalue of K_t (m/Pa)
-    multiplier = -np.asarray(initial_shift, dtype=float) * step
     if initial is None:
         qx, qy = np.zeros_like(pressure), np.zeros_like(pressure)
     else:
         qx, qy = initial[0] * contact, initial[1] * contact
-    qx, qy, multiplier = project_onto_feasible(qx, qy, bound, target, multiplier)
-    yx, yy = qx, qy
-    momentum = 1.0
-    residual, converged, iterations = np.inf, False, 0
-    shift = -multiplier / step
-    stick = contact
-    for iterations in range(1, max_iterations + 1):
-        # accelerated projected gradient (FISTA with gradient restart)
-        gx, gy = operator.tangential(yx, yy)
-        gx += cx
-        gy += cy
-        new_x, new_y, multiplier = project_onto_feasible(
-            yx - step * gx, yy - step * gy, bound, target, multiplier
-        )
-        dx, dy = new_x - qx, new_y - qy
-        if _sum((yx - new_x) * dx + (yy - new_y) * dy) > 0.0:
-            momentum = 1.0  # restart: the momentum points uphill
-        next_momentum = 0.5 * (1.0 + np.sqrt(1.0 + 4.0 * momentum * momentum))
-        factor = (momentum - 1.0) / next_momentum
-        momentum = next_momentum
-        qx, qy = new_x, new_y
-        yx, yy = qx + factor * dx, qy + factor * dy
-        if iterations % check_every and iterations < max_iterations:
-            continue
-        # optimality check at q: stick cells s = 0, slip cells s anti-parallel to q
-        shift = -multiplier / step
-        residual, stick = _optimality(operator, qx, qy, cx, cy, shift, bound, contact, scale)
-        if residual < tolerance:
-            converged = True
-            break
-        if not np.isfinite(residual):
-            break
-    ux, uy = operator.tangential(qx, qy)
+    shift = np.asarray(initial_shift, dtype=float)
+    qx, qy, ux, uy, shift, residual, stick, iterations, converged = _active_set(
+        operator, bound, contact, cx, cy, target, qx, qy, shift, scale, tolerance,
+        budget=max_iterations // 2,
+    )  # fmt: skip
+    if not converged:  # the projected gradient, from the best active-set iterate
+        qx, qy, ux, uy, shift, residual, stick, used, converged = _projected_gradient(
+            operator, bound, contact, cx, cy, target, qx, qy, shift, scale, tolerance,
+            max_iterations - iterations, check_every,
+        )  # fmt: skip
+        iterations += used
     sx, sy = ux + cx - shift[0], uy + cy - shift[1]
     message = (
         f"converged in {iterations} iterations"

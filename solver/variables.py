@@ -57,7 +57,7 @@ HISTORIES: dict[str, History] = {
         "1", "normal-solver CG iterations (summed over the step's loops)", "sum"
     ),
     "slip_iterations": History(
-        "1", "tangential-solver CG iterations (summed over the step's loops)", "sum"
+        "1", "tangential-operator applications of the slip solver (summed over the step)", "sum"
     ),
     "coupling_iterations": History("1", "slip-stick (normal-tangential) loop iterations", "sum"),
     "plastic_iterations": History("1", "plasticity-loop iterations (contact solves)", "sum"),

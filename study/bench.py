@@ -28,7 +28,12 @@ HERTZ_TABLE = {
     "grid": {"n": 128, "half_width": 1.6},
 }
 
-DEFAULT_SIZES = {"hertz": [64, 128, 256, 512], "cattaneo": [64, 128, 256], "plastic": [32, 64]}
+DEFAULT_SIZES = {
+    "hertz": [64, 128, 256, 512],
+    "cattaneo": [64, 128, 256],
+    "plastic": [32, 64],
+    "slipstick": [64, 128],
+}
 
 
 def _current_rss_mb() -> float:
@@ -199,6 +204,10 @@ def run_benchmark(
         from .bench_plastic import run_plastic
 
         return run_plastic(sizes, peers=peers)
+    if scene == "slipstick":
+        from .bench_slipstick import run_slipstick
+
+        return run_slipstick(sizes)
     if scene == "cattaneo":
         from .bench_cattaneo import run_cattaneo
 

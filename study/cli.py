@@ -130,7 +130,9 @@ def build_parser() -> argparse.ArgumentParser:
     assemble.add_argument("--out", help="output folder (with a campaign file)")
 
     bench = sub.add_parser("bench", help="benchmarks against closed forms and peer codes")
-    bench.add_argument("scene", choices=["hertz", "cattaneo", "plastic"], help="benchmark scene")
+    bench.add_argument(
+        "scene", choices=["hertz", "cattaneo", "plastic", "slipstick"], help="benchmark scene"
+    )
     bench.add_argument("--sizes", type=int, nargs="+", help="grid sizes n (cells per side)")
     bench.add_argument("--peers", action="store_true", help="also run installed peer codes")
     bench.add_argument("--repeat", type=int, default=3, help="timing repetitions (best of)")
