@@ -321,7 +321,7 @@ class SolverOptions:
 
     ``plastic_tolerance`` bounds the last change of a step's plastic strain increment relative
     to the yield strain sigma_Y0/E; ``anderson_memory`` is the number of past iterates the
-    plasticity loop mixes (0: plain fixed-point iteration).
+    plasticity loop and the normal-tangential coupling loop mix (0: plain fixed-point iteration).
 
     ``fft_planner = "estimate"`` gives FFTW plans that do not depend on timing, so a case gives
     bit-identical results in any process; ``"measure"`` plans by timing (about 15 % faster

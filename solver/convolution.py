@@ -123,11 +123,12 @@ class SurfaceOperator:
     def inverse_normal(self, displacement: np.ndarray) -> np.ndarray:
         """Approximate inverse of :meth:`normal` (a preconditioner): pressure (Pa) from u_z (m).
 
-        Applies the inverse Boussinesq symbol |k|/(2A) with a periodic FFT on the unpadded grid,
-        a quarter of the cost of :meth:`normal`; exact for periodic data and point tractions.
+        Applies the inverse Boussinesq symbol |k|/(2A) with a periodic FFT on the grid (extended
+        to the smooth lengths :meth:`periodic_lengths`), a quarter of the cost of :meth:`normal`;
+        exact for periodic data and point tractions.
         """
         if self._precondition is None:
-            nx, ny = self.grid.shape
+            nx, ny = self.periodic_lengths(self.grid)
             real = pyfftw.empty_aligned((nx, ny), dtype="float64")
             spectrum = pyfftw.empty_aligned((nx, ny // 2 + 1), dtype="complex128")
             forward = pyfftw.FFTW(real, spectrum, axes=(0, 1), flags=(self._planner,))
@@ -140,11 +141,13 @@ class SurfaceOperator:
             symbol = np.hypot(kx[:, None], ky[None, :]) / (2 * self.pair.compliance * nx * ny)
             self._precondition = (real, spectrum, forward, backward, symbol)
         real, spectrum, forward, backward, symbol = self._precondition
-        real[...] = displacement
+        nx, ny = self.grid.shape
+        real[...] = 0.0
+        real[:nx, :ny] = displacement
         forward.execute()
         np.multiply(spectrum, symbol, out=spectrum)
         backward.execute()
-        return real.copy()
+        return real[:nx, :ny].copy()
 
     def inverse_tangential(
         self, displacement_x: np.ndarray, displacement_y: np.ndarray
@@ -155,10 +158,10 @@ class SurfaceOperator:
         ``(2/|k|) [(A + S) I - S k k^T/k^2]`` (Cerruti; ``A`` the pair's compliance, ``S`` its
         shear coupling, so that along ``k`` it is Boussinesq's ``2A/|k|``); its inverse
         ``(|k|/2) [k k^T/(k^2 A) + (I - k k^T/k^2)/(A + S)]`` is applied with periodic FFTs on
-        the unpadded grid.
+        the grid (extended like :meth:`inverse_normal`).
         """
         if self._tangential_precondition is None:
-            nx, ny = self.grid.shape
+            nx, ny = self.periodic_lengths(self.grid)
             real = pyfftw.empty_aligned((2, nx, ny), dtype="float64")
             spectrum = pyfftw.empty_aligned((2, nx, ny // 2 + 1), dtype="complex128")
             work = pyfftw.empty_aligned((nx, ny // 2 + 1), dtype="complex128")
@@ -180,8 +183,10 @@ class SurfaceOperator:
             cxy = scale * (along - across) * kx * ky * ratio
             self._tangential_precondition = (real, spectrum, work, forward, backward, cxx, cyy, cxy)
         real, spectrum, work, forward, backward, cxx, cyy, cxy = self._tangential_precondition
-        real[0] = displacement_x
-        real[1] = displacement_y
+        nx, ny = self.grid.shape
+        real[...] = 0.0
+        real[0, :nx, :ny] = displacement_x
+        real[1, :nx, :ny] = displacement_y
         forward.execute()
         sx, sy = spectrum
         np.multiply(cxy, sx, out=work)
@@ -190,7 +195,7 @@ class SurfaceOperator:
         sy *= cyy
         sy += work
         backward.execute()
-        return real[0].copy(), real[1].copy()
+        return real[0, :nx, :ny].copy(), real[1, :nx, :ny].copy()
 
     def normal(self, pressure: np.ndarray) -> np.ndarray:
         """u_z (m) from pressure ``p`` (Pa)."""
@@ -276,6 +281,11 @@ class SurfaceOperator:
         half = 0.5 * (a.real + d.real)
         radius = np.sqrt((0.5 * (a.real - d.real)) ** 2 + np.abs(b) ** 2)
         return float((np.abs(half) + radius).max()) * self.lengths[0] * self.lengths[1]
+
+    @staticmethod
+    def periodic_lengths(grid: SurfaceGrid) -> tuple[int, int]:
+        """FFT lengths of the periodic preconditioners: the grid's, rounded up to smooth ones."""
+        return fft_length(grid.nx), fft_length(grid.ny)
 
     @staticmethod
     def padded_lengths(grid: SurfaceGrid) -> tuple[int, int]:

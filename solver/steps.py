@@ -219,7 +219,8 @@ def slip_stick_step(
     mixer = Anderson(options.anderson_memory)  # on the shear tractions, the coupling's state
     for loop in range(1, options.coupling_max_iterations + 1):
         # Inexact fixed point: inner solves only as tight as the coupling is converged; the
-        # final pass (change below the coupling tolerance) runs at the full inner tolerances.
+        # loop ends when the pressure change is below the coupling tolerance in a pass whose
+        # inner solves were at least that tight.
         inexact = min(1e-2, INEXACT * change) if coupled else 0.0
         extra = base_gap + surface.normal_from_shear(qx, qy) if coupled else base_gap
         normal = solve_normal(
@@ -263,7 +264,7 @@ def slip_stick_step(
         if not coupled or (
             loop > 1
             and change < options.coupling_tolerance
-            and inexact <= 0.1 * options.coupling_tolerance
+            and inexact <= options.coupling_tolerance  # inner solves as tight as the coupling
         ):
             break
     else:

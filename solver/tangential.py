@@ -89,6 +89,10 @@ def _sum(a: np.ndarray) -> float:
     return float(np.einsum("ij->", a))
 
 
+def _dot(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.einsum("ij,ij->", a, b))
+
+
 def project_onto_feasible(
     zx: np.ndarray,
     zy: np.ndarray,
@@ -210,29 +214,28 @@ def _newton_solve(operator, qx, qy, ux, uy, cx, cy, stick, slip, bound, toleranc
     ex, ey = np.where(slip, qx / safe, 0.0), np.where(slip, qy / safe, 0.0)
     tx, ty = -ey, ex
     on_stick = stick.astype(float)
+    # restriction to the admissible directions: identity on stick cells, onto t = e_perp on
+    # slip cells, zero elsewhere: the symmetric 2x2 field [[rxx, rxy], [rxy, ryy]]
+    rxx, rxy, ryy = on_stick + tx * tx, tx * ty, on_stick + ty * ty
 
     def restrict(fx, fy):
-        along = fx * tx + fy * ty
-        return fx * on_stick + along * tx, fy * on_stick + along * ty
+        return rxx * fx + rxy * fy, rxy * fx + ryy * fy
 
-    # force constraint: the admissible images of the unit x and y tractions
-    ones, zeros = np.ones_like(qx), np.zeros_like(qx)
-    ax, ay = restrict(ones, zeros), restrict(zeros, ones)
+    # force constraint: the admissible images of the unit x and y tractions, (rxx, rxy), (rxy, ryy)
+    cross = _dot(rxx, rxy) + _dot(rxy, ryy)
     gram = np.array(
-        [[_sum(ax[0] * ax[0] + ax[1] * ax[1]), _sum(ax[0] * ay[0] + ax[1] * ay[1])],
-         [0.0, _sum(ay[0] * ay[0] + ay[1] * ay[1])]]
-    )  # fmt: skip
-    gram[1, 0] = gram[0, 1]
+        [[_dot(rxx, rxx) + _dot(rxy, rxy), cross], [cross, _dot(rxy, rxy) + _dot(ryy, ryy)]]
+    )
     gram_inverse = np.linalg.pinv(gram)
 
     def coefficients(fx, fy):
         return gram_inverse @ np.array(
-            [_sum(ax[0] * fx + ax[1] * fy), _sum(ay[0] * fx + ay[1] * fy)]
+            [_dot(rxx, fx) + _dot(rxy, fy), _dot(rxy, fx) + _dot(ryy, fy)]
         )
 
     def project(fx, fy):
-        c = coefficients(fx, fy)
-        return fx - c[0] * ax[0] - c[1] * ay[0], fy - c[0] * ax[1] - c[1] * ay[1]
+        c0, c1 = coefficients(fx, fy)
+        return fx - c0 * rxx - c1 * rxy, fy - c0 * rxy - c1 * ryy
 
     gx, gy = restrict(ux + cx, uy + cy)
     shift = coefficients(gx, gy)
@@ -246,10 +249,10 @@ def _newton_solve(operator, qx, qy, ux, uy, cx, cy, stick, slip, bound, toleranc
     count = max(float(np.count_nonzero(stick | slip)), 1.0)
     rz_old, applications = 0.0, 0
     for _ in range(max_iterations):
-        if np.sqrt(_sum(rx * rx + ry * ry) / count) <= tolerance:
+        if np.sqrt((_dot(rx, rx) + _dot(ry, ry)) / count) <= tolerance:
             break
         zx, zy = project(*restrict(*operator.inverse_tangential(rx, ry)))
-        rz = _sum(rx * zx + ry * zy)
+        rz = _dot(rx, zx) + _dot(ry, zy)
         if not rz > 0.0:
             break
         beta = rz / rz_old if rz_old > 0.0 else 0.0
@@ -258,7 +261,7 @@ def _newton_solve(operator, qx, qy, ux, uy, cx, cy, stick, slip, bound, toleranc
         wx, wy = operator.tangential(px, py)
         applications += 1
         hx, hy = project(*restrict(wx + curvature * px, wy + curvature * py))
-        denominator = _sum(px * hx + py * hy)
+        denominator = _dot(px, hx) + _dot(py, hy)
         if not denominator > 0.0:
             break
         alpha = rz / denominator

@@ -14,6 +14,7 @@ Three scenes (issue "four loops", item 4), each row in a fresh process (:mod:`st
   (:func:`solver.reference.mindlin_deresiewicz_energy`).
 
 ``python -m study bench slipstick [--sizes N ...]`` (sizes: the Cattaneo and fretting grids).
+Spence runs with both FFT planners (``solver.fft_planner``; the plans' timing is in the time).
 """
 
 from __future__ import annotations
@@ -34,10 +35,11 @@ SPENCE_STICK_RATIO, SPENCE_PEAK_RATIO = 0.50, 1.31
 PAIR_MU, PAIR_FRACTION, PAIR_HALF_WIDTH, PAIR_STAGE_STEPS = 0.3, 0.5, 1.5, 20
 
 
-def spence_table() -> dict:
+def spence_table(planner: str = "estimate") -> dict:
     """Spence's scene with the contact ``SPENCE_CELLS_ACROSS`` cells across."""
     n = round(SPENCE_CELLS_ACROSS * SPENCE_HALF_WIDTH)
     return {
+        "solver": {"fft_planner": planner},
         "body1": {"radius": RADIUS, "behaviour": "rigid"},
         "body2": {"radius": "inf", "behaviour": "elastic", "E": 210e9, "nu": 0.0},
         "load": {"normal_force": FORCE, "steps": SPENCE_STEPS},
@@ -128,18 +130,19 @@ def run_slipstick(sizes: list[int]) -> int:
         return out
 
     n_spence = spence_table()["grid"]["n"]
-    record(
-        "Spence",
-        n_spence,
-        SPENCE_STEPS,
-        spence_table(),
-        lambda out: {
-            "c/a": out["stick_ratio"],
-            "c/a_ref": SPENCE_STICK_RATIO,
-            "p_max/p_H": out["peak_ratio"],
-            "ref": SPENCE_PEAK_RATIO,
-        },
-    )
+    for planner in ("estimate", "measure"):
+        record(
+            f"Spence ({planner})",
+            n_spence,
+            SPENCE_STEPS,
+            spence_table(planner),
+            lambda out: {
+                "c/a": out["stick_ratio"],
+                "c/a_ref": SPENCE_STICK_RATIO,
+                "p_max/p_H": out["peak_ratio"],
+                "ref": SPENCE_PEAK_RATIO,
+            },
+        )
     q_star = PAIR_FRACTION * PAIR_MU * FORCE
     for n in sizes:
         costs = {}
