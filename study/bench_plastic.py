@@ -250,13 +250,17 @@ def annuli(contact_state: np.ndarray) -> int:
 
 
 def fretting_ii(
-    n: int, steps: int, mus=(0.0, 0.1, 0.2, 0.3, 0.5), depth: float | None = None
+    n: int,
+    steps: int,
+    mus=(0.0, 0.1, 0.2, 0.3, 0.5),
+    depth: float | None = None,
+    planner: str = "estimate",
 ) -> list[dict]:
     """The paper's §4 scene: rigid sphere R = 15 mm on Swift steel to p_H = 6 GPa, friction mu.
 
     Prints per mu the maximum plastic strain, its depth, the stick fraction, the stick/slip
     zones along a radius (:func:`annuli`), p_max and the cost.  ``depth`` (units of a_H) is the
-    volume depth; default: sized from the yield region.
+    volume depth; default: sized from the yield region.  ``planner`` is ``solver.fft_planner``.
     """
     import solver
 
@@ -276,6 +280,7 @@ def fretting_ii(
                 "load": {"hertz_pressure": 6e9, "steps": steps},
                 "friction": {"coefficient": mu},
                 "grid": grid,
+                "solver": {"fft_planner": planner},
             }
         )
         wall, cpu = time.perf_counter(), time.process_time()
@@ -317,9 +322,10 @@ if __name__ == "__main__":  # pragma: no cover
     parser.add_argument("--steps", type=int, default=20, help="load steps (--fretting)")
     parser.add_argument("--depth", type=float, help="volume depth over a_H (--fretting)")
     parser.add_argument("--mu", type=float, nargs="+", default=[0.0, 0.1, 0.2, 0.3, 0.5])
+    parser.add_argument("--planner", choices=["estimate", "measure"], default="estimate")
     args = parser.parse_args()
     if args.fretting:
-        fretting_ii(args.fretting, args.steps, args.mu, args.depth)
+        fretting_ii(args.fretting, args.steps, args.mu, args.depth, args.planner)
         raise SystemExit(0)
     if args.paper:
         raise SystemExit(paper_spheres(args.paper))

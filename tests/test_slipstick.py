@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import solver
+from solver import reference
 from solver.loops import load_substeps
 from solver.operators import CaseOperators
 from solver.steps import ContactState, slip_stick_step
@@ -255,3 +256,41 @@ def test_friction_dataset_layout():
     assert ds.contact_state.attrs["flag_meanings"] == "separated stick slip"
     assert "slip_stick" in ds.attrs["loops"]
     assert ds.shear_x.attrs["units"] == "Pa"
+
+
+def test_mindlin_deresiewicz_energy_is_the_loop_area():
+    # the closed form against a quadrature of the two loop branches it integrates
+    mu, force, compliance, amplitude = 0.3, 1000.0, 2e-6, 120.0
+    psi = lambda x: 1 - (1 - x) ** (2 / 3)  # noqa: E731
+    q = np.linspace(-amplitude, amplitude, 20001)
+    peak = compliance * psi(amplitude / (mu * force))
+    down = peak - 2 * compliance * psi((amplitude - q) / (2 * mu * force))
+    up = -peak + 2 * compliance * psi((q + amplitude) / (2 * mu * force))
+    area = np.trapezoid(down - up, q)
+    assert reference.mindlin_deresiewicz_energy(amplitude, mu, force, compliance) == pytest.approx(
+        area, rel=1e-7
+    )
+
+
+def test_fretting_loop_energy_matches_mindlin_deresiewicz():
+    """Two identical spheres (beta = 0), Q: 0 -> +Q* -> -Q* -> +Q*: the last cycle's loop area."""
+    mu, fraction, force, steps = 0.3, 0.5, 1000.0, 20
+    amplitude = fraction * mu * force
+    errors = []
+    for n in (32, 64):
+        table = cattaneo_table(n, fraction, mu=mu, force=force)
+        table["load"]["path"][1:] = [
+            {"tangential_force": [sign * amplitude, 0.0], "steps": steps} for sign in (1, -1, 1)
+        ]
+        result = solver.solve(solver.Case.from_dict(table))
+        assert result.converged, result.notes
+        h = result.history
+        cycle = slice(steps, None)  # from the end of the first +Q* stage
+        area = abs(np.trapezoid(h["tangential_force_x"][cycle], h["tangential_shift_x"][cycle]))
+        shear_modulus = 210e9 / 2.6
+        # two identical bodies: twice the single-body full-slip shift (Johnson 1985, eq. 7.42)
+        full_slip = 2 * 3 * mu * force * (2 - 0.3) / (16 * shear_modulus * result.case.hertz.radius)
+        expected = reference.mindlin_deresiewicz_energy(amplitude, mu, force, full_slip)
+        errors.append(abs(area / expected - 1))
+    assert errors[1] < errors[0]
+    assert errors[1] < 0.01
