@@ -534,13 +534,14 @@ class Case:
 
         grid = _parse_grid(table["grid"])
         _check_plastic_scene(body1, body2, stages, grid)
+        plastic = next((b for b in (body2, body1) if b.behaviour == "elastic-plastic"), None)
         if grid.depth is None:
             depth = DEFAULT_DEPTH
-            if body2.behaviour == "elastic-plastic":
+            if plastic is not None:
                 p_max = hertz(
                     max(stage.normal_force for stage in stages), pair.composite_modulus, (kx, ky)
                 ).max_pressure
-                depth = auto_depth(p_max, body2.hardening.initial_yield_stress, body2.nu)
+                depth = auto_depth(p_max, plastic.hardening.initial_yield_stress, plastic.nu)
             grid = dataclasses.replace(grid, depth=depth)
         solver = _parse_solver(table.get("solver", {}))
         output = _check_keys(table.get("output", {}), "output", {"fields"})
@@ -551,11 +552,17 @@ class Case:
             _fail("output.fields", f"must be a list drawn from {list(FIELD_OUTPUTS)}")
         if "stress" in fields and not grid.nz:
             _fail("output.fields", "stress needs a volume grid: give grid.n = [nx, ny, nz]")
+        if "stress" in fields and plastic is body1 and body1 != body2:
+            _fail(
+                "output.fields",
+                "stress is computed in body 2; with an elastic-plastic body 1 the volume is body "
+                "1's: request residual_stress or plastic_strain_tensor instead",
+            )
         if "stress" in fields and body2.rigid:
             _fail("output.fields", "stress is computed in body 2, which is rigid here")
         for name in ("plastic_strain_tensor", "residual_stress"):
-            if name in fields and body2.behaviour != "elastic-plastic":
-                _fail("output.fields", f"{name} needs an elastic-plastic body 2")
+            if name in fields and plastic is None:
+                _fail("output.fields", f"{name} needs an elastic-plastic body")
 
         spec = {
             "model": MODEL_VERSION,
@@ -587,8 +594,32 @@ class Case:
 
     @property
     def plastic_body(self) -> Body | None:
-        """The elastic-plastic body whose plastic strain is computed (body 2), or None."""
-        return self.body2 if self.body2.behaviour == "elastic-plastic" else None
+        """The elastic-plastic body whose plastic strain is computed, or None."""
+        for body in (self.body2, self.body1):
+            if body.behaviour == "elastic-plastic":
+                return body
+        return None
+
+    @property
+    def plastic_body1(self) -> bool:
+        """True when body 1 alone is elastic-plastic: solved as :meth:`swapped`."""
+        return self.body1.behaviour == "elastic-plastic" and not self.symmetric_plastic
+
+    def swapped(self) -> Case:
+        """The same contact with the bodies relabelled (body 1 <-> body 2).
+
+        Body 1's frame is body 2's turned by 180 degrees about x: (x, -y, -z).  A tangential
+        force (Q_x, Q_y) on body 2 is (-Q_x, -Q_y) on body 1 in the common frame, so
+        (-Q_x, Q_y) in its own; the surface fields mirror in y (:mod:`solver.variables`,
+        ``swap_sign``).  The swapped case of the swapped case is the case itself.
+        """
+        table = self.to_dict()
+        table["body1"], table["body2"] = table["body2"], table["body1"]
+        for stage in table["load"]["path"]:
+            if "tangential_force" in stage:
+                qx, qy = stage["tangential_force"]
+                stage["tangential_force"] = [-qx if qx else 0.0, qy]
+        return Case.from_dict(table)
 
     def _check_resolution(self) -> None:
         reference = self.hertz
@@ -734,25 +765,28 @@ class Case:
 def _check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> None:
     """Refuse the elastic-plastic scenes this release cannot solve (no silent elastic answer).
 
-    Solved: an elastic-plastic body 2 under a rigid or elastic body 1 (frictionless: the
+    Solved: one elastic-plastic body against a rigid or elastic one (frictionless: the
     plasticity loop around the normal step; with friction or a tangential load: the four
-    loops), and the symmetric pair (eq. 2) under normal load with any friction.
+    loops; an elastic-plastic body 1 is solved with the bodies relabelled, :meth:`Case.swapped`),
+    and the symmetric pair (eq. 2) under normal load with any friction.
     """
-    symmetric = body1.behaviour == "elastic-plastic" and body1 == body2
-    if body1.behaviour == "elastic-plastic" and not symmetric:
+    plastic1 = body1.behaviour == "elastic-plastic"
+    plastic2 = body2.behaviour == "elastic-plastic"
+    symmetric = plastic1 and body1 == body2
+    if plastic1 and plastic2 and not symmetric:
         _fail(
             "body1.behaviour",
-            "an elastic-plastic body 1 is solved only in the symmetric pair (identical radii, "
-            "E, nu and hardening as body 2; the paper's eq. 2); make body 1 elastic or rigid, "
-            "or body 2 identical to it",
+            "two different elastic-plastic bodies are not solved yet (only the symmetric pair: "
+            "identical radii, E, nu and hardening; the paper's eq. 2); make one body elastic "
+            "or rigid, or the two identical",
         )
-    if body2.behaviour != "elastic-plastic":
+    if not (plastic1 or plastic2):
         return
     if symmetric and any(any(stage.tangential_force) for stage in stages):
         _fail(
             "load.tangential_force",
             "a tangential load breaks the symmetry of the elastic-plastic pair (eq. 2); make "
-            "body 1 elastic or rigid to run the four loops, or remove tangential_force",
+            "one body elastic or rigid to run the four loops, or remove tangential_force",
         )
     if not grid.nz:
         _fail(

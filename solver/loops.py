@@ -31,8 +31,8 @@ from .operators import CaseOperators
 from .plastic_loop import PlasticState, plastic_step
 from .result import SEPARATED, SLIP, STICK, Result
 from .steps import ContactState, StepResult, normal_step, slip_stick_step
-from .tensor import von_mises
-from .variables import PLASTIC_ZONE_THRESHOLD
+from .tensor import Y_REFLECTION, von_mises
+from .variables import FIELDS, HISTORIES, PLASTIC_ZONE_THRESHOLD
 
 #: Fewest increments per normal-loading stage for which the stick zone of a coupled
 #: (beta != 0) scene is trusted; fewer give a path-dependence note.
@@ -160,6 +160,39 @@ def _box_faces_reached(equivalent: np.ndarray) -> list[str]:
     return [name for name, cells in faces.items() if cells.max() > PLASTIC_ZONE_THRESHOLD]
 
 
+def _relabelled(result: Result, case: Case) -> Result:
+    """The result of ``case.swapped()`` told for ``case``: bodies relabelled, fields mirrored.
+
+    Surface arrays mirror in y (the grid is symmetric about y = 0) and take the declared
+    ``swap_sign``; tensor fields also flip their y-odd components.  Volume fields stay the
+    elastic-plastic body's (depth into it), on the common x, y axes.
+    """
+
+    def mirrored(name: str, values: np.ndarray) -> np.ndarray:
+        declared = FIELDS[name]
+        out = np.flip(values, axis=declared.dims.index("y")) * declared.swap_sign
+        if "component" in declared.dims:
+            out = out * Y_REFLECTION.reshape((6,) + (1,) * (out.ndim - 1))
+        return out
+
+    history = {name: values * HISTORIES[name].swap_sign for name, values in result.history.items()}
+    return Result(
+        case,
+        result.grid,
+        mirrored("pressure", result.pressure),
+        mirrored("shear_x", result.shear_x),
+        mirrored("shear_y", result.shear_y),
+        np.flip(result.contact_state, axis=1),
+        history,
+        result.loops,
+        result.converged,
+        ["solved with the bodies relabelled (the elastic-plastic body 1 as body 2)", *result.notes],
+        result.wall_time,
+        {name: mirrored(name, values) for name, values in result.fields.items()},
+        result.depth,
+    )
+
+
 # -- the driver ------------------------------------------------------------------------------------
 def solve(case: Case) -> Result:
     """Solve a case over its whole load path.
@@ -175,6 +208,8 @@ def solve(case: Case) -> Result:
         Final tractions, fields, per-step histories and status; non-convergence is reported in
         ``Result.converged`` and ``Result.notes``, never raised.
     """
+    if case.plastic_body1:
+        return _relabelled(solve(case.swapped()), case)
     start = time.perf_counter()
     operators = CaseOperators.build(case)
     loops, contact_step = scene(case)

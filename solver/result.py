@@ -100,7 +100,8 @@ class Result:
             }
         )
         if self.depth is not None:
-            coords["z"] = ("z", self.depth, {"units": "m", "long_name": "depth into body 2"})
+            body = 1 if case.plastic_body1 else 2
+            coords["z"] = ("z", self.depth, {"units": "m", "long_name": f"depth into body {body}"})
         for name, values in self.fields.items():
             declared = FIELDS[name]
             if "component" in declared.dims:

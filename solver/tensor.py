@@ -26,6 +26,8 @@ COMPONENTS = ("xx", "yy", "zz", "yz", "xz", "xy")
 WEIGHTS = np.array([1.0, 1.0, 1.0, 2.0, 2.0, 2.0])
 #: Component index pairs (i, j) of :data:`COMPONENTS`, 0 = x, 1 = y, 2 = z.
 INDEX_PAIRS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
+#: Component signs under the reflection y -> -y (components with one y index change sign).
+Y_REFLECTION = np.array([-1.0 if (i == 1) != (j == 1) else 1.0 for i, j in INDEX_PAIRS])
 
 
 def _weights(ndim: int) -> np.ndarray:

@@ -7,6 +7,12 @@ A history has one value per load step; its ``reduction`` says how a campaign tur
 per-case scalar (``"last"`` step, ``"max"`` over the steps, ``"sum"``; None: not reduced) and
 ``scalar`` names that scalar.  A field has named dimensions: ``x``, ``y`` (surface cells),
 ``z`` (volume layers, depth into body 2), ``component`` (:data:`solver.tensor.COMPONENTS`).
+
+``swap_sign`` is the factor a value takes when the bodies are relabelled (an elastic-plastic
+body 1 is solved as body 2, :meth:`solver.case.Case.swapped`): body 1's frame is body 2's
+rotated by 180 degrees about x (x, -y, -z), so tractions and forces on the other body change
+sign, and y components change sign again.  Tensor fields mirror by component
+(:data:`solver.tensor.Y_REFLECTION`).
 """
 
 from __future__ import annotations
@@ -22,6 +28,7 @@ class History:
     long_name: str
     reduction: str | None = "last"
     scalar: str | None = None
+    swap_sign: float = 1.0
 
     def scalar_name(self, name: str) -> str | None:
         """Name of the per-case scalar of history ``name`` (None when not reduced)."""
@@ -37,6 +44,7 @@ class Field:
     dims: tuple[str, ...]
     units: str
     long_name: str
+    swap_sign: float = 1.0
 
 
 HISTORIES: dict[str, History] = {
@@ -44,10 +52,10 @@ HISTORIES: dict[str, History] = {
     "approach": History("m", "rigid-body approach"),
     "max_pressure": History("Pa", "maximum contact pressure", "max"),
     "contact_area": History("m2", "contact area", "max"),
-    "tangential_force_x": History("N", "tangential force on body 2 along x"),
+    "tangential_force_x": History("N", "tangential force on body 2 along x", swap_sign=-1.0),
     "tangential_force_y": History("N", "tangential force on body 2 along y", None),
     "tangential_shift_x": History(
-        "m", "rigid tangential shift of body 1 relative to body 2 along x"
+        "m", "rigid tangential shift of body 1 relative to body 2 along x", swap_sign=-1.0
     ),
     "tangential_shift_y": History(
         "m", "rigid tangential shift of body 1 relative to body 2 along y", None
@@ -77,27 +85,29 @@ HISTORIES: dict[str, History] = {
 
 FIELDS: dict[str, Field] = {
     "pressure": Field(("x", "y"), "Pa", "contact pressure"),
-    "shear_x": Field(("x", "y"), "Pa", "shear traction x"),
+    "shear_x": Field(("x", "y"), "Pa", "shear traction x", -1.0),
     "shear_y": Field(("x", "y"), "Pa", "shear traction y"),
     "stress": Field(
         ("component", "x", "y", "z"), "Pa", "stress in body 2 from the surface tractions"
     ),
     "von_mises": Field(("x", "y", "z"), "Pa", "von Mises equivalent stress in body 2"),
-    "plastic_strain": Field(("x", "y", "z"), "1", "equivalent plastic strain in body 2"),
+    "plastic_strain": Field(
+        ("x", "y", "z"), "1", "equivalent plastic strain in the elastic-plastic body"
+    ),
     "plastic_strain_tensor": Field(
-        ("component", "x", "y", "z"), "1", "plastic strain tensor in body 2"
+        ("component", "x", "y", "z"), "1", "plastic strain tensor in the elastic-plastic body"
     ),
     "residual_stress": Field(
-        ("component", "x", "y", "z"), "Pa", "residual stress of the plastic strain in body 2"
+        ("component", "x", "y", "z"), "Pa", "residual stress of the plastic strain"
     ),
     "residual_displacement_x": Field(
-        ("x", "y"), "m", "residual surface displacement of body 2 along x"
+        ("x", "y"), "m", "residual surface displacement of the elastic-plastic body along x"
     ),
     "residual_displacement_y": Field(
-        ("x", "y"), "m", "residual surface displacement of body 2 along y"
+        ("x", "y"), "m", "residual surface displacement of the elastic-plastic body along y", -1.0
     ),
     "residual_displacement_z": Field(
-        ("x", "y"), "m", "residual surface displacement of body 2 along z (into the body)"
+        ("x", "y"), "m", "residual surface displacement of the elastic-plastic body into it"
     ),
 }
 

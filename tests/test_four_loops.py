@@ -117,3 +117,95 @@ def test_four_loop_hard_cases_finish_with_status(mu, pressure, steps):
     q = np.hypot(result.shear_x, result.shear_y)
     assert np.all(q <= mu * result.pressure * (1 + 1e-9) + 1e-6 * q.max())
     assert result.history["max_plastic_strain"][-1] > 0
+
+
+def mirror_pair(plastic_first: bool, body_other: dict, q=(0.15, 0.1), mu=0.3, n=24):
+    """Body 1 elastic-plastic (``plastic_first``) or body 2, the other ``body_other``; a normal
+    load, then a tangential force (Q_x, Q_y) = q mu W on body 2 of the case with the plastic body
+    2, and the same physical force in the relabelled case: (-Q_x, Q_y) on its body 2."""
+    plastic = {"radius": "inf", "behaviour": "elastic-plastic", **STEEL, "hardening": SWIFT}
+    force = 1000.0
+    qx, qy = q[0] * mu * force, q[1] * mu * force
+    tangential = [-qx, qy] if plastic_first else [qx, qy]
+    bodies = (plastic, body_other) if plastic_first else (body_other, plastic)
+    return solver.Case.from_dict(
+        {
+            "body1": bodies[0],
+            "body2": bodies[1],
+            "load": {
+                "path": [
+                    {"hertz_pressure": 4e9, "steps": 2},
+                    {"tangential_force": tangential, "steps": 2},
+                ]
+            },
+            "friction": {"coefficient": mu},
+            "grid": {"n": [n, n, 12]},
+            "output": {"fields": ["plastic_strain_tensor"]},
+        }
+    )
+
+
+@pytest.mark.parametrize(
+    "other",
+    [
+        {"radius": 0.015, "behaviour": "rigid"},
+        {"radius_x": 0.015, "radius_y": 0.03, "behaviour": "elastic", "E": 70e9, "nu": 0.33},
+    ],
+    ids=["rigid", "aluminium"],
+)
+def test_relabelling_the_bodies_gives_the_mirrored_answer(other):
+    """An elastic-plastic body 1 is the same contact as the plastic body 2 seen from the other
+    body: its frame is (x, -y, -z), so tractions on the other body change sign, y components
+    change sign again, and fields mirror in y (y-odd tensor components flip)."""
+    lower = mirror_pair(False, other)  # plastic body 2: solved directly
+    upper = mirror_pair(True, other)  # plastic body 1: relabelled
+    assert upper.plastic_body1 and not lower.plastic_body1
+    assert upper.swapped().case_id == lower.case_id  # the relabelling maps the whole case
+    assert upper.swapped().swapped() == upper
+    a, b = solver.solve(lower), solver.solve(upper)
+    assert a.converged and b.converged, (a.notes, b.notes)
+    assert a.history["max_plastic_strain"][-1] > 0 and a.loops == b.loops
+
+    def mirror(values, axis=1):
+        return np.flip(values, axis=axis)
+
+    # tractions on body 2 are those on body 1 reversed: p(x, y) = p'(x, -y),
+    # q_x(x, y) = -q'_x(x, -y), q_y(x, y) = +q'_y(x, -y)
+    np.testing.assert_array_equal(b.pressure, mirror(a.pressure))
+    np.testing.assert_array_equal(b.shear_x, -mirror(a.shear_x))
+    np.testing.assert_array_equal(b.shear_y, mirror(a.shear_y))
+    np.testing.assert_array_equal(b.contact_state, mirror(a.contact_state))
+    for name in ("tangential_force_x", "tangential_shift_x"):
+        np.testing.assert_array_equal(b.history[name], -a.history[name])
+    for name in ("tangential_force_y", "tangential_shift_y", "max_plastic_strain", "approach"):
+        np.testing.assert_array_equal(b.history[name], a.history[name])
+    assert b.history["tangential_force_x"][-1] == pytest.approx(-0.15 * 0.3 * 1000.0)
+    np.testing.assert_array_equal(b.fields["plastic_strain"], mirror(a.fields["plastic_strain"]))
+    tensor = mirror(a.fields["plastic_strain_tensor"], axis=2)
+    signs = np.array([1, 1, 1, -1, 1, -1]).reshape(6, 1, 1, 1)  # yz and xy are odd in y
+    np.testing.assert_array_equal(b.fields["plastic_strain_tensor"], signs * tensor)
+    np.testing.assert_array_equal(
+        b.fields["residual_displacement_y"], -mirror(a.fields["residual_displacement_y"])
+    )
+    dataset = b.to_xarray()
+    assert dataset["z"].attrs["long_name"] == "depth into body 1"
+    assert "relabelled" in dataset.attrs["notes"]
+
+
+def test_unbuilt_plastic_pairs_are_refused():
+    steel = {"radius": 0.015, "behaviour": "elastic-plastic", **STEEL, "hardening": SWIFT}
+    other = dict(
+        steel, radius="inf", hardening={"law": "linear", "yield_stress": 1e9, "modulus": 1e10}
+    )
+    table = {
+        "body1": steel,
+        "body2": other,
+        "load": {"normal_force": 1000.0},
+        "grid": {"n": [16, 16, 16]},
+    }
+    with pytest.raises(solver.SpecError, match="two different elastic-plastic bodies"):
+        solver.Case.from_dict(table)
+    table["body2"] = {"radius": "inf", "behaviour": "rigid"}
+    table["output"] = {"fields": ["stress"]}
+    with pytest.raises(solver.SpecError, match="volume is body 1's"):
+        solver.Case.from_dict(table)
