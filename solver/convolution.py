@@ -142,17 +142,9 @@ class SurfaceOperator:
         exact for periodic data and point tractions.
         """
         if self._precondition is None:
-            nx, ny = self.periodic_lengths(self.grid)
-            real = pyfftw.empty_aligned((nx, ny), dtype="float64")
-            spectrum = pyfftw.empty_aligned((nx, ny // 2 + 1), dtype="complex128")
-            forward = pyfftw.FFTW(real, spectrum, axes=(0, 1), flags=(self._planner,))
-            backward = pyfftw.FFTW(
-                spectrum, real, axes=(0, 1), direction="FFTW_BACKWARD",
-                flags=(self._planner, "FFTW_DESTROY_INPUT"),
-            )  # fmt: skip
-            kx = 2 * np.pi * np.fft.fftfreq(nx, self.grid.dx)
-            ky = 2 * np.pi * np.fft.rfftfreq(ny, self.grid.dy)
-            symbol = np.hypot(kx[:, None], ky[None, :]) / (2 * self.pair.compliance * nx * ny)
+            real, spectrum, forward, backward, kx, ky = self._periodic_plans(())
+            nx, ny = real.shape
+            symbol = np.hypot(kx, ky) / (2 * self.pair.compliance * nx * ny)
             self._precondition = (real, spectrum, forward, backward, symbol)
         real, spectrum, forward, backward, symbol = self._precondition
         nx, ny = self.grid.shape
@@ -162,6 +154,24 @@ class SurfaceOperator:
         np.multiply(spectrum, symbol, out=spectrum)
         backward.execute()
         return real[:nx, :ny].copy()
+
+    def _periodic_plans(self, batch: tuple[int, ...]) -> tuple:
+        """Buffers, FFT plans and wavenumbers (rad/m) of the periodic preconditioners.
+
+        On :meth:`periodic_lengths`, with leading ``batch`` axes; kx, ky broadcast together.
+        """
+        nx, ny = self.periodic_lengths(self.grid)
+        axes = (len(batch), len(batch) + 1)
+        real = pyfftw.empty_aligned((*batch, nx, ny), dtype="float64")
+        spectrum = pyfftw.empty_aligned((*batch, nx, ny // 2 + 1), dtype="complex128")
+        forward = pyfftw.FFTW(real, spectrum, axes=axes, flags=(self._planner,))
+        backward = pyfftw.FFTW(
+            spectrum, real, axes=axes, direction="FFTW_BACKWARD",
+            flags=(self._planner, "FFTW_DESTROY_INPUT"),
+        )  # fmt: skip
+        kx = 2 * np.pi * np.fft.fftfreq(nx, self.grid.dx)[:, None]
+        ky = 2 * np.pi * np.fft.rfftfreq(ny, self.grid.dy)[None, :]
+        return real, spectrum, forward, backward, kx, ky
 
     def inverse_tangential(
         self, displacement_x: np.ndarray, displacement_y: np.ndarray
@@ -175,17 +185,9 @@ class SurfaceOperator:
         the grid (extended like :meth:`inverse_normal`).
         """
         if self._tangential_precondition is None:
-            nx, ny = self.periodic_lengths(self.grid)
-            real = pyfftw.empty_aligned((2, nx, ny), dtype="float64")
-            spectrum = pyfftw.empty_aligned((2, nx, ny // 2 + 1), dtype="complex128")
-            work = pyfftw.empty_aligned((nx, ny // 2 + 1), dtype="complex128")
-            forward = pyfftw.FFTW(real, spectrum, axes=(1, 2), flags=(self._planner,))
-            backward = pyfftw.FFTW(
-                spectrum, real, axes=(1, 2), direction="FFTW_BACKWARD",
-                flags=(self._planner, "FFTW_DESTROY_INPUT"),
-            )  # fmt: skip
-            kx = 2 * np.pi * np.fft.fftfreq(nx, self.grid.dx)[:, None]
-            ky = 2 * np.pi * np.fft.rfftfreq(ny, self.grid.dy)[None, :]
+            real, spectrum, forward, backward, kx, ky = self._periodic_plans((2,))
+            nx, ny = real.shape[1:]
+            work = np.empty(spectrum.shape[1:], dtype=complex)
             k2 = kx * kx + ky * ky
             k = np.sqrt(k2)
             along = 1.0 / self.pair.compliance
