@@ -409,6 +409,8 @@ class GridSpec:
 
 #: Field outputs a case may request.
 FIELD_OUTPUTS = OPTIONAL_FIELDS
+#: Largest friction coefficient accepted (dimensionless).
+MAX_FRICTION = 100.0
 #: Version of the physical model: part of every case id, so that files computed by an older
 #: model (version 1: elastic-plastic bodies solved as elastic) are never reused.
 MODEL_VERSION = 2
@@ -521,8 +523,11 @@ class Case:
 
         friction = _check_keys(table.get("friction", {}), "friction", {"coefficient"})
         mu = _number(friction.get("coefficient", 0.0), "friction.coefficient")
-        if mu < 0:
-            _fail("friction.coefficient", f"must be >= 0, got {mu}")
+        if not 0 <= mu <= MAX_FRICTION:
+            _fail(
+                "friction.coefficient",
+                f"must be in [0, {MAX_FRICTION:g}] (a contact sticks fully long before), got {mu}",
+            )
         for stage, path in zip(stages, paths, strict=True):
             q = math.hypot(*stage.tangential_force)
             if q > 0 and q >= mu * stage.normal_force:

@@ -43,6 +43,7 @@ BAD = [
     ("body2.hardening", {"law": "swift", "B": 1, "C": 1, "n": 0.1}, "body2.hardening"),
     ("friction.coefficient", -0.1, "friction.coefficient"),
     ("friction.coefficient", True, "friction.coefficient"),
+    ("friction.coefficient", 1e300, "friction.coefficient"),
     ("load.hertz_pressure", -6e9, "load.hertz_pressure"),
     ("load.hertz_pressure", float("nan"), "load.hertz_pressure"),
     ("load.normal_force", 100.0, "load.hertz_pressure"),
