@@ -539,14 +539,17 @@ class Case:
 
         grid = _parse_grid(table["grid"])
         _check_plastic_scene(body1, body2, stages, grid)
-        plastic = next((b for b in (body2, body1) if b.behaviour == "elastic-plastic"), None)
+        plastics = [b for b in (body2, body1) if b.behaviour == "elastic-plastic"]
+        plastic = plastics[0] if plastics else None
         if grid.depth is None:
             depth = DEFAULT_DEPTH
-            if plastic is not None:
+            if plastic is not None:  # deep enough for each plastic body (one volume grid)
                 p_max = hertz(
                     max(stage.normal_force for stage in stages), pair.composite_modulus, (kx, ky)
                 ).max_pressure
-                depth = auto_depth(p_max, plastic.hardening.initial_yield_stress, plastic.nu)
+                depth = max(
+                    auto_depth(p_max, b.hardening.initial_yield_stress, b.nu) for b in plastics
+                )
             grid = dataclasses.replace(grid, depth=depth)
         solver = _parse_solver(table.get("solver", {}))
         output = _check_keys(table.get("output", {}), "output", {"fields"})
@@ -608,7 +611,22 @@ class Case:
     @property
     def plastic_body1(self) -> bool:
         """True when body 1 alone is elastic-plastic: solved as :meth:`swapped`."""
-        return self.body1.behaviour == "elastic-plastic" and not self.symmetric_plastic
+        return self.body1.behaviour == "elastic-plastic" and self.body2.behaviour != (
+            "elastic-plastic"
+        )
+
+    @property
+    def plastic_bodies(self) -> tuple[int, ...]:
+        """Bodies with a plastic strain field of their own: (2,), (2, 1) or ().
+
+        (2, 1) for two different elastic-plastic bodies; the symmetric pair has one field
+        (body 2's), and an elastic-plastic body 1 alone is solved as body 2 of :meth:`swapped`.
+        """
+        if self.body2.behaviour != "elastic-plastic":
+            return (2,) if self.plastic_body1 else ()
+        if self.body1.behaviour == "elastic-plastic" and not self.symmetric_plastic:
+            return (2, 1)
+        return (2,)
 
     def swapped(self) -> Case:
         """The same contact with the bodies relabelled (body 1 <-> body 2).
@@ -773,18 +791,12 @@ def _check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> No
     Solved: one elastic-plastic body against a rigid or elastic one (frictionless: the
     plasticity loop around the normal step; with friction or a tangential load: the four
     loops; an elastic-plastic body 1 is solved with the bodies relabelled, :meth:`Case.swapped`),
-    and the symmetric pair (eq. 2) under normal load with any friction.
+    two different elastic-plastic bodies (a plastic strain field in each), and the symmetric
+    pair (eq. 2) under normal load with any friction.
     """
     plastic1 = body1.behaviour == "elastic-plastic"
     plastic2 = body2.behaviour == "elastic-plastic"
     symmetric = plastic1 and body1 == body2
-    if plastic1 and plastic2 and not symmetric:
-        _fail(
-            "body1.behaviour",
-            "two different elastic-plastic bodies are not solved yet (only the symmetric pair: "
-            "identical radii, E, nu and hardening; the paper's eq. 2); make one body elastic "
-            "or rigid, or the two identical",
-        )
     if not (plastic1 or plastic2):
         return
     if symmetric and any(any(stage.tangential_force) for stage in stages):

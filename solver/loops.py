@@ -32,7 +32,13 @@ from .plastic_loop import PlasticState, plastic_step
 from .result import SEPARATED, SLIP, STICK, Result
 from .steps import ContactState, StepResult, normal_step, slip_stick_step
 from .tensor import Y_REFLECTION, von_mises
-from .variables import FIELDS, HISTORIES, PLASTIC_ZONE_THRESHOLD
+from .variables import (
+    BODY1_SUFFIX,
+    FIELDS,
+    HISTORIES,
+    PLASTIC_BODY_HISTORIES,
+    PLASTIC_ZONE_THRESHOLD,
+)
 
 #: Fewest increments per normal-loading stage for which the stick zone of a coupled
 #: (beta != 0) scene is trusted; fewer give a path-dependence note.
@@ -160,6 +166,19 @@ def _box_faces_reached(equivalent: np.ndarray) -> list[str]:
     return [name for name, cells in faces.items() if cells.max() > PLASTIC_ZONE_THRESHOLD]
 
 
+def _on_common_axes(name: str, values: np.ndarray) -> np.ndarray:
+    """Field ``name`` of body 1's frame (x, -y, -z) on the common x, y axes, or back.
+
+    Mirrored in y, times the declared ``swap_sign``; tensor fields also flip their y-odd
+    components.  Depths stay into the body.
+    """
+    declared = FIELDS[name]
+    out = np.flip(values, axis=declared.dims.index("y")) * declared.swap_sign
+    if "component" in declared.dims:
+        out = out * Y_REFLECTION.reshape((6,) + (1,) * (out.ndim - 1))
+    return out
+
+
 def _relabelled(result: Result, case: Case) -> Result:
     """The result of ``case.swapped()`` told for ``case``: bodies relabelled, fields mirrored.
 
@@ -167,14 +186,7 @@ def _relabelled(result: Result, case: Case) -> Result:
     ``swap_sign``; tensor fields also flip their y-odd components.  Volume fields stay the
     elastic-plastic body's (depth into it), on the common x, y axes.
     """
-
-    def mirrored(name: str, values: np.ndarray) -> np.ndarray:
-        declared = FIELDS[name]
-        out = np.flip(values, axis=declared.dims.index("y")) * declared.swap_sign
-        if "component" in declared.dims:
-            out = out * Y_REFLECTION.reshape((6,) + (1,) * (out.ndim - 1))
-        return out
-
+    mirrored = _on_common_axes
     history = {name: values * HISTORIES[name].swap_sign for name, values in result.history.items()}
     return Result(
         case,
@@ -220,13 +232,15 @@ def solve(case: Case) -> Result:
         names += _FRICTION_HISTORY
     if plastic:
         names += _PLASTIC_HISTORY
+        if 1 in case.plastic_bodies:
+            names += tuple(name + BODY1_SUFFIX for name in PLASTIC_BODY_HISTORIES)
     names += ("residual", "step_converged")
     history = {name: np.zeros(len(targets)) for name in names}
     volume: VolumeGrid | None = case.volume_grid
     area = case.surface_grid.cell_area
 
     state = ContactState.unloaded(operators.gap.shape)
-    plastic_state = PlasticState.virgin(volume.shape) if plastic else None
+    plastic_state = tuple(PlasticState.virgin(volume.shape) for _ in case.plastic_bodies)
     notes: list[str] = []
     converged = True
     coupled = contact_step is slip_stick_step and case.pair.dundurs_beta != 0.0
@@ -277,8 +291,8 @@ def solve(case: Case) -> Result:
         history["residual"][k] = residual
         history["step_converged"][k] = float(step_ok)
         if plastic:
-            _record_plastic(history, k, step, volume)
-            reached = _box_faces_reached(plastic_state.equivalent)
+            _record_plastic(history, k, step, volume, case.plastic_bodies)
+            reached = sorted({f for p in plastic_state for f in _box_faces_reached(p.equivalent)})
             if reached and not faces_noted:
                 faces_noted = True
                 notes.append(
@@ -337,32 +351,51 @@ def _record(history: dict, k: int, outcome: StepResult, area: float) -> None:
         history["coupling_iterations"][k] = outcome.iterations.get("coupling", 0)
 
 
-def _record_plastic(history: dict, k: int, step, volume: VolumeGrid) -> None:
-    equivalent = step.plastic.equivalent
+def _record_plastic(
+    history: dict, k: int, step, volume: VolumeGrid, bodies: tuple[int, ...]
+) -> None:
     history["plastic_iterations"][k] = step.iterations
-    history["max_plastic_strain"][k] = equivalent.max()
-    history["max_plastic_strain_depth"][k] = (
-        peak_depth(equivalent, volume.z) if equivalent.max() > 0 else 0.0
-    )
-    history["plastic_zone_depth"][k] = zone_depth(
-        axis_value(equivalent), volume.z, PLASTIC_ZONE_THRESHOLD
-    )
-    history["residual_depth"][k] = float(axis_value(step.plastic.displacement[2]))
+    for body, plastic in zip(bodies, step.plastic, strict=True):
+        suffix = BODY1_SUFFIX if body == 1 else ""
+        equivalent = plastic.equivalent
+        history["max_plastic_strain" + suffix][k] = equivalent.max()
+        history["max_plastic_strain_depth" + suffix][k] = (
+            peak_depth(equivalent, volume.z) if equivalent.max() > 0 else 0.0
+        )
+        history["plastic_zone_depth" + suffix][k] = zone_depth(
+            axis_value(equivalent), volume.z, PLASTIC_ZONE_THRESHOLD
+        )
+        history["residual_depth" + suffix][k] = float(axis_value(plastic.displacement[2]))
 
 
-def _plastic_fields(result: Result, operators: CaseOperators, plastic: PlasticState) -> None:
-    """Final plastic fields; displacements and residual stress of the final plastic strain."""
-    result.fields["plastic_strain"] = plastic.equivalent
-    if plastic.strain.any():
-        residual_stress, displacement = operators.eigenstrain.evaluate(plastic.strain)
-    else:
-        residual_stress, displacement = np.zeros_like(plastic.strain), plastic.displacement
-    for axis, values in zip("xyz", displacement, strict=True):
-        result.fields[f"residual_displacement_{axis}"] = values
-    if "plastic_strain_tensor" in result.case.fields:
-        result.fields["plastic_strain_tensor"] = plastic.strain
-    if "residual_stress" in result.case.fields:
-        result.fields["residual_stress"] = residual_stress
+def _plastic_fields(
+    result: Result, operators: CaseOperators, states: tuple[PlasticState, ...]
+) -> None:
+    """Final plastic fields of each plastic body (body 1's on the common x, y axes).
+
+    Displacements and residual stress are those of the final plastic strain.
+    """
+    for body, plastic in zip(result.case.plastic_bodies, states, strict=True):
+        if plastic.strain.any():
+            residual_stress, displacement = operators.volume(body)[1].evaluate(plastic.strain)
+        else:
+            residual_stress, displacement = np.zeros_like(plastic.strain), plastic.displacement
+        fields = {"plastic_strain": plastic.equivalent}
+        fields.update(
+            {
+                f"residual_displacement_{axis}": u
+                for axis, u in zip("xyz", displacement, strict=True)
+            }
+        )
+        if "plastic_strain_tensor" in result.case.fields:
+            fields["plastic_strain_tensor"] = plastic.strain
+        if "residual_stress" in result.case.fields:
+            fields["residual_stress"] = residual_stress
+        for name, values in fields.items():
+            if body == 1:
+                result.fields[name + BODY1_SUFFIX] = _on_common_axes(name, values)
+            else:
+                result.fields[name] = values
 
 
 def _path_dependence_notes(case: Case) -> list[str]:

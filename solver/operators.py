@@ -35,7 +35,7 @@ def initial_gap(case: Case) -> np.ndarray:
     return 0.5 * (kx * x * x + ky * y * y)
 
 
-@functools.lru_cache(maxsize=2)
+@functools.lru_cache(maxsize=4)
 def _volume_operators(
     grid: VolumeGrid, body: Body, threads: int, planner: str, eigenstrain: bool
 ) -> tuple[SubsurfaceStressOperator, EigenstrainOperator | None]:
@@ -65,6 +65,9 @@ class CaseOperators:
     eigenstrain : EigenstrainOperator or None
         Residual stress and surface displacement of plastic strain in body 2 (elastic-plastic
         cases only).
+    stress1, eigenstrain1 : optional
+        The same for body 1 when both bodies are elastic-plastic and different (each in its
+        own frame, z into body 1).
     """
 
     case: Case
@@ -72,6 +75,12 @@ class CaseOperators:
     gap: np.ndarray
     stress: SubsurfaceStressOperator | None = None
     eigenstrain: EigenstrainOperator | None = None
+    stress1: SubsurfaceStressOperator | None = None
+    eigenstrain1: EigenstrainOperator | None = None
+
+    def volume(self, body: int) -> tuple[SubsurfaceStressOperator, EigenstrainOperator]:
+        """(stress, eigenstrain) operators of body ``body`` (1 or 2)."""
+        return (self.stress1, self.eigenstrain1) if body == 1 else (self.stress, self.eigenstrain)
 
     @property
     def options(self) -> SolverOptions:
@@ -89,13 +98,17 @@ class CaseOperators:
         options = case.solver
         planner = planner_flag(options)
         surface = surface_operator(case.surface_grid, case.pair, options.fft_threads, planner)
-        stress = plastic = None
+        stress = plastic = stress1 = plastic1 = None
         plastic_case = case.plastic_body is not None
         if plastic_case or "stress" in case.fields:
             stress, plastic = _volume_operators(
                 case.volume_grid, case.body2, options.fft_threads, planner, plastic_case
             )
-        return cls(case, surface, initial_gap(case), stress, plastic)
+        if 1 in case.plastic_bodies:
+            stress1, plastic1 = _volume_operators(
+                case.volume_grid, case.body1, options.fft_threads, planner, True
+            )
+        return cls(case, surface, initial_gap(case), stress, plastic, stress1, plastic1)
 
     @staticmethod
     def memory_bytes(case: Case) -> int:
@@ -115,8 +128,9 @@ class CaseOperators:
         volume = case.volume_grid
         if case.plastic_body is not None:
             cells = 8 * 6 * nx * ny * volume.nz
-            total += EigenstrainOperator.memory_bytes(volume, deviatoric=True)
-            total += PLASTIC_WORK_ARRAYS * cells
+            bodies = len(case.plastic_bodies)
+            total += bodies * EigenstrainOperator.memory_bytes(volume, deviatoric=True)
+            total += bodies * PLASTIC_WORK_ARRAYS * cells
         elif "stress" in case.fields:
             tractions = 3 if tangential else 1
             total += SubsurfaceStressOperator.memory_bytes(volume, tractions)

@@ -1,24 +1,29 @@
 r"""The plasticity loop: one load increment of elastic-plastic contact, wrapping any contact step.
 
 Unknown: the plastic strain increment ``d`` of the increment (a ``(6, nx, ny, nz)`` tensor field
-in the plastic body; body 2, or both bodies of the symmetric pair, whose fields coincide).  One
-evaluation of the fixed-point map ``d -> G(d)``:
+in each plastic body, stacked: body 2; or both bodies of the symmetric pair, whose fields
+coincide; or body 2 and body 1, each in its own frame, when both are elastic-plastic and
+different).  One evaluation of the fixed-point map ``d -> G(d)``:
 
 1. plastic strain ``eps_p = eps_p,k-1 + d``; its residual stress ``sigma^r(eps_p)`` and surface
-   displacements ``u^r(eps_p)`` (:class:`~solver.eigenstrain.EigenstrainOperator`, one call);
-2. contact step with the residual displacements in the gap (``u_z^r``, doubled for the
-   symmetric pair: the paper's eq. 2), warm-started from the previous evaluation;
-3. stress ``sigma = sigma^e(p, q) + sigma^r(eps_p)``, and the trial stress of the increment
+   displacements ``u^r(eps_p)`` (:class:`~solver.eigenstrain.EigenstrainOperator`, one call
+   per body);
+2. contact step with the residual displacements in the gap (:func:`relative_residual`:
+   ``u_z^r`` doubled for the symmetric pair, the paper's eq. 2; body 1's mapped from its frame
+   (x, -y, -z)), warm-started from the previous evaluation;
+3. stress ``sigma = sigma^e(p, q) + sigma^r(eps_p)`` (body 1: its tractions in its frame,
+   :func:`body_tractions`), and the trial stress of the increment
    ``sigma + 2 G d`` (the stress had ``d`` been elastic: ``d`` is deviatoric); only deviators
    are computed (all a von Mises return needs, five components instead of six);
 4. radial return (:func:`solver.plasticity.return_mapping`) from the equivalent plastic strain
    at the start of the increment: ``G(d)`` is its plastic strain increment.
 
-The loop stops when ``max |G(d) - d| <= plastic_tolerance * sigma_Y0 / E`` (the change of the
-increment relative to the yield strain) and the contact step converged.  The iterates are mixed
-by Anderson acceleration (:mod:`solver.anderson`, memory ``solver.anderson_memory``); the
-contact step starts from the previous iterate's tractions.  Hitting ``plastic_max_iterations``
-returns the last iterate with ``converged = False`` and its residual.
+The loop stops when ``max |G(d) - d| <= plastic_tolerance * sigma_Y0 / E`` in every body (the
+change of the increment relative to its yield strain) and the contact step converged.  The
+iterates are mixed by Anderson acceleration (:mod:`solver.anderson`, memory
+``solver.anderson_memory``); the contact step starts from the previous iterate's tractions.
+Hitting ``plastic_max_iterations`` returns the last iterate with ``converged = False`` and its
+residual.
 """
 
 from __future__ import annotations
@@ -72,10 +77,10 @@ class PlasticStepResult:
     ----------
     contact : StepResult
         The contact step of the accepted iterate (its iteration counts summed over the loop).
-    plastic : PlasticState
-        The plastic state at the end of the increment.
+    plastic : tuple of PlasticState
+        The plastic state of each of ``case.plastic_bodies`` at the end of the increment.
     increment : ndarray
-        The accepted plastic strain increment ``(6, nx, ny, nz)``.
+        The accepted plastic strain increments ``(bodies, 6, nx, ny, nz)``.
     iterations : int
         Plasticity-loop iterations (contact solves).
     residual : float
@@ -95,26 +100,57 @@ class PlasticStepResult:
     message: str
 
 
-def relative_residual(
-    operators: CaseOperators, displacement: tuple[np.ndarray, np.ndarray, np.ndarray]
-) -> ResidualDisplacement:
-    """Residual displacements of the pair (what enters the gap) from the plastic body's own.
+def mirror(values: np.ndarray, axis: int = 1) -> np.ndarray:
+    """A field in body 1's frame on the common axes, or back: y -> -y (the grids are centred)."""
+    return np.flip(values, axis=axis)
 
-    Body 2 alone: as they are.  The symmetric pair (paper's eq. 2): the normal displacements of
-    the two bodies add up and their tangential ones coincide, so no relative tangential part.
+
+def relative_residual(
+    operators: CaseOperators, displacements: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]]
+) -> ResidualDisplacement:
+    """Residual displacements of the pair (what enters the gap) from each plastic body's own.
+
+    ``displacements`` maps a body (1 or 2) to its residual surface displacements in its own
+    frame (z into it).  Body 1's frame is (x, -y, -z) in body 2's: its dent adds to the gap
+    like body 2's, and its tangential displacement, ``(u_x, -u_y)`` on the common axes, is
+    subtracted (the tangential part is body 2's relative to body 1).  The symmetric pair
+    (paper's eq. 2): the normal displacements of the two bodies add up and their tangential
+    ones coincide, so no relative tangential part.
     """
-    ux, uy, uz = displacement
     if operators.case.symmetric_plastic:
+        uz = displacements[2][2]
         zero = np.zeros_like(uz)
         return ResidualDisplacement(zero, zero, 2.0 * uz)
-    return ResidualDisplacement(ux, uy, uz)
+    x = y = z = 0.0
+    if 2 in displacements:
+        ux, uy, uz = displacements[2]
+        x, y, z = x + ux, y + uy, z + uz
+    if 1 in displacements:
+        ux, uy, uz = (mirror(u) for u in displacements[1])
+        x, y, z = x - ux, y + uy, z + uz
+    return ResidualDisplacement(x, y, z)
+
+
+def body_tractions(state: ContactState, body: int) -> dict[str, np.ndarray]:
+    """Surface tractions on ``body`` in its own frame (Pa), for its subsurface stress.
+
+    Body 2 carries ``(p, q_x, q_y)``; body 1 the opposite shear, which in its frame (x, -y)
+    reads ``(p, -q_x, q_y)`` at the mirrored cells.
+    """
+    pressure, shear_x, shear_y = state.pressure, state.shear_x, state.shear_y
+    if body == 1:
+        pressure, shear_x, shear_y = mirror(pressure), -mirror(shear_x), mirror(shear_y)
+    tractions = {"pressure": pressure}
+    if shear_x.any() or shear_y.any():
+        tractions.update(shear_x=shear_x, shear_y=shear_y)
+    return tractions
 
 
 def plastic_step(
     operators: CaseOperators,
     contact_step: Callable[..., StepResult],
     previous: ContactState,
-    previous_plastic: PlasticState,
+    previous_plastic: tuple[PlasticState, ...],
     target: tuple[float, float, float],
     guess: np.ndarray | None = None,
 ) -> PlasticStepResult:
@@ -123,17 +159,18 @@ def plastic_step(
     Parameters
     ----------
     operators : CaseOperators
-        The case's operators (with the eigenstrain operator).
+        The case's operators (with the eigenstrain operators).
     contact_step : callable
         :func:`~solver.steps.normal_step` or :func:`~solver.steps.slip_stick_step`.
     previous : ContactState
         Converged contact state of the previous increment.
-    previous_plastic : PlasticState
-        Plastic state at the end of the previous increment.
+    previous_plastic : tuple of PlasticState
+        Plastic state of each of ``case.plastic_bodies`` at the end of the previous increment.
     target : (float, float, float)
         (W, Q_x, Q_y) at the end of the increment (N).
     guess : ndarray, optional
-        Starting plastic strain increment (e.g. the previous increment's); zero if omitted.
+        Starting plastic strain increments, stacked over the plastic bodies (e.g. the previous
+        increment's); zero if omitted.
 
     Returns
     -------
@@ -141,13 +178,13 @@ def plastic_step(
     """
     case = operators.case
     options = case.solver
-    body = case.plastic_body
-    hardening = body.hardening
-    shear_modulus = body.shear_modulus
-    scale = hardening.initial_yield_stress / body.E  # yield strain
-    eigenstrain, stress_operator = operators.eigenstrain, operators.stress
+    bodies = case.plastic_bodies
+    materials = [case.body2 if b == 2 else case.body1 for b in bodies]
+    # yield strain of each body, the scale of its increment's change
+    scales = [m.hardening.initial_yield_stress / m.E for m in materials]
 
-    increment = np.zeros_like(previous_plastic.strain) if guess is None else guess.copy()
+    previous_strain = np.stack([p.strain for p in previous_plastic])
+    increment = np.zeros_like(previous_strain) if guess is None else guess.copy()
     mixer = Anderson(options.anderson_memory)
     contact_guess: ContactState | None = None
     totals = {"normal": 0, "slip": 0, "coupling": 0}
@@ -156,42 +193,56 @@ def plastic_step(
     message = ""
     while iterations < options.plastic_max_iterations:
         iterations += 1
-        strain = previous_plastic.strain + increment
-        layers = eigenstrain.layer_spectra(strain) if strain.any() else None
-        if layers is not None:
-            displacement = eigenstrain.displacement_from_layers(layers)
-        else:  # nothing has yielded yet: skip the volume transforms
-            displacement = previous_plastic.displacement
+        strain = previous_strain + increment
+        layers, displacements = [], {}
+        for i, body in enumerate(bodies):
+            eigenstrain = operators.volume(body)[1]
+            layers.append(eigenstrain.layer_spectra(strain[i]) if strain[i].any() else None)
+            displacements[body] = (  # nothing has yielded yet: skip the volume transforms
+                eigenstrain.displacement_from_layers(layers[i])
+                if layers[i] is not None
+                else previous_plastic[i].displacement
+            )
         contact = contact_step(
-            operators, previous, target, relative_residual(operators, displacement), contact_guess
+            operators, previous, target, relative_residual(operators, displacements), contact_guess
         )
         for key in totals:
             totals[key] += contact.iterations.get(key, 0)
         contact_guess = contact.state
-        state = contact.state
-        tractions = {"pressure": state.pressure}
-        if state.shear_x.any() or state.shear_y.any():
-            tractions.update(shear_x=state.shear_x, shear_y=state.shear_y)
-        if layers is not None:  # residual and traction stress in one pass, deviators only
-            trial = eigenstrain.deviatoric_stress_with_tractions(strain, layers, tractions)
-        elif state.pressure.any() or len(tractions) > 1:
-            trial = stress_operator.stress(**tractions)
-        else:
-            trial = np.zeros_like(strain)
-        trial += 2.0 * shear_modulus * increment
-        mapped = return_mapping(trial, previous_plastic.equivalent, hardening, shear_modulus)
-        change = mapped.plastic_strain_increment - increment
-        residual = float(np.abs(change).max()) / scale
+        mapped = []
+        for i, (body, material) in enumerate(zip(bodies, materials, strict=True)):
+            stress_operator, eigenstrain = operators.volume(body)
+            tractions = body_tractions(contact.state, body)
+            if layers[i] is not None:  # residual and traction stress in one pass, deviators
+                trial = eigenstrain.deviatoric_stress_with_tractions(
+                    strain[i], layers[i], tractions
+                )
+            elif tractions["pressure"].any() or len(tractions) > 1:
+                trial = stress_operator.stress(**tractions)
+            else:
+                trial = np.zeros_like(strain[i])
+            trial += 2.0 * material.shear_modulus * increment[i]
+            mapped.append(
+                return_mapping(
+                    trial,
+                    previous_plastic[i].equivalent,
+                    material.hardening,
+                    material.shear_modulus,
+                )
+            )
+        change = np.stack([m.plastic_strain_increment for m in mapped]) - increment
+        residual = max(float(np.abs(change[i]).max()) / scale for i, scale in enumerate(scales))
         if best is None or residual < best[0]:
-            best = (residual, contact, mapped, displacement)
-        if not mapped.converged:
-            message = f"return mapping not converged (residual {mapped.residual:.3g})"
+            best = (residual, contact, mapped, displacements)
+        failed = [m for m in mapped if not m.converged]
+        if failed:
+            message = f"return mapping not converged (residual {failed[0].residual:.3g})"
         if residual <= options.plastic_tolerance:
-            converged = contact.converged and mapped.converged
+            converged = contact.converged and not failed
             break  # settled; an unconverged inner solve is reported, not iterated on
         increment = mixer(increment, change)
     if not converged:  # keep the best iterate
-        residual, contact, mapped, displacement = best
+        residual, contact, mapped, displacements = best
     if not converged and not message:
         message = (
             f"plasticity loop not converged after {options.plastic_max_iterations} iterations "
@@ -199,11 +250,14 @@ def plastic_step(
         )
     if not contact.converged:
         message = "; ".join(filter(None, (message, contact.message)))
-    increment = mapped.plastic_strain_increment
-    plastic = PlasticState(
-        previous_plastic.strain + increment,
-        previous_plastic.equivalent + mapped.equivalent_increment,
-        displacement,
+    increment = np.stack([m.plastic_strain_increment for m in mapped])
+    plastic = tuple(
+        PlasticState(
+            previous_plastic[i].strain + increment[i],
+            previous_plastic[i].equivalent + mapped[i].equivalent_increment,
+            displacements[body],
+        )
+        for i, body in enumerate(bodies)
     )
     contact = StepResult(
         contact.state,

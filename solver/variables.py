@@ -17,7 +17,7 @@ sign, and y components change sign again.  Tensor fields mirror by component
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 
 @dataclass(frozen=True)
@@ -110,6 +110,31 @@ FIELDS: dict[str, Field] = {
         ("x", "y"), "m", "residual surface displacement of the elastic-plastic body into it"
     ),
 }
+
+#: Histories and fields of an elastic-plastic body, declared for body 2 above; a second plastic
+#: body 1 (two different elastic-plastic bodies) has each under the name + :data:`BODY1_SUFFIX`.
+PLASTIC_BODY_HISTORIES = (
+    "max_plastic_strain", "max_plastic_strain_depth", "plastic_zone_depth", "residual_depth",
+)  # fmt: skip
+PLASTIC_BODY_FIELDS = (
+    "plastic_strain", "plastic_strain_tensor", "residual_stress",
+    "residual_displacement_x", "residual_displacement_y", "residual_displacement_z",
+)  # fmt: skip
+BODY1_SUFFIX = "_body1"
+HISTORIES.update(
+    {
+        name + BODY1_SUFFIX: replace(
+            HISTORIES[name], long_name=HISTORIES[name].long_name + ", body 1"
+        )
+        for name in PLASTIC_BODY_HISTORIES
+    }
+)
+FIELDS.update(
+    {
+        name + BODY1_SUFFIX: replace(FIELDS[name], long_name=FIELDS[name].long_name + ", body 1")
+        for name in PLASTIC_BODY_FIELDS
+    }
+)
 
 #: Field outputs a case may request in ``[output] fields`` (the others come with the scene).
 OPTIONAL_FIELDS = ("stress", "plastic_strain_tensor", "residual_stress")
