@@ -98,7 +98,9 @@ def test_fretting_ii_runs_all_four_loops_and_friction_raises_plastic_strain():
     assert h["max_plastic_strain"][-1] > 0
 
 
-@pytest.mark.parametrize("mu, pressure, steps", [(1.0, 10e9, 5), (0.5, 10e9, 40), (1.0, 3e9, 2)])
+@pytest.mark.parametrize(
+    "mu, pressure, steps", [(1.0, 10e9, 5), (1.0, 10e9, 80), (0.5, 10e9, 40), (1.0, 3e9, 2)]
+)
 def test_four_loop_hard_cases_finish_with_status(mu, pressure, steps):
     """High friction, far past yield, few and many steps, a coarse mesh: finite, status
     reported, the Coulomb disk respected."""
