@@ -180,11 +180,10 @@ def _on_common_axes(name: str, values: np.ndarray) -> np.ndarray:
 
 
 def _relabelled(result: Result, case: Case) -> Result:
-    """The result of ``case.swapped()`` told for ``case``: bodies relabelled, fields mirrored.
+    """The result of ``case.swapped()`` told for ``case``, the bodies relabelled.
 
-    Surface arrays mirror in y (the grid is symmetric about y = 0) and take the declared
-    ``swap_sign``; tensor fields also flip their y-odd components.  Volume fields stay the
-    elastic-plastic body's (depth into it), on the common x, y axes.
+    Every field goes on the common axes (:func:`_on_common_axes`), every history takes its
+    ``swap_sign``.
     """
     mirrored = _on_common_axes
     history = {name: values * HISTORIES[name].swap_sign for name, values in result.history.items()}

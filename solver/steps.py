@@ -212,7 +212,7 @@ def slip_stick_step(
 
     start = initial if initial is not None else previous
     pressure = _start_pressure(operators, force, start, previous)
-    qx, qy, shift = start.shear_x, start.shear_y, start.shift
+    qx, qy = start.shear_x, start.shear_y
     counts = {"normal": 0, "slip": 0, "coupling": 0}
     converged_all, worst, change = True, 0.0, np.inf
     messages = []
@@ -243,7 +243,6 @@ def slip_stick_step(
             (known_x + pxs, known_y + pys),
             (qx_target, qy_target),
             initial=(qx, qy),
-            initial_shift=tuple(shift),
             tolerance=max(options.slip_tolerance, inexact),
             max_iterations=options.slip_max_iterations,
         )

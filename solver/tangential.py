@@ -283,17 +283,17 @@ def _newton_solve(operator, qx, qy, ux, uy, cx, cy, stick, slip, bound, toleranc
     # u follows linearly; the retraction's (second-order) correction needs one more product
     cor_x, cor_y = new_x - qx - dx, new_y - qy - dy
     if np.any(cor_x) or np.any(cor_y):
-        ex_, ey_ = operator.tangential(cor_x, cor_y)
+        ucx, ucy = operator.tangential(cor_x, cor_y)
         applications += 1
-        kdx += ex_
-        kdy += ey_
+        kdx += ucx
+        kdy += ucy
     qx[...], qy[...] = new_x, new_y
     ux += kdx
     uy += kdy
     return coefficients(*restrict(ux + cx, uy + cy)), applications
 
 
-def _active_set(operator, bound, contact, cx, cy, target, qx, qy, shift, scale, tolerance, budget):
+def _active_set(operator, bound, contact, cx, cy, target, qx, qy, scale, tolerance, budget):
     """Active-set Newton iteration (module docstring).
 
     Each pass splits the contact by the trial traction ``z = q - rho s`` (``rho`` =
@@ -312,7 +312,8 @@ def _active_set(operator, bound, contact, cx, cy, target, qx, qy, shift, scale, 
     qx, qy, multiplier = project_onto_feasible(qx, qy, bound, area_target, np.zeros(2))
     ux, uy = operator.tangential(qx, qy)
     applications = 1
-    inside = contact & (np.hypot(qx, qy) < bound)  # the shift is the mean slip-free motion
+    # the starting shift: the mean rigid motion of the cells inside their disks
+    inside = contact & (np.hypot(qx, qy) < bound)
     weight = (inside if inside.any() else contact).astype(float)
     shift = np.array([_sum((ux + cx) * weight), _sum((uy + cy) * weight)]) / _sum(weight)
     residual, stick = _optimality(ux, uy, qx, qy, cx, cy, shift, bound, contact, scale, compliance)
@@ -415,7 +416,6 @@ def solve_tangential(
     force: tuple[float, float],
     *,
     initial: tuple[np.ndarray, np.ndarray] | None = None,
-    initial_shift: tuple[float, float] = (0.0, 0.0),
     scale: float | None = None,
     tolerance: float = 1e-8,
     max_iterations: int = 5000,
@@ -437,8 +437,6 @@ def solve_tangential(
         Prescribed tangential force (Q_x, Q_y) on body 2 (N); must satisfy |Q| < mu W.
     initial : (ndarray, ndarray), optional
         Starting shear tractions (Pa), e.g. the previous step's.
-    initial_shift : (float, float)
-        Starting shift (m), used while no cell sticks.
     scale : float, optional
         Smallest displacement scale (m) of the residual; the rms of ``c``, of ``K_t q`` and
         the shift over the contact are used when larger.
@@ -467,9 +465,8 @@ def solve_tangential(
         qx, qy = np.zeros_like(pressure), np.zeros_like(pressure)
     else:
         qx, qy = initial[0] * contact, initial[1] * contact
-    shift = np.asarray(initial_shift, dtype=float)
     qx, qy, ux, uy, shift, residual, stick, iterations, converged = _active_set(
-        operator, bound, contact, cx, cy, target, qx, qy, shift, scale, tolerance,
+        operator, bound, contact, cx, cy, target, qx, qy, scale, tolerance,
         budget=max_iterations // 2,
     )  # fmt: skip
     if not converged:  # the projected gradient, from the best active-set iterate
