@@ -776,9 +776,9 @@ class Case:
                 factor = 5.0
         volume = 0.0
         if self.plastic_body is not None:
-            # ~10 plasticity iterations per step, each 12 padded 3-D transforms
+            # ~10 plasticity iterations per step, each 12 padded 3-D transforms per plastic body
             cells = 4 * self.grid.nx * self.grid.ny * 3 * self.grid.nz
-            volume = 10 * 12 * cells * math.log2(cells)
+            volume = 10 * 12 * cells * math.log2(cells) * len(self.plastic_bodies)
         elif "stress" in self.fields:
             cells = 4 * self.grid.nx * self.grid.ny * self.grid.nz
             volume = 3 * cells * math.log2(cells) / max(self.total_steps, 1)
