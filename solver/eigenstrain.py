@@ -633,16 +633,18 @@ class EigenstrainOperator:
         result = []
         for axis in "xyz":
             traction = _TRACTION_OF_DIRECTION[axis]
-            kernels = self.surface_stress.kernel_spectra(traction)
-            total = None
+            kernels = self.surface_stress.kernel_spectra(traction)  # real, (6, 2nx, ny + 1, nz)
+            # sum over the layers of every component at once, on the real and imaginary parts
+            # (no complex temporaries): sums[c] = sum_z layers[c] kernels[c]
+            sums = np.einsum("cxyz,cxyz->cxy", layers.real, kernels) + 1j * np.einsum(
+                "cxyz,cxyz->cxy", layers.imag, kernels
+            )
+            total = 0.0
             for mn, comp in enumerate(STRESS_COMPONENTS):
                 px, py = kernel_parity(comp, traction)
                 # correlation: conjugate kernel spectrum (i K -> -i K)
                 factor = -1j if (px + py) % 2 else 1.0
-                term = (layers[mn] * kernels[mn]).sum(axis=-1) * (
-                    factor * COMPONENT_WEIGHTS[mn] * dz
-                )
-                total = term if total is None else total + term
+                total = total + sums[mn] * (factor * COMPONENT_WEIGHTS[mn] * dz)
             result.append(self._inverse_surface(total))
         return tuple(result)
 
