@@ -16,9 +16,7 @@ minimum complementary energy)
 
     minimise  1/2 q.K_t q + q.c   subject to  |q_i| <= mu p_i  and  sum q dA = Q,
 
-with ``Delta`` the multiplier of the force constraint.  Two methods; the first is chosen by how
-far the warm start is from the prescribed force (:data:`FORCE_CHANGE`), the other is the safety
-net, started from the first one's best iterate:
+with ``Delta`` the multiplier of the force constraint.  Two methods, the second a safety net:
 
 1. **Active-set Newton** (:func:`_active_set`): split the contact into stick and slip by the
    trial traction ``q - rho s`` (a primal-dual active set), then take one Newton step on the
@@ -26,13 +24,11 @@ net, started from the first one's best iterate:
    ``nu/(mu p)`` enters the Hessian), solved by CG preconditioned with the inverse Cerruti symbol
    (:meth:`SurfaceOperator.inverse_tangential`), so the iteration count hardly depends on the
    mesh.  The force is restored by a multiplier on every cell, not on the stick cells alone
-   (which overloaded them when the stick zone is small, as in Spence's problem).  First when
-   the tangential force changes: on Cattaneo-Mindlin at 64^2 a tangential load in 10 steps
-   costs 245 operator applications instead of 2,715 with the projected gradient alone.
+   (which overloaded them when the stick zone is small, as in Spence's problem).  On
+   Cattaneo-Mindlin at 64^2 a tangential load in 10 steps costs 245 operator applications
+   instead of 2,715 with the projected gradient alone.
 2. **Accelerated projected gradient** (FISTA, Beck & Teboulle 2009, with O'Donoghue & Candes'
-   gradient restart), first when the warm start has the right force (normal load increments,
-   coupling passes: on Spence's problem at 128^2 it took 20 s where the Newton iteration, whose
-   CG count grows with the slip annulus, took 32 s): a gradient step of
+   gradient restart) from the best active-set iterate, when that stagnates: a gradient step of
    length 1/L (L the largest eigenvalue of the circulant ``K_t``), then the exact Euclidean
    projection onto {disks} and {sum q = Q} (:func:`project_onto_feasible`, a 2-D Newton
    iteration for the force multiplier).  It converges for this convex problem whatever the
@@ -197,9 +193,6 @@ SPLIT = 0.3
 #: Passes without a 10 % fall of the residual after which the active-set iteration hands over
 #: to the projected gradient.
 STAGNATION = 5
-#: Change of the tangential force (relative to mu W) from the warm start above which the
-#: active-set Newton iteration goes first; below it the projected gradient does.
-FORCE_CHANGE = 1e-3
 #: CG iterations of one Newton step at most.
 NEWTON_MAX_ITERATIONS = 100
 
@@ -383,14 +376,10 @@ def _projected_gradient(
     old_ux, old_uy = ux, uy
     yx, yy, factor = qx, qy, 0.0
     momentum = 1.0
+    residual, converged, iterations = np.inf, False, 1
     shift = -multiplier / step
-    iterations = 1
-    residual, stick = _optimality(ux, uy, qx, qy, cx, cy, shift, bound, contact, scale)
-    converged = residual < tolerance  # a warm start may already solve the problem
+    stick = contact
     for iterations in range(2, max(budget, 2) + 1):
-        if converged:
-            iterations -= 1
-            break
         gx = ux + factor * (ux - old_ux) + cx
         gy = uy + factor * (uy - old_uy) + cy
         new_x, new_y, multiplier = project_onto_feasible(
@@ -476,28 +465,16 @@ def solve_tangential(
         qx, qy = np.zeros_like(pressure), np.zeros_like(pressure)
     else:
         qx, qy = initial[0] * contact, initial[1] * contact
-    # A change of the tangential force moves the whole stick zone: the active-set Newton step
-    # solves it in a few passes where the projected gradient needs hundreds of iterations.  A
-    # warm start at the right force (normal load increments, coupling passes) is only refined:
-    # the projected gradient is the cheaper there (measured: bench slipstick, Spence at 128^2).
-    force_change = float(np.hypot(*(target - [_sum(qx), _sum(qy)]))) / max(_sum(bound), 1e-300)
-    newton_first = force_change > FORCE_CHANGE
-    shift, iterations, converged = np.zeros(2), 0, False
-    for newton in (newton_first, not newton_first):  # the second is the safety net
-        budget = max_iterations // 2 if iterations == 0 else max_iterations - iterations
-        if newton:
-            outcome = _active_set(
-                operator, bound, contact, cx, cy, target, qx, qy, scale, tolerance, budget
-            )
-        else:
-            outcome = _projected_gradient(
-                operator, bound, contact, cx, cy, target, qx, qy, shift, scale, tolerance,
-                budget, check_every,
-            )  # fmt: skip
-        qx, qy, ux, uy, shift, residual, stick, used, converged = outcome
+    qx, qy, ux, uy, shift, residual, stick, iterations, converged = _active_set(
+        operator, bound, contact, cx, cy, target, qx, qy, scale, tolerance,
+        budget=max_iterations // 2,
+    )  # fmt: skip
+    if not converged:  # the projected gradient, from the best active-set iterate
+        qx, qy, ux, uy, shift, residual, stick, used, converged = _projected_gradient(
+            operator, bound, contact, cx, cy, target, qx, qy, shift, scale, tolerance,
+            max_iterations - iterations, check_every,
+        )  # fmt: skip
         iterations += used
-        if converged:
-            break
     sx, sy = ux + cx - shift[0], uy + cy - shift[1]
     message = (
         f"converged in {iterations} iterations"
