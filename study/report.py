@@ -619,6 +619,7 @@ def plot_stick_slip(dataset, cases_dir: str | Path, path: str | Path) -> Path | 
     fig, axes, columns = _panel_grid(plt, len(panels), 3.0, 3.0, extra=1.0)
     cmap = ListedColormap(["#eeeeee", "#2b83ba", "#fdae61"])
     t = np.linspace(0, 2 * np.pi, 200)
+    dotted = False
     for k, (ax, (labels, index, file)) in enumerate(zip(axes, panels, strict=True)):
         with xr.open_dataset(file) as case:
             a = float(case.attrs.get("hertz_semi_axis_x", case.attrs.get("hertz_radius", 1.0)))
@@ -639,6 +640,7 @@ def plot_stick_slip(dataset, cases_dir: str | Path, path: str | Path) -> Path | 
         ratio = float(c_ref.isel(index)) if c_ref is not None else math.nan
         if np.isfinite(ratio) and ratio < 1:
             ax.plot(ratio * np.cos(t), ratio * np.sin(t), "k:", lw=1.2)
+            dotted = True
         n_label = {d: dataset[d].values[index[d]] for d in mesh}
         ax.set_title(_title({**labels, **n_label}), fontsize=8)
         ax.xaxis.set_major_locator(MultipleLocator(1.0))
@@ -652,7 +654,8 @@ def plot_stick_slip(dataset, cases_dir: str | Path, path: str | Path) -> Path | 
     _suptitle(
         fig,
         f"{dataset.attrs.get('campaign', '')}: contact state{' (finest mesh)' if mesh else ''}",
-        "dashed circle: Hertz radius a; dotted: Cattaneo-Mindlin stick radius c",
+        "dashed circle: Hertz radius a"
+        + ("; dotted: Cattaneo-Mindlin stick radius c" if dotted else ""),
         note,
     )
     _save(plt, fig, path)
