@@ -28,7 +28,7 @@ import numpy as np
 from .case import Case
 from .grid import VolumeGrid
 from .operators import CaseOperators
-from .plastic_loop import PlasticState, plastic_step
+from .plastic_loop import PlasticState, mirror, plastic_step
 from .result import SEPARATED, SLIP, STICK, Result
 from .steps import ContactState, StepResult, normal_step, slip_stick_step
 from .tensor import Y_REFLECTION, von_mises
@@ -173,7 +173,7 @@ def _on_common_axes(name: str, values: np.ndarray) -> np.ndarray:
     components.  Depths stay into the body.
     """
     declared = FIELDS[name]
-    out = np.flip(values, axis=declared.dims.index("y")) * declared.swap_sign
+    out = mirror(values, axis=declared.dims.index("y")) * declared.swap_sign
     if "component" in declared.dims:
         out = out * Y_REFLECTION.reshape((6,) + (1,) * (out.ndim - 1))
     return out
@@ -193,7 +193,7 @@ def _relabelled(result: Result, case: Case) -> Result:
         mirrored("pressure", result.pressure),
         mirrored("shear_x", result.shear_x),
         mirrored("shear_y", result.shear_y),
-        np.flip(result.contact_state, axis=1),
+        mirror(result.contact_state),
         history,
         result.loops,
         result.converged,

@@ -75,3 +75,19 @@ def small_campaign(folder: Path) -> Path:
 def mixed_campaign(folder: Path) -> Path:
     """The 8-case Cattaneo campaign."""
     return write(folder, MIXED_SWEEP + CATTANEO_BASE, "mixed.toml")
+
+
+#: Value of :func:`set_path` that removes the key instead.
+DELETE = object()
+
+
+def set_path(table: dict, where: str, value) -> None:
+    """Set (or with :data:`DELETE` remove) the entry at dotted path ``where``, in place."""
+    node = table
+    keys = where.split(".")
+    for key in keys[:-1]:
+        node = node[key]
+    if value is DELETE:
+        del node[keys[-1]]
+    else:
+        node[keys[-1]] = value

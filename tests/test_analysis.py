@@ -161,22 +161,22 @@ FIVE = {
 }
 
 
-@pytest.fixture(scope="module")
-def five_out(tmp_path_factory):
-    out = tmp_path_factory.mktemp("five") / "out"
-    campaign = expand_campaign(FIVE, name="five")
+def _run_assembled(tmp_path_factory, table: dict, name: str):
+    out = tmp_path_factory.mktemp(name) / "out"
+    campaign = expand_campaign(table, name=name)
     assert run_campaign(campaign, out).exit_status == 0
     assemble_to_file(out, campaign)
     return out
+
+
+@pytest.fixture(scope="module")
+def five_out(tmp_path_factory):
+    return _run_assembled(tmp_path_factory, FIVE, "five")
 
 
 @pytest.fixture(scope="module")
 def campaign_out(tmp_path_factory):
-    out = tmp_path_factory.mktemp("analysis") / "out"
-    campaign = expand_campaign(CATTANEO, name="tiny_cattaneo")
-    assert run_campaign(campaign, out).exit_status == 0
-    assemble_to_file(out, campaign)
-    return out
+    return _run_assembled(tmp_path_factory, CATTANEO, "tiny_cattaneo")
 
 
 def test_real_campaign_tables(campaign_out):

@@ -4,6 +4,7 @@ import copy
 import math
 
 import pytest
+from study_fixtures import DELETE, set_path
 
 import solver
 from solver import SpecError
@@ -15,18 +16,9 @@ STEEL = {"E": 210e9, "nu": 0.3}
 
 def mutate(table, path, value):
     out = copy.deepcopy(table)
-    node = out
-    keys = path.split(".")
-    for key in keys[:-1]:
-        node = node[key]
-    if value is DELETE:
-        del node[keys[-1]]
-    else:
-        node[keys[-1]] = value
+    set_path(out, path, value)
     return out
 
-
-DELETE = object()
 
 BAD = [
     ("body2.E", -1.0, "body2.E"),

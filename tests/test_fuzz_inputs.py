@@ -20,6 +20,8 @@ import sys
 import time
 from pathlib import Path
 
+from study_fixtures import DELETE, set_path
+
 from study.cli import main
 
 REPO = Path(__file__).resolve().parents[1]
@@ -41,7 +43,6 @@ GOOD = {
     },
     "sweep": {"solver.slip_tolerance": [1e-6, 1e-7]},
 }
-DELETE = object()
 
 #: Wrong values for any number of the base table (each is refused wherever a number belongs).
 WRONG_FOR_ANY_NUMBER = ["abc", {"x": 1}, True, math.nan, -math.inf, [1, 2, 3, 4, 5]]
@@ -117,17 +118,6 @@ RAW = [
 ]
 
 
-def _set(table: dict, where: str, value) -> None:
-    node = table
-    keys = where.split(".")
-    for key in keys[:-1]:
-        node = node[key]
-    if value is DELETE:
-        del node[keys[-1]]
-    else:
-        node[keys[-1]] = value
-
-
 def _inputs() -> list[tuple[str, str, str]]:
     """(id, campaign file text, text the message must contain), in a fixed order."""
     out = []
@@ -140,11 +130,11 @@ def _inputs() -> list[tuple[str, str, str]]:
     cases = []
     for name, field, value, expected in out:
         table = copy.deepcopy(GOOD)
-        _set(table, f"base.{field}", value)
+        set_path(table, f"base.{field}", value)
         cases.append((name, to_toml(table), expected))
     for where, value, expected in STRUCTURE:
         table = copy.deepcopy(GOOD)
-        _set(table, where, value)
+        set_path(table, where, value)
         name = f"{where}={'<deleted>' if value is DELETE else repr(value)[:20]}"
         cases.append((name, to_toml(table), expected))
     base = to_toml({key: value for key, value in GOOD.items() if key != "sweep"})
