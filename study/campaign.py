@@ -27,12 +27,21 @@ A campaign file is declarative TOML::
     [alias]                           # dimension / coordinate names (default: dots -> "_")
     "friction.coefficient" = "mu"
 
+    [define.steel_swift]              # named tables, swept by name as a whole case table
+    behaviour = "elastic-plastic"     # ("body1" = ["steel", "steel_swift"] in [sweep]/[zip])
+    ...
+
 Keys are dotted paths into the base table; an integer segment indexes an array of tables
 (``"load.path.1.tangential_force"``, also written ``"load.path[1].tangential_force"``, 0-based).
 Missing tables on the path are created.  A flat ``[zip]`` table (dotted keys directly under
 ``[zip]``) forms one dimension named by its coordinate names joined with ``"__"``; a sub-table
 ``[zip.NAME]`` forms one dimension called NAME.  When a zipped dimension has the name of one of
 its coordinates, that coordinate indexes it.
+
+A key that names a whole case table (``"body1"``, ``"body2"``, ``"load"``, ...) is swept by
+name: each value is the name of a ``[define.NAME]`` table that replaces the base's table in that
+case (e.g. an elastic and an elastic-plastic body, which take different keys).  The names are
+the coordinate values.
 
 The pseudo-key ``materials.dundurs_beta`` sets Dundurs' beta by changing body 1's elastic
 constants, see :func:`body1_for_beta`.
@@ -66,7 +75,7 @@ from solver.materials import Body
 from solver.variables import reduced_scalars
 
 #: Top-level tables of a campaign file.
-TOP_LEVEL = ("campaign", "base", "sweep", "zip", "alias")
+TOP_LEVEL = ("campaign", "base", "sweep", "zip", "alias", "define")
 #: First segments of a swept key.
 CASE_TABLES = ("body1", "body2", "load", "friction", "grid", "solver", "output", "materials")
 #: The pseudo-key that sweeps Dundurs' beta.
@@ -480,11 +489,46 @@ def expand_campaign(
         raise CampaignError("[base]: must be a table")
     settings = _parse_settings(table.get("campaign", {}), name)
     entries = _parse_axes(table.get("sweep"), table.get("zip"))
+    defined = _parse_defined(table.get("define", {}), entries)
     aliases = _parse_aliases(table.get("alias", {}), [key for key, _ in _all_keys(entries)])
     axes = _build_axes(entries, aliases)
-    _check_paths(base, axes)
-    cases = _expand_cases(dict(base), axes, progress)
+    _check_paths(base, axes, defined)
+    cases = _expand_cases(dict(base), axes, progress, defined)
     return Campaign(settings, axes, cases, source, base=copy.deepcopy(dict(base)))
+
+
+def _parse_defined(raw: Any, entries: list[_Entry]) -> dict[str, dict]:
+    """``[define.NAME]`` tables, and a check that every whole-table axis names one of them."""
+    if not isinstance(raw, Mapping) or not all(isinstance(v, Mapping) for v in raw.values()):
+        raise CampaignError(
+            "[define]: must hold named tables, e.g. [define.steel] with behaviour, E, nu, ..."
+        )
+    for name in raw:
+        if not _NAME.match(name):
+            raise CampaignError(
+                f"[define.{name}]: the name must be an identifier (letters, digits, _)"
+            )
+    used = set()
+    for entry in entries:
+        for key, written, values in entry.members:
+            if "." in key:
+                continue
+            for value in values:
+                if not isinstance(value, str) or value not in raw:
+                    known = ", ".join(sorted(raw)) or "none defined"
+                    raise CampaignError(
+                        f'"{written}": a whole case table is swept by name; {value!r} is not '
+                        f"a [define.NAME] table (defined: {known}); add [define.{value}] with "
+                        f"the {key} table, or sweep a key inside it (e.g. \"{key}.E\")"
+                    )
+                used.add(value)
+    unused = sorted(set(raw) - used)
+    if unused:
+        raise CampaignError(
+            f"[define.{unused[0]}]: defined but no axis names it; sweep a whole table by name "
+            f'(e.g. "body1" = ["{unused[0]}", ...]) or remove it'
+        )
+    return {name: dict(table) for name, table in raw.items()}
 
 
 # -- settings ------------------------------------------------------------------------------------
@@ -651,11 +695,19 @@ def _zip_entry(members: Mapping, group: str | None, where: str) -> _Entry:
     out = []
     for written, values in flat:
         key = normalise_key(written, where)
-        out.append((key, written, _check_values(values, f'{where} "{written}"', key)))
+        out.append((key, written, _check_values(values, f'{where} "{written}"', key, False)))
     lengths = {written: len(values) for _, written, values in out}
     if len(set(lengths.values())) > 1:
         detail = ", ".join(f'"{k}" has {n}' for k, n in lengths.items())
         raise CampaignError(f"{where}: zipped lists must have the same length, but {detail} values")
+    seen = []
+    for point in zip(*(values for _, _, values in out), strict=True):
+        normal = tuple(float(v) if _is_inf(v) else v for v in point)
+        if normal in seen:
+            raise CampaignError(
+                f"{where}: the values {list(point)!r} appear twice; zipped points must differ"
+            )
+        seen.append(normal)
     return _Entry(out, group, True)
 
 
@@ -687,7 +739,7 @@ def normalise_key(written: str, where: str = "[sweep]") -> str:
     return key
 
 
-def _check_values(values: Any, where: str, key: str) -> list:
+def _check_values(values: Any, where: str, key: str, unique: bool = True) -> list:
     if not isinstance(values, list):
         raise CampaignError(f"{where}: must be a list of values, got {values!r}")
     if not values:
@@ -716,7 +768,7 @@ def _check_values(values: Any, where: str, key: str) -> list:
     if key == BETA_KEY and kinds != {"number"}:
         raise CampaignError(f"{where}: Dundurs' beta values must be numbers, got {values!r}")
     seen = []
-    for value in values:
+    for value in values if unique else ():
         normal = float(value) if _is_inf(value) else value  # 1 == 1.0; no float(huge int)
         if normal in seen:
             raise CampaignError(f"{where}: value {value!r} appears twice; axis values must differ")
@@ -755,6 +807,8 @@ def default_name(key: str) -> str:
 
 
 def _meta(key: str) -> tuple[str | None, str]:
+    if "." not in key:
+        return None, f"{key} table, by its [define] name ({key})"
     last = key.split(".")[-1]
     units, text = _KEY_META.get(last, (None, last.replace("_", " ")))
     if last.endswith("_tolerance"):
@@ -855,13 +909,13 @@ def assign(table: dict, key: str, value: Any) -> None:
         done.append(str(segment))
 
 
-def _check_paths(base: Mapping, axes: tuple[Axis, ...]) -> None:
+def _check_paths(base: Mapping, axes: tuple[Axis, ...], defined: dict[str, dict]) -> None:
     probe = copy.deepcopy(dict(base))
     for axis in axes:
         for coordinate in axis.coordinates:
             if coordinate.key == BETA_KEY:
                 continue
-            assign(probe, coordinate.key, coordinate.values[0])
+            assign(probe, coordinate.key, _value(coordinate.key, coordinate.values[0], defined))
     load = base.get("load")
     for axis in axes:
         for c in axis.coordinates:
@@ -1025,8 +1079,16 @@ def _keep_volume_depth(base: dict, keys: set[str]) -> dict:
     return {**base, "grid": {**grid, "n": n[:2], "nz": n[2]}}
 
 
+def _value(key: str, value: Any, defined: dict[str, dict]) -> Any:
+    """What a swept value sets: the ``[define]`` table it names for a whole-table key."""
+    return _copy_table(defined[value]) if "." not in key else value
+
+
 def _expand_cases(
-    base: dict, axes: tuple[Axis, ...], progress: Progress | None = None
+    base: dict,
+    axes: tuple[Axis, ...],
+    progress: Progress | None = None,
+    defined: dict[str, dict] | None = None,
 ) -> tuple[CampaignCase, ...]:
     cases: list[CampaignCase] = []
     failures: list[tuple[str, str]] = []
@@ -1055,7 +1117,7 @@ def _expand_cases(
                 if coordinate.key == BETA_KEY:
                     beta = float(value)
                 else:
-                    assign(table, coordinate.key, value)
+                    assign(table, coordinate.key, _value(coordinate.key, value, defined or {}))
         try:
             if beta is not None:
                 _apply_beta(table, beta)

@@ -47,6 +47,32 @@ def test_product_zip_alias_and_order(tmp_path):
     assert again == campaign
 
 
+def test_whole_body_tables_swept_by_name(tmp_path):
+    """E-E, E-EP and EP-EP pairs in one zipped axis: bodies with different keys, by name."""
+    steel = 'radius = 0.01\nE = 210e9\nnu = 0.3\n'
+    text = (
+        '[zip.pair]\nbody1 = ["steel", "steel", "swift"]\nbody2 = ["steel", "swift", "swift"]\n'
+        f'[define.steel]\nbehaviour = "elastic"\n{steel}'
+        f'[define.swift]\nbehaviour = "elastic-plastic"\n{steel}'
+        'hardening = { law = "swift", B = 945e6, C = 20.0, n = 0.121 }\n'
+        + NORMAL_BASE.replace("n = 24,", "n = [24, 24, 12],").replace("1e9", "8e9")
+    )
+    campaign = load_campaign(write(tmp_path, text))
+    assert campaign.dims == ("pair",) and campaign.shape == (3,)
+    behaviours = [
+        (c.spec["body1"]["behaviour"], c.spec["body2"]["behaviour"]) for c in campaign.cases
+    ]
+    assert behaviours == [
+        ("elastic", "elastic"),
+        ("elastic", "elastic-plastic"),
+        ("elastic-plastic", "elastic-plastic"),
+    ]
+    assert [c.coords for c in campaign.cases][1] == {"body1": "steel", "body2": "swift"}
+    cases = [c.case() for c in campaign.cases]
+    assert [case.plastic_body for case in cases][0] is None
+    assert cases[2].pair.body1.hardening == cases[2].pair.body2.hardening
+
+
 def test_index_syntax_reaches_a_path_stage(tmp_path):
     text = (
         '[sweep]\n"load.path[1].tangential_force" = [5.0, 20.0]\n'
@@ -245,6 +271,24 @@ BAD = {
     "bad fields": (
         '[campaign]\nfields = ["stress"]\n' + SWEEP_MU + NORMAL_BASE,
         "campaign.fields",
+    ),
+    "define: unknown name": (
+        '[sweep]\nbody2 = ["steel", "glass"]\n[define.steel]\nbehaviour = "rigid"\n'
+        + NORMAL_BASE,
+        "'glass' is not a [define.NAME] table (defined: steel)",
+    ),
+    "define: a number swept as a table": (
+        "[sweep]\nbody2 = [1, 2]\n" + NORMAL_BASE,
+        "a whole case table is swept by name; 1 is not",
+    ),
+    "define: unused": (
+        SWEEP_MU + '[define.steel]\nbehaviour = "rigid"\n' + NORMAL_BASE,
+        "[define.steel]: defined but no axis names it",
+    ),
+    "define: not a table": (SWEEP_MU + "[define]\nsteel = 1\n" + NORMAL_BASE, "named tables"),
+    "zip: a point twice": (
+        '[zip]\n"grid.n" = [24, 24]\n"load.steps" = [1, 1]\n' + NORMAL_BASE,
+        "the values [24, 1] appear twice",
     ),
     "bad zip group name": (
         '[zip.bad-name]\n"grid.n" = [24]\n"load.steps" = [1]\n' + NORMAL_BASE,
