@@ -519,7 +519,7 @@ def _parse_defined(raw: Any, entries: list[_Entry]) -> dict[str, dict]:
                     raise CampaignError(
                         f'"{written}": a whole case table is swept by name; {value!r} is not '
                         f"a [define.NAME] table (defined: {known}); add [define.{value}] with "
-                        f"the {key} table, or sweep a key inside it (e.g. \"{key}.E\")"
+                        f'the {key} table, or sweep a key inside it (e.g. "{key}.E")'
                     )
                 used.add(value)
     unused = sorted(set(raw) - used)

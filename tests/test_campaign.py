@@ -49,7 +49,7 @@ def test_product_zip_alias_and_order(tmp_path):
 
 def test_whole_body_tables_swept_by_name(tmp_path):
     """E-E, E-EP and EP-EP pairs in one zipped axis: bodies with different keys, by name."""
-    steel = 'radius = 0.01\nE = 210e9\nnu = 0.3\n'
+    steel = "radius = 0.01\nE = 210e9\nnu = 0.3\n"
     text = (
         '[zip.pair]\nbody1 = ["steel", "steel", "swift"]\nbody2 = ["steel", "swift", "swift"]\n'
         f'[define.steel]\nbehaviour = "elastic"\n{steel}'
@@ -273,8 +273,7 @@ BAD = {
         "campaign.fields",
     ),
     "define: unknown name": (
-        '[sweep]\nbody2 = ["steel", "glass"]\n[define.steel]\nbehaviour = "rigid"\n'
-        + NORMAL_BASE,
+        '[sweep]\nbody2 = ["steel", "glass"]\n[define.steel]\nbehaviour = "rigid"\n' + NORMAL_BASE,
         "'glass' is not a [define.NAME] table (defined: steel)",
     ),
     "define: a number swept as a table": (
