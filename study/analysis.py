@@ -36,6 +36,8 @@ QUANTITIES = {
     "stick_ratio": ("1", "stick ratio c / a_H"),
     "approach": ("m", "approach delta"),
     "max_plastic_strain": ("1", "max equivalent plastic strain"),
+    "max_plastic_strain_depth": ("m", "depth of the max plastic strain"),
+    "residual_depth": ("m", "residual central dent"),
 }
 #: Campaign keys that set the mesh size (cells per side).
 MESH_KEYS = ("grid.n",)
@@ -137,6 +139,8 @@ def dundurs_beta(dataset):
 
 def is_plastic(dataset) -> bool:
     """True when a body of the campaign is elastic-plastic (no closed form applies)."""
+    if "max_plastic_strain" in dataset.variables:
+        return True
     text = dataset.attrs.get("campaign_base", "") + dataset.attrs.get("campaign_axes", "")
     return "plastic" in text or "yield_stress" in text
 
@@ -415,12 +419,21 @@ def fit_convergence(h: Sequence[float], values: Sequence[float]) -> ConvergenceF
 def _slices(dataset, exclude: Sequence[str]):
     """Yield (label dict, isel dict) for every combination of the dims not in ``exclude``."""
     dims = [d for d in axis_dims(dataset) if d not in exclude]
+    named = {d: _label_coordinates(dataset, d) for d in dims}
     for index in itertools.product(*(range(dataset.sizes[d]) for d in dims)):
         labels = {}
         for d, i in zip(dims, index, strict=True):
-            value = dataset[d].values[i] if d in dataset.coords else i
-            labels[d] = value.item() if hasattr(value, "item") else value
+            for name in named[d] or [d]:
+                value = dataset[name].values[i] if named[d] else i
+                labels[name] = value.item() if hasattr(value, "item") else value
         yield labels, dict(zip(dims, index, strict=True))
+
+
+def _label_coordinates(dataset, dim: str) -> list[str]:
+    """Coordinates that label ``dim``: its own, else every coordinate along it (a zip)."""
+    if dim in dataset.coords:
+        return [dim]
+    return [name for name, c in dataset.coords.items() if c.dims == (dim,)]
 
 
 def _usable(dataset):

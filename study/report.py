@@ -806,6 +806,10 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
             figures.append(("Stick/slip maps", png, note))
             lines += ["## Stick and slip", "", f"![stick and slip]({png.name})", ""]
             lines += [f"Shown: {note}.", ""]
+    if analysis.is_plastic(dataset):
+        from . import report_plastic
+
+        lines += report_plastic.section(dataset, out, name, plt, figures)
     if figures:
         lines += ["## Figures", ""]
         lines += [f"- {title}: `{png.name}` ({note})" for title, png, note in figures]

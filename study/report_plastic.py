@@ -1,0 +1,404 @@
+"""The elastic-plastic part of a campaign report: a table and figures like the paper's.
+
+:func:`section` adds to ``report.md`` (campaigns with an elastic-plastic body):
+
+- a table of the plastic response per case (finest mesh and most load steps of each slice):
+  p_max / p_H, contact radius, stick radius, maximum plastic strain and its depth, plastic
+  zone depth and the residual dent, normalised by the Hertz solution like the paper;
+- ``<name>_plastic_profiles.png`` (paper figs. 2 and 5): pressure and shear along y = 0
+  over r / a (a: the Hertz semi-axis along x, a_H for a sphere), the cases along one axis
+  overlaid (the bodies of a pair axis, else the friction coefficient), with the stick and
+  slip zones along y = 0 marked as bars under the curves;
+- ``<name>_load_curves.png`` (paper figs. 3 and 4), with a load axis: maximum pressure, maximum
+  plastic strain and its depth against the Hertz pressure;
+- ``<name>_plastic_sections.png`` (paper fig. 6): the equivalent plastic strain in the x-z
+  plane through the contact axis, one panel per case, one colour scale, the maximum marked.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from solver.result import SLIP, STICK
+
+from . import analysis, report
+
+#: Keys of a swept load (the load curves' abscissa is the case's Hertz pressure).
+LOAD_KEYS = ("hertz_pressure", "normal_force")
+#: Campaign keys of axes along which only the finest value is shown (refinements).
+REFINEMENT_KEYS = ("grid.n", "grid.nz", "load.steps")
+#: Columns of :func:`plastic_table`: name -> (variable, divided by, what it is).
+COLUMNS = {
+    "p_max/p_H": ("max_pressure", "hertz_pressure", "maximum pressure over the Hertz pressure"),
+    "a/a_H": ("contact_radius", "hertz_radius", "contact radius over the Hertz radius"),
+    "c/a_H": ("stick_radius", "hertz_radius", "stick radius (equivalent) over a_H"),
+    "ep_max_%": ("max_plastic_strain", None, "maximum equivalent plastic strain (%)"),
+    "z_ep/a_H": ("max_plastic_strain_depth", "hertz_radius", "its depth over a_H"),
+    "zone/a_H": ("plastic_zone_depth", "hertz_radius", "plastic zone depth on the axis over a_H"),
+    "dent_um": ("residual_depth", None, "residual central dent (micrometre)"),
+}
+_SCALE = {"ep_max_%": 100.0, "dent_um": 1e6}
+
+
+def _refinement_dims(dataset) -> list[str]:
+    """Axes that refine the solution (mesh, depth cells, load steps)."""
+    dims = []
+    for dim in analysis.axis_dims(dataset):
+        keys = [c.attrs.get("campaign_key") for c in dataset.coords.values() if c.dims == (dim,)]
+        if any(key in REFINEMENT_KEYS for key in keys) or dim in analysis.mesh_axes(dataset):
+            dims.append(dim)
+    return dims
+
+
+def _finest(dataset, index: dict) -> dict:
+    """``index`` completed with the finest value of every refinement axis."""
+    out = dict(index)
+    for dim in _refinement_dims(dataset):
+        coord = analysis.numeric_coordinate(dataset, dim)
+        out[dim] = int(np.argmax(coord.values)) if coord is not None else dataset.sizes[dim] - 1
+    return out
+
+
+def shown_cases(dataset) -> list[tuple[dict, dict]]:
+    """(labels, isel) of the finished cases on the finest refinement of every slice."""
+    usable = analysis._usable(dataset)
+    cases = []
+    for labels, isel in analysis._slices(dataset, _refinement_dims(dataset)):
+        index = _finest(dataset, isel)
+        if bool(usable.isel(index)):
+            cases.append((labels, index))
+    return cases
+
+
+def plastic_table(dataset):
+    """The plastic response per case (:data:`COLUMNS`), finest refinement of each slice.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per slice of the non-refinement axes: its labels, ``status`` and the
+        :data:`COLUMNS` (NaN where a case has no such value, e.g. an elastic pair).
+    """
+    import pandas as pd
+
+    flags = {v: k for k, v in {"converged": 1, "not_converged": 2}.items()}
+    rows = []
+    for labels, index in shown_cases(dataset):
+        case = dataset.isel(index)
+        row = {**labels, "status": flags.get(int(case["status"]), "?")}
+        for column, (name, over, _) in COLUMNS.items():
+            value = float(case[name]) if name in case else math.nan
+            if over is not None:
+                value /= float(case[over])
+            row[column] = value * _SCALE.get(column, 1.0)
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def overlay_dim(dataset) -> str | None:
+    """The axis whose cases share a panel.
+
+    A non-numeric (named) axis, else the friction axis, else the last axis that is neither a
+    refinement nor a load axis.
+    """
+    dims = [d for d in analysis.axis_dims(dataset) if d not in _refinement_dims(dataset)]
+    if not dims:
+        return None
+    for dim in dims:
+        if analysis.numeric_coordinate(dataset, dim) is None:
+            return dim
+    for dim in dims:
+        if dataset[dim].attrs.get("campaign_key") == "friction.coefficient":
+            return dim
+    loads = [d for d in dims if _is_load(dataset, d)]
+    rest = [d for d in dims if d not in loads]
+    return (rest or dims)[-1]
+
+
+def _is_load(dataset, dim: str) -> bool:
+    for coord in dataset.coords.values():
+        if coord.dims == (dim,):
+            key = str(coord.attrs.get("campaign_key", ""))
+            if key.split(".")[-1] in LOAD_KEYS:
+                return True
+    return False
+
+
+def _line_at_axis(file: Path, name: str) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(x / a_x, values)`` of a field along the cell row nearest y = 0, x >= 0."""
+    import xarray as xr
+
+    with xr.open_dataset(file) as case:
+        if name not in case:
+            return None
+        a = float(case.attrs["hertz_semi_axis_x"])
+        x, y = case["x"].values, case["y"].values
+        row = case[name].isel(y=int(np.argmin(np.abs(y)))).values
+    keep = x >= 0
+    return x[keep] / a, row[keep]
+
+
+def _zones(x: np.ndarray, state: np.ndarray, code: int) -> list[tuple[float, float]]:
+    """Intervals of x (cell edges) where ``state == code``."""
+    dx = x[1] - x[0] if len(x) > 1 else 1.0
+    out, start = [], None
+    for xi, s in zip(x, state, strict=True):
+        if s == code and start is None:
+            start = xi - dx / 2
+        elif s != code and start is not None:
+            out.append((start, xi - dx / 2))
+            start = None
+    if start is not None:
+        out.append((start, x[-1] + dx / 2))
+    return out
+
+
+def plot_profiles(dataset, cases_dir: str | Path, path: str | Path) -> Path | None:
+    """Pressure and shear over r / a_H normalised by p_H, the overlay axis in one panel.
+
+    One panel per slice of the other non-refinement axes (finest refinement); pressure solid,
+    shear ``q_x`` dashed, one colour per value of :func:`overlay_dim`; under the curves one bar
+    per case along y = 0: thick where the contact sticks, thin where it slips (from the
+    case's ``contact_state`` field).
+    """
+    plt = report._pyplot()
+    if plt is None or "pressure_profile" not in dataset:
+        return None
+    overlay = overlay_dim(dataset)
+    exclude = [*_refinement_dims(dataset), *([overlay] if overlay else [])]
+    usable = analysis._usable(dataset)
+    panels = []
+    for labels, isel in analysis._slices(dataset, exclude):
+        lines = []
+        for line_labels, line_isel in analysis._slices(
+            dataset.isel(isel), _refinement_dims(dataset)
+        ):
+            index = _finest(dataset, {**isel, **line_isel})
+            if bool(usable.isel(index)):
+                lines.append((line_labels, index))
+        if lines:
+            panels.append((labels, lines))
+    panels = panels[: report.MAX_PANELS]
+    if not panels:
+        return None
+    from matplotlib.lines import Line2D
+
+    r = dataset["r_over_a"].values
+    count = max(len(lines) for _, lines in panels)
+    legend_rows = math.ceil((4 + min(count, report.MAX_LINES)) / 3)
+    fig, axes, columns = report._panel_grid(
+        plt, len(panels), 4.6, 3.6, below=report.LEGEND_ROW * legend_rows + 0.1
+    )
+    names = {}
+    for k, (ax, (labels, lines)) in enumerate(zip(axes, panels, strict=True)):
+        top = 0.0
+        for j, (line_labels, index) in enumerate(lines[: report.MAX_LINES]):
+            case = dataset.isel(index)
+            p_h = float(case["hertz_pressure"])
+            colour = f"C{j % 10}"
+            label = report._label({d: v for d, v in line_labels.items() if d not in labels})
+            names[label] = colour
+            pressure = case["pressure_profile"].values / p_h
+            ax.plot(r, pressure, "-", color=colour)
+            ax.plot(r, case["shear_x_profile"].values / p_h, "--", color=colour)
+            top = max(top, float(np.nanmax(pressure)))
+            state = _line_at_axis(Path(cases_dir) / f"{case['case_id'].item()}.nc", "contact_state")
+            if state is None:
+                continue
+            level = -0.06 * (j + 1)
+            for code, width in ((STICK, 4.0), (SLIP, 1.2)):
+                for lo, hi in _zones(state[0], state[1], code):
+                    ax.plot(
+                        [lo, hi], [level, level], "-", color=colour, lw=width, solid_capstyle="butt"
+                    )
+        ax.axhline(0.0, color="0.5", lw=0.6)
+        ax.set_xlim(0.0, float(r[-1]))
+        ax.set_ylim(-0.06 * (min(count, report.MAX_LINES) + 1), max(1.05, 1.05 * top))
+        ax.set_title(report._title(labels) if labels else "", fontsize=8)
+        ax.set_xlabel("r / a (1)")
+        if k % columns == 0:
+            ax.set_ylabel("traction / p_H (1)")
+        ax.grid(True, alpha=0.3)
+    handles = [
+        Line2D([], [], color="k", ls="-", label="pressure p"),
+        Line2D([], [], color="k", ls="--", label="shear q_x"),
+        Line2D([], [], color="k", lw=4.0, label="stick (bar, y = 0)"),
+        Line2D([], [], color="k", lw=1.2, label="slip (bar)"),
+    ]
+    handles += [Line2D([], [], color=c, label=n) for n, c in names.items() if n]
+    fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=8)
+    report._suptitle(
+        fig,
+        f"{dataset.attrs.get('campaign', '')}: tractions along y = 0 over the Hertz solution"
+        + (f", {overlay} overlaid" if overlay else ""),
+        "finest mesh and most load steps of each slice",
+    )
+    report._save(plt, fig, path)
+    return Path(path)
+
+
+def plot_load_curves(dataset, path: str | Path) -> Path | None:
+    """Maximum pressure, maximum plastic strain and its depth against the Hertz pressure.
+
+    Drawn when an axis sweeps the load; one line per slice of the other non-refinement axes
+    (finest refinement).  The elastic (Hertz) maximum p_max = p_H is the grey line.
+    """
+    plt = report._pyplot()
+    loads = [d for d in analysis.axis_dims(dataset) if _is_load(dataset, d)]
+    if plt is None or not loads or "max_plastic_strain" not in dataset:
+        return None
+    load = loads[0]
+    exclude = [*_refinement_dims(dataset), load]
+    usable = analysis._usable(dataset)
+    panels = (
+        ("max_pressure", 1e-9, "max pressure p_max (GPa)"),
+        ("max_plastic_strain", 100.0, "max plastic strain (%)"),
+        ("max_plastic_strain_depth", None, "depth of the max plastic strain / a_H (1)"),
+    )
+    fig, axes, _ = report._panel_grid(plt, len(panels), 4.2, 3.4)
+    drawn = False
+    for labels, isel in list(analysis._slices(dataset, exclude))[: report.MAX_LINES]:
+        xs, ys = [], {name: [] for name, _, _ in panels}
+        for i in range(dataset.sizes[load]):
+            index = _finest(dataset, {**isel, load: i})
+            if not bool(usable.isel(index)):
+                continue
+            case = dataset.isel(index)
+            xs.append(float(case["hertz_pressure"]) / 1e9)
+            for name, scale, _ in panels:
+                value = float(case[name]) if name in case else math.nan
+                ys[name].append(
+                    value / float(case["hertz_radius"]) if scale is None else value * scale
+                )
+        if not xs:
+            continue
+        drawn = True
+        for ax, (name, _, _) in zip(axes, panels, strict=True):
+            ax.plot(xs, ys[name], "o-", label=report._label(labels) if labels else None)
+    if not drawn:
+        plt.close(fig)
+        return None
+    p = dataset["hertz_pressure"].values / 1e9
+    grid = np.linspace(0.0, float(np.nanmax(p)), 2)
+    axes[0].plot(grid, grid, "-", color="0.65", lw=3, zorder=1, label="elastic (Hertz) p_H")
+    for ax, (_, _, text) in zip(axes, panels, strict=True):
+        ax.set_xlabel("Hertz pressure p_H (GPa)")
+        ax.set_ylabel(text)
+        ax.grid(True, alpha=0.3)
+        ax.set_xlim(left=0.0)
+        ax.set_ylim(bottom=0.0)
+    axes[0].legend(fontsize=7)
+    report._suptitle(
+        fig,
+        f"{dataset.attrs.get('campaign', '')}: growth with the load (paper figs. 3-4)",
+        "finest mesh and most load steps of each slice",
+    )
+    report._save(plt, fig, path)
+    return Path(path)
+
+
+def plot_sections(dataset, cases_dir: str | Path, path: str | Path) -> Path | None:
+    """Equivalent plastic strain in the x-z plane through the contact axis, one scale.
+
+    One panel per case of :func:`shown_cases` whose file holds ``plastic_strain`` (at most
+    :data:`report.MAX_PANELS`); the maximum of each section is marked and labelled.
+    """
+    plt = report._pyplot()
+    if plt is None:
+        return None
+    import xarray as xr
+
+    sections = []
+    for labels, index in shown_cases(dataset):
+        file = Path(cases_dir) / f"{dataset['case_id'].isel(index).item()}.nc"
+        if not file.exists():
+            continue
+        with xr.open_dataset(file) as case:
+            if "plastic_strain" not in case:
+                continue
+            a = float(case.attrs["hertz_semi_axis_x"])
+            y = case["y"].values
+            plane = case["plastic_strain"].isel(y=int(np.argmin(np.abs(y)))).values
+            sections.append((labels, case["x"].values / a, case["z"].values / a, plane))
+        if len(sections) == report.MAX_PANELS:
+            break
+    if not sections:
+        return None
+    top = max(float(np.max(s[3])) for s in sections) * 100.0
+    if top <= 0:
+        return None
+    fig, axes, columns = report._panel_grid(plt, len(sections), 3.8, 2.8, extra=1.0)
+    for k, (ax, (labels, x, z, plane)) in enumerate(zip(axes, sections, strict=True)):
+        dx, dz = x[1] - x[0], z[1] - z[0]
+        image = ax.imshow(
+            plane.T * 100.0,
+            origin="upper",
+            extent=(x[0] - dx / 2, x[-1] + dx / 2, z[-1] + dz / 2, z[0] - dz / 2),
+            cmap="magma_r",
+            vmin=0.0,
+            vmax=top,
+            aspect="auto",
+            interpolation="nearest",
+        )
+        i, j = np.unravel_index(int(np.argmax(plane)), plane.shape)
+        ax.plot(x[i], z[j], "x", color="tab:cyan", ms=8, mew=2)
+        ax.text(
+            0.98,
+            0.04,
+            f"max {plane[i, j] * 100:.3g} % at x = {x[i]:.2f}, z = {z[j]:.2f} a_H",
+            transform=ax.transAxes,
+            ha="right",
+            fontsize=7,
+            bbox={"facecolor": "white", "edgecolor": "0.7", "alpha": 0.9, "pad": 2},
+        )
+        ax.set_xlim(-1.5, 1.5)
+        ax.set_title(report._title(labels) if labels else "", fontsize=8)
+        ax.set_xlabel("x / a_H (1)")
+        if k % columns == 0:
+            ax.set_ylabel("depth z / a_H (1)")
+    rows = math.ceil(len(axes) / columns)
+    bar = fig.colorbar(image, ax=axes, shrink=min(0.9, 1.8 / rows))
+    bar.set_label("equivalent plastic strain (%)")
+    report._suptitle(
+        fig,
+        f"{dataset.attrs.get('campaign', '')}: plastic strain in the plane y = 0 "
+        "(paper fig. 6), one colour scale, x: the maximum",
+        f"{len(sections)} case(s), finest mesh and most load steps of each slice",
+    )
+    report._save(plt, fig, path)
+    return Path(path)
+
+
+def section(dataset, out: Path, name: str, plt, figures: list) -> list[str]:
+    """Markdown lines of the plastic part of the report (figures appended to ``figures``)."""
+    lines = ["## Plastic response", ""]
+    lines += [
+        "Finest mesh and most load steps of each slice; lengths over the Hertz radius a_H,",
+        "pressures over the Hertz pressure p_H of the case (elastic solution, same load).",
+        "",
+    ]
+    lines += [f"- `{column}`: {text}" for column, (_, _, text) in COLUMNS.items()]
+    lines += ["", report.markdown_table(plastic_table(dataset))]
+    if plt is None:
+        return lines
+    from . import storage
+
+    cases = storage.cases_dir(out)
+    for title, png in (
+        (
+            "Tractions and stick/slip zones",
+            plot_profiles(dataset, cases, out / f"{name}_plastic_profiles.png"),
+        ),
+        ("Growth with the load", plot_load_curves(dataset, out / f"{name}_load_curves.png")),
+        (
+            "Plastic strain sections",
+            plot_sections(dataset, cases, out / f"{name}_plastic_sections.png"),
+        ),
+    ):
+        if png:
+            figures.append((title, png, "finest mesh and most steps of each slice"))
+            lines += [f"### {title}", "", f"![{title}]({png.name})", ""]
+    return lines
