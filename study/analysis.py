@@ -7,8 +7,10 @@ so they can be used from a notebook as well as by :mod:`study.report`.
 Vocabulary
 ----------
 mesh axis
-    A dimension carrying a coordinate whose campaign key is ``grid.n`` (cells per side).  The
-    cell size is ``h = 2 half_width / n`` in units of the Hertz semi-axis ``a_x``.
+    A refinement axis: a dimension carrying a coordinate whose campaign key is ``grid.n``
+    (cells per side; the cell size is ``h = 2 half_width / n`` in units of the Hertz
+    semi-axis ``a_x``) or ``load.steps`` (load steps; ``h = 1 / steps``, the load increment
+    over the load).
 slice
     One combination of the values of the other dimensions; convergence is studied along the
     mesh axis within each slice.
@@ -39,8 +41,11 @@ QUANTITIES = {
     "max_plastic_strain_depth": ("m", "depth of the max plastic strain"),
     "residual_depth": ("m", "residual central dent"),
 }
-#: Campaign keys that set the mesh size (cells per side).
-MESH_KEYS = ("grid.n",)
+#: Campaign keys of refinement ("mesh") axes -> (what the count is, what h is).
+MESH_KEYS = {
+    "grid.n": ("cells per side", "h / a = 2 half_width / n (cell size over the Hertz semi-axis)"),
+    "load.steps": ("load steps", "h = 1 / steps (load increment over the load)"),
+}
 #: Range of orders searched by :func:`fit_convergence`.
 ORDER_RANGE = (0.05, 8.0)
 
@@ -56,20 +61,22 @@ def axis_dims(dataset) -> list[str]:
 
 
 def mesh_coordinate(dataset, dim: str):
-    """The cells-per-side coordinate on ``dim`` (a DataArray), or None.
+    """The refinement coordinate on ``dim`` (a DataArray), or None.
 
-    A coordinate counts when its ``campaign_key`` is in :data:`MESH_KEYS` or, lacking the
-    attribute, when it is called ``grid_n``.
+    A numeric coordinate counts when its ``campaign_key`` is in :data:`MESH_KEYS` (the first
+    key in that order when several are zipped on ``dim``) or, lacking the attribute, when it is
+    called ``grid_n``.
     """
+    found = {}
     for name, coord in dataset.coords.items():
-        if coord.dims != (dim,):
+        if coord.dims != (dim,) or np.asarray(coord.values).dtype.kind not in "iuf":
             continue
         key = coord.attrs.get("campaign_key")
-        if key in MESH_KEYS or (key is None and name == "grid_n"):
-            values = np.asarray(coord.values)
-            if values.dtype.kind in "iuf":
-                return coord
-    return None
+        if key is None and name == "grid_n":
+            key = "grid.n"
+        if key in MESH_KEYS:
+            found.setdefault(key, coord)
+    return next((found[key] for key in MESH_KEYS if key in found), None)
 
 
 def mesh_axes(dataset) -> list[str]:
@@ -443,9 +450,22 @@ def _usable(dataset):
 
 
 def mesh_sizes(dataset, mesh_dim: str):
-    """Cell size ``h / a_x = 2 half_width / n`` over the axes (DataArray)."""
-    n = mesh_coordinate(dataset, mesh_dim).astype(float)
+    """Refinement size over the axes (DataArray).
+
+    ``h / a_x = 2 half_width / n`` for a grid axis, ``1 / steps`` for a load-step axis
+    (:data:`MESH_KEYS`).
+    """
+    coord = mesh_coordinate(dataset, mesh_dim)
+    n = coord.astype(float)
+    if coord.attrs.get("campaign_key") == "load.steps":
+        return 1.0 / n
     return 2.0 * half_width(dataset) / n
+
+
+def mesh_meaning(dataset, mesh_dim: str) -> tuple[str, str]:
+    """(what the count of a mesh axis is, what its h is): :data:`MESH_KEYS`."""
+    key = mesh_coordinate(dataset, mesh_dim).attrs.get("campaign_key", "grid.n")
+    return MESH_KEYS[key]
 
 
 def convergence_table(dataset, quantity: str, mesh_dim: str | None = None):

@@ -301,13 +301,13 @@ def plot_convergence(dataset, mesh_dim: str, path: str | Path) -> Path | None:
         ax.xaxis.set_major_locator(FixedLocator(ns))
         ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
         ax.xaxis.set_minor_locator(NullLocator())
-        ax.set_xlabel(f"cells per side {mesh_dim} (1)")
+        ax.set_xlabel(f"{analysis.mesh_meaning(dataset, mesh_dim)[0]} {mesh_dim} (1)")
         ax.set_ylabel(f"|rel. error| vs {basis} (1)")
         ax.set_title(analysis.QUANTITIES.get(name, (None, name))[1], fontsize=10)
         ax.grid(True, which="both", alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=7)
-    title = f"{dataset.attrs.get('campaign', '')}: mesh convergence along {mesh_dim}"
+    title = f"{dataset.attrs.get('campaign', '')}: convergence along {mesh_dim}"
     _suptitle(fig, title, _convergence_note(dataset, mesh_dim) if len(slices) > MAX_LINES else "")
     _save(plt, fig, path)
     return Path(path)
@@ -738,9 +738,10 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
         lines += ["_matplotlib is not installed: no figures (pip install slipstick[plot])._", ""]
 
     for dim in mesh:
-        lines += [f"## Mesh convergence along `{dim}`", ""]
+        noun, meaning = analysis.mesh_meaning(dataset, dim)
+        lines += [f"## Convergence along `{dim}` ({noun})", ""]
         lines += [
-            "h / a = 2 half_width / n (cell size over the Hertz semi-axis).  `order_fit`: fit of",
+            f"{meaning}; `n` is the count.  `order_fit`: fit of",
             "v = v* + C h^p over all meshes; `extrapolated`: Richardson from the two finest meshes",
             "with that order (order 2 when the fit hits its bounds, `fit_at_bound`);",
             "`order_finest`: log-log fit of |v - v_finest| vs h; `order_reference`: log-log fit",
@@ -760,7 +761,7 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
             png = plot_convergence(dataset, dim, out / f"{name}_convergence_{dim}.png")
             if png:
                 note = _convergence_note(dataset, dim)
-                figures.append((f"Mesh convergence along {dim}", png, note))
+                figures.append((f"Convergence along {dim}", png, note))
                 lines += [f"![convergence along {dim}]({png.name})", ""]
 
     sensitivity = analysis.sensitivity_axes(dataset)

@@ -28,8 +28,6 @@ from . import analysis, report
 
 #: Keys of a swept load (the load curves' abscissa is the case's Hertz pressure).
 LOAD_KEYS = ("hertz_pressure", "normal_force")
-#: Campaign keys of axes along which only the finest value is shown (refinements).
-REFINEMENT_KEYS = ("grid.n", "grid.nz", "load.steps")
 #: Columns of :func:`plastic_table`: name -> (variable, divided by, what it is).
 COLUMNS = {
     "p_max/p_H": ("max_pressure", "hertz_pressure", "maximum pressure over the Hertz pressure"),
@@ -44,21 +42,15 @@ _SCALE = {"ep_max_%": 100.0, "dent_um": 1e6}
 
 
 def _refinement_dims(dataset) -> list[str]:
-    """Axes that refine the solution (mesh, depth cells, load steps)."""
-    dims = []
-    for dim in analysis.axis_dims(dataset):
-        keys = [c.attrs.get("campaign_key") for c in dataset.coords.values() if c.dims == (dim,)]
-        if any(key in REFINEMENT_KEYS for key in keys) or dim in analysis.mesh_axes(dataset):
-            dims.append(dim)
-    return dims
+    """Axes that refine the solution: mesh and load steps (:func:`analysis.mesh_axes`)."""
+    return analysis.mesh_axes(dataset)
 
 
 def _finest(dataset, index: dict) -> dict:
     """``index`` completed with the finest value of every refinement axis."""
     out = dict(index)
     for dim in _refinement_dims(dataset):
-        coord = analysis.numeric_coordinate(dataset, dim)
-        out[dim] = int(np.argmax(coord.values)) if coord is not None else dataset.sizes[dim] - 1
+        out[dim] = int(np.argmax(analysis.mesh_coordinate(dataset, dim).values))
     return out
 
 

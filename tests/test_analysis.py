@@ -113,6 +113,27 @@ def test_tables_on_synthetic_dataset():
     assert speed["pareto"].any()
 
 
+def test_load_steps_axis_is_a_refinement_with_h_one_over_steps():
+    steps = np.array([5, 10, 20, 40])
+    h = 1.0 / steps
+    e_star = 0.0123  # a plastic strain converging at first order in the load increment
+    dataset = xr.Dataset(
+        {
+            "status": ("load_steps", np.ones(4, dtype=np.int8)),
+            "case_id": ("load_steps", np.full(4, "x")),
+            "max_plastic_strain": ("load_steps", e_star * (1 + 0.7 * h), {"units": "1"}),
+        },
+        coords={"load_steps": ("load_steps", steps, {"campaign_key": "load.steps"})},
+        attrs={"campaign": "steps", "campaign_base": "{}"},
+    )
+    assert analysis.mesh_axes(dataset) == ["load_steps"]
+    assert analysis.mesh_meaning(dataset, "load_steps")[0] == "load steps"
+    np.testing.assert_allclose(analysis.mesh_sizes(dataset, "load_steps"), h)
+    summary = analysis.convergence_summary(dataset, "max_plastic_strain")
+    assert float(summary["order_fit"].iloc[0]) == pytest.approx(1.0, abs=0.02)
+    assert float(summary["extrapolated"].iloc[0]) == pytest.approx(e_star, rel=1e-9)
+
+
 def test_closed_forms_when_beta_is_zero():
     dataset = synthetic_dataset()
     dataset["dundurs_beta"][:] = 0.0
@@ -199,7 +220,7 @@ def test_report_without_plots(campaign_out):
     assert report.main([str(campaign_out), "--no-plots"]) == 0
     text = (campaign_out / "report.md").read_text()
     assert "# Campaign report: tiny_cattaneo" in text
-    assert "Mesh convergence along `grid_n`" in text
+    assert "Convergence along `grid_n` (cells per side)" in text
     assert "Speed versus error" in text and "campaign.json sha256" in text
 
 
