@@ -207,11 +207,72 @@ class LoadStage:
         Target tangential force (Q_x, Q_y) (N) on body 2 at the end of the stage.
     steps : int
         Number of load increments of the stage.
+    cycle : int
+        Load cycle of the stage: 1, 2, ... inside cycle blocks (``cycles = N``; numbered on
+        across blocks), 0 outside.
     """
 
     normal_force: float
     tangential_force: tuple[float, float]
     steps: int
+    cycle: int = 0
+
+
+#: Largest number of cycles of a cycle block.
+MAX_CYCLES = 10_000
+
+
+def _parse_path(raw_stages: list, pair: Pair) -> tuple[list[LoadStage], list[str], list[dict]]:
+    """Stages of a load path with its cycle blocks repeated, their paths, the normalised path.
+
+    An entry ``{cycles = N, stages = [...]}`` repeats its stages N times (cycles numbered on
+    from the previous block's: 1 .. N for the first); a stage without a normal (tangential)
+    force keeps the previous one, also across cycles.
+    """
+    stages, paths, given = [], [], []
+    previous = (0.0, (0.0, 0.0))
+    for i, raw in enumerate(raw_stages):
+        path = f"load.path[{i}]"
+        if isinstance(raw, dict) and "cycles" in raw:
+            _check_keys(raw, path, {"cycles", "stages"}, {"cycles", "stages"})
+            cycles = _integer(raw["cycles"], f"{path}.cycles", 1, MAX_CYCLES)
+            inner = raw["stages"]
+            if not isinstance(inner, list) or not inner:
+                _fail(f"{path}.stages", "must be a non-empty array of tables ([[...stages]])")
+            block, offset = [], max((stage.cycle for stage in stages), default=0)
+            for cycle in range(offset + 1, offset + cycles + 1):
+                for j, sub in enumerate(inner):
+                    where = f"{path}.stages[{j}]"
+                    if isinstance(sub, dict) and "cycles" in sub:
+                        _fail(f"{where}.cycles", "cycle blocks do not nest; flatten the block")
+                    stage, spec = _parse_stage(sub, where, previous, pair, not stages)
+                    stage = dataclasses.replace(stage, cycle=cycle)
+                    stages.append(stage)
+                    paths.append(where)
+                    previous = (stage.normal_force, stage.tangential_force)
+                    if cycle == offset + 1:
+                        block.append(spec)
+            given.append({"cycles": cycles, "stages": block})
+            continue
+        stage, spec = _parse_stage(raw, path, previous, pair, not stages)
+        stages.append(stage)
+        paths.append(path)
+        given.append(spec)
+        previous = (stage.normal_force, stage.tangential_force)
+    return stages, paths, given
+
+
+def path_cycles(path: list[dict]) -> int:
+    """Load cycles of a normalised load path (0 without a cycle block)."""
+    return sum(entry.get("cycles", 0) for entry in path)
+
+
+def path_steps(path: list[dict]) -> int:
+    """Load increments of a normalised load path (:meth:`Case.to_dict`), cycles repeated."""
+    return sum(
+        entry["cycles"] * path_steps(entry["stages"]) if "cycles" in entry else entry["steps"]
+        for entry in path
+    )
 
 
 def _load_number(value: Any, path: str, first: bool) -> float:
@@ -510,16 +571,10 @@ class Case:
             raw_stages = load["path"]
             if not isinstance(raw_stages, list) or not raw_stages:
                 _fail("load.path", "must be a non-empty array of tables ([[load.path]])")
-            paths = [f"load.path[{i}]" for i in range(len(raw_stages))]
+            stages, paths, given = _parse_path(raw_stages, pair)
         else:
-            raw_stages, paths = [load], ["load"]
-        stages, given = [], []
-        previous = (0.0, (0.0, 0.0))
-        for i, (raw, path) in enumerate(zip(raw_stages, paths, strict=True)):
-            stage, spec = _parse_stage(raw, path, previous, pair, i == 0)
-            stages.append(stage)
-            given.append(spec)
-            previous = (stage.normal_force, stage.tangential_force)
+            stage, spec = _parse_stage(load, "load", (0.0, (0.0, 0.0)), pair, True)
+            stages, paths, given = [stage], ["load"], [spec]
 
         friction = _check_keys(table.get("friction", {}), "friction", {"coefficient"})
         mu = _number(friction.get("coefficient", 0.0), "friction.coefficient")
@@ -638,7 +693,8 @@ class Case:
         """
         table = self.to_dict()
         table["body1"], table["body2"] = table["body2"], table["body1"]
-        for stage in table["load"]["path"]:
+        path = table["load"]["path"]
+        for stage in [s for e in path for s in (e["stages"] if "cycles" in e else [e])]:
             if "tangential_force" in stage:
                 qx, qy = stage["tangential_force"]
                 stage["tangential_force"] = [-qx if qx else 0.0, qy]
@@ -734,6 +790,15 @@ class Case:
                 out.append((w0 + f * (w1 - w0), qx0 + f * (qx1 - qx0), qy0 + f * (qy1 - qy0)))
             w0, qx0, qy0 = w1, qx1, qy1
         return out
+
+    def step_cycles(self) -> np.ndarray:
+        """Load cycle of every increment (:attr:`LoadStage.cycle`: 0 outside a cycle block)."""
+        return np.repeat([stage.cycle for stage in self.stages], [s.steps for s in self.stages])
+
+    @property
+    def cycles(self) -> int:
+        """Number of load cycles of the path (0 without a cycle block)."""
+        return max(stage.cycle for stage in self.stages)
 
     @property
     def has_tangential_load(self) -> bool:

@@ -54,7 +54,7 @@ _CONTACT_HISTORY = (
 )  # fmt: skip
 _FRICTION_HISTORY = (
     "tangential_force_x", "tangential_force_y", "tangential_shift_x", "tangential_shift_y",
-    "stick_area", "slip_iterations", "coupling_iterations",
+    "stick_area", "slip_iterations", "coupling_iterations", "friction_work",
 )  # fmt: skip
 _PLASTIC_HISTORY = (
     "plastic_iterations", "max_plastic_strain", "max_plastic_strain_depth",
@@ -234,7 +234,12 @@ def solve(case: Case) -> Result:
         if 1 in case.plastic_bodies:
             names += tuple(name + BODY1_SUFFIX for name in PLASTIC_BODY_HISTORIES)
     names += ("residual", "step_converged")
+    cycles = case.step_cycles()
+    if case.cycles:
+        names += ("step_cycle",) + (("cycle_plastic_strain",) if plastic else ())
     history = {name: np.zeros(len(targets)) for name in names}
+    if case.cycles:
+        history["step_cycle"][:] = cycles
     volume: VolumeGrid | None = case.volume_grid
     area = case.surface_grid.cell_area
 
@@ -252,7 +257,11 @@ def solve(case: Case) -> Result:
     guess, direction = None, 0.0
     faces_noted = False
     outcome = None
+    cycle_start = None
     for k, target in enumerate(targets):
+        work = 0.0  # friction work of the step, its sub-steps included
+        if plastic and cycles[k] and (k == 0 or cycles[k] != cycles[k - 1]):
+            cycle_start = [p.equivalent.copy() for p in plastic_state]
         if plastic:
             new_direction = np.sign(target[0] - previous_target[0])
             if new_direction != direction:
@@ -264,13 +273,16 @@ def solve(case: Case) -> Result:
                     step = plastic_step(operators, contact_step, state, plastic_state, sub, guess)
                     state, plastic_state = step.contact.state, step.plastic
                     guess = step.increment
+                    work += step.contact.friction_work
                     if not step.converged:
                         converged = False
                         notes.append(
                             f"step {k + 1} (sub-step to W = {sub[0]:.4g} N): {step.message}"
                         )
                 else:
-                    state = contact_step(operators, state, sub).state
+                    sub_outcome = contact_step(operators, state, sub)
+                    state = sub_outcome.state
+                    work += sub_outcome.friction_work
         messages = []
         if plastic:
             step = plastic_step(operators, contact_step, state, plastic_state, target, guess)
@@ -287,6 +299,13 @@ def solve(case: Case) -> Result:
         state = outcome.state
         previous_target = target
         _record(history, k, outcome, area)
+        if "friction_work" in history:
+            history["friction_work"][k] = work + outcome.friction_work
+        if cycle_start is not None and cycles[k]:
+            history["cycle_plastic_strain"][k] = max(
+                float((p.equivalent - start).max())
+                for p, start in zip(plastic_state, cycle_start, strict=True)
+            )
         history["residual"][k] = residual
         history["step_converged"][k] = float(step_ok)
         if plastic:

@@ -28,6 +28,7 @@ residual.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -259,15 +260,7 @@ def plastic_step(
         )
         for i, body in enumerate(bodies)
     )
-    contact = StepResult(
-        contact.state,
-        contact.converged,
-        totals,
-        contact.residual,
-        contact.message,
-        contact.stick,
-        contact.approach,
-    )
+    contact = dataclasses.replace(contact, iterations=totals)
     return PlasticStepResult(
         contact, plastic, increment, iterations, residual, converged, "" if converged else message
     )

@@ -7,9 +7,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .case import Case
+from .cycles import cycle_summary
 from .grid import SurfaceGrid
 from .tensor import COMPONENTS
-from .variables import FIELDS, HISTORIES
+from .variables import CYCLE_QUANTITIES, FIELDS, HISTORIES
 
 #: CF metadata of every history variable: name -> (units, long_name) (from :mod:`.variables`).
 HISTORY_META = {name: (h.units, h.long_name) for name, h in HISTORIES.items()}
@@ -110,6 +111,17 @@ class Result:
         for name, values in self.history.items():
             units, long_name = HISTORY_META[name]
             data[name] = ("step", np.asarray(values), {"units": units, "long_name": long_name})
+        per_cycle = cycle_summary(self.history)
+        if per_cycle:
+            count = len(next(iter(per_cycle.values())))
+            coords["cycle"] = (
+                "cycle",
+                np.arange(1, count + 1),
+                {"units": "1", "long_name": "load cycle"},
+            )
+            for name, values in per_cycle.items():
+                units, long_name = CYCLE_QUANTITIES[name]
+                data[name] = ("cycle", values, {"units": units, "long_name": long_name})
         attrs = {
             "Conventions": "CF-1.8",
             "title": "slipstick contact solution",

@@ -112,6 +112,9 @@ class StepResult:
         Stick cells (all contact cells in a normal step).
     approach : float
         Rigid approach delta (m); at zero force, the approach at which the bodies touch.
+    friction_work : float
+        Energy dissipated by friction in the step (J): ``-sum (q + q_prev)/2 . s dA``, the
+        trapezoidal rule in time (0 in a normal step).
     """
 
     state: ContactState
@@ -121,6 +124,7 @@ class StepResult:
     message: str = ""
     stick: np.ndarray | None = None
     approach: float = 0.0
+    friction_work: float = 0.0
 
 
 def _extra_gap(operators: CaseOperators, residual: ResidualDisplacement | None) -> np.ndarray:
@@ -276,6 +280,9 @@ def slip_stick_step(
     state = ContactState(
         pressure, tangential.shear_x, tangential.shear_y, shift, pxs, pys, res_x, res_y
     )
+    mean_x = 0.5 * (tangential.shear_x + previous.shear_x)
+    mean_y = 0.5 * (tangential.shear_y + previous.shear_y)
+    work = -float(np.sum(mean_x * tangential.slip_x + mean_y * tangential.slip_y))
     return StepResult(
         state,
         converged_all,
@@ -284,4 +291,5 @@ def slip_stick_step(
         "; ".join(messages),
         tangential.stick,
         normal.approach,
+        work * case.surface_grid.cell_area,
     )

@@ -81,6 +81,39 @@ HISTORIES: dict[str, History] = {
         "1", "largest final relative residual of the step's solves", "max", "max_residual"
     ),
     "step_converged": History("1", "1 when every solve of the step converged", None),
+    "friction_work": History(
+        "J",
+        "energy dissipated by friction in the step: -sum (q_k + q_(k-1))/2 . s_k dA (trapezoid "
+        "in time; q on body 2, s the slip increment of body 2 relative to body 1)",
+        "sum",
+    ),
+    "step_cycle": History("1", "load cycle of the step (0: outside a cycle block)", None),
+    "cycle_plastic_strain": History(
+        "1",
+        "equivalent plastic strain gained since the start of the step's load cycle, largest "
+        "over the volume",
+        None,
+    ),
+}
+
+#: Per-cycle quantities of a cyclic load path (:func:`solver.cycles.cycle_summary`), dim
+#: ``cycle``: name -> (units, long_name).
+CYCLE_QUANTITIES: dict[str, tuple[str, str]] = {
+    "loop_energy": (
+        "J",
+        "area of the cycle's Q_x-Delta_x loop, sum (Q_k + Q_(k-1))/2 (Delta_k - Delta_(k-1))",
+    ),
+    "cycle_friction_work": ("J", "energy dissipated by friction over the cycle's surface"),
+    "slip_amplitude": ("m", "half the range of the tangential shift Delta_x over the cycle"),
+    "min_stick_radius": (
+        "m",
+        "smallest equivalent stick radius sqrt(stick_area / pi) of the cycle",
+    ),
+    "force_amplitude": ("N", "half the range of the tangential force Q_x over the cycle"),
+    "plastic_strain_increment": (
+        "1",
+        "equivalent plastic strain gained over the cycle, largest over the volume",
+    ),
 }
 
 FIELDS: dict[str, Field] = {

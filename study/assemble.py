@@ -12,6 +12,8 @@ Variables (all with ``units`` and ``long_name``):
 - per-case scalars (axes): :data:`SCALARS`, the histories' reductions declared in
   :mod:`solver.variables` (last step, largest or summed over the steps) and provenance;
 - histories ``<name>_history`` (axes, step) for every history the solver returned;
+- per-cycle quantities (axes, cycle) of cyclic load paths, :data:`CYCLE_QUANTITIES` (NaN
+  beyond a case's cycles);
 - ``plastic_strain_profile`` (axes, z_over_a), elastic-plastic cases: the equivalent plastic
   strain on the contact axis against depth over the Hertz radius (:data:`Z_OVER_A`, NaN
   below a case's volume grid);
@@ -36,7 +38,7 @@ import numpy as np
 import solver
 from solver.loops import axis_value
 from solver.result import HISTORY_META
-from solver.variables import HISTORIES, reduced_scalars
+from solver.variables import CYCLE_QUANTITIES, HISTORIES, reduced_scalars
 
 from . import storage
 from .campaign import Axis, Campaign
@@ -96,7 +98,7 @@ _ATTRS = (
 
 
 def _case_steps(spec: dict) -> int:
-    return int(sum(stage.get("steps", 1) for stage in spec["load"]["path"]))
+    return solver.case.path_steps(spec["load"]["path"])
 
 
 def _grid_cells(spec: dict) -> int:
@@ -128,6 +130,11 @@ def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
             for name in HISTORY_META
             if name in dataset.variables
         }
+        cycles = {
+            name: dataset[name].values.astype(float)
+            for name in CYCLE_QUANTITIES
+            if name in dataset.variables
+        }
         x = dataset["x"].values
         lines = {name: dataset[f"{name}_y0"].values for name in ("pressure", "shear_x")}
         radius = float(attrs["hertz_semi_axis_x"])
@@ -156,6 +163,7 @@ def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
         "status": attrs.get("status", "converged"),
         "scalars": scalars,
         "histories": histories,
+        "cycles": cycles,
         "profiles": {name: profile(x, line, radius, r_over_a) for name, line in lines.items()},
         "depth_profile": depth_profile,
     }
@@ -207,6 +215,8 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     errors = np.full(shape, "", dtype=object)
     scalars = {name: np.full(shape, np.nan) for name in SCALARS}
     histories: dict[str, np.ndarray] = {}
+    cycle_count = max(solver.case.path_cycles(case.spec["load"]["path"]) for case in campaign.cases)
+    per_cycle: dict[str, np.ndarray] = {}
     profiles = {name: np.full((*shape, len(r_over_a)), np.nan) for name in ("pressure", "shear_x")}
     depth_profiles = None
     for case in campaign.cases:
@@ -239,6 +249,10 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
                 if name not in histories:
                     histories[name] = np.full((*shape, steps), np.nan)
                 histories[name][index][: len(values)] = values
+            for name, values in data["cycles"].items():
+                if name not in per_cycle:
+                    per_cycle[name] = np.full((*shape, cycle_count), np.nan)
+                per_cycle[name][index][: len(values)] = values
             for name, values in data["profiles"].items():
                 profiles[name][index] = values
             if data["depth_profile"] is not None:
@@ -296,6 +310,15 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
                 histories[name],
                 {"units": units, "long_name": f"{long_name} per load step"},
             )
+    if per_cycle:
+        coords["cycle"] = (
+            "cycle",
+            np.arange(1, cycle_count + 1),
+            {"units": "1", "long_name": "load cycle"},
+        )
+        for name, values in per_cycle.items():
+            units, long_name = CYCLE_QUANTITIES[name]
+            data_vars[name] = ((*dims, "cycle"), values, {"units": units, "long_name": long_name})
     if depth_profiles is not None:
         coords["z_over_a"] = (
             "z_over_a",

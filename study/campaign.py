@@ -72,7 +72,7 @@ from typing import Any
 import solver
 from solver.case import MODULUS_RANGE
 from solver.materials import Body
-from solver.variables import reduced_scalars
+from solver.variables import CYCLE_QUANTITIES, reduced_scalars
 
 #: Top-level tables of a campaign file.
 TOP_LEVEL = ("campaign", "base", "sweep", "zip", "alias", "define")
@@ -104,8 +104,10 @@ RESERVED_NAMES = frozenset(
         "wall_time",
         "case_time",
         "peak_rss",
+        "cycle",
     }
     | set(reduced_scalars())
+    | set(CYCLE_QUANTITIES)
 )
 #: Largest case timeout (s, about 116 days): ``signal.setitimer`` overflows on huge values, and
 #: ``inf`` is refused rather than read as "none" (leave the setting out for no timeout).

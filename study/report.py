@@ -811,6 +811,10 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
         from . import report_plastic
 
         lines += report_plastic.section(dataset, out, name, plt, figures)
+    if "loop_energy" in dataset:
+        from . import report_cycles
+
+        lines += report_cycles.section(dataset, out, name, plt, figures)
     if figures:
         lines += ["## Figures", ""]
         lines += [f"- {title}: `{png.name}` ({note})" for title, png, note in figures]

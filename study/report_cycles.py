@@ -1,0 +1,156 @@
+"""The cyclic part of a campaign report: fretting loops, energy and plastic strain per cycle.
+
+:func:`section` adds to ``report.md`` (campaigns whose cases have a cyclic load path):
+
+- a table per case: cycles, dissipated energy (loop area and summed friction work) of the first
+  and the last cycle, slip and force amplitudes, smallest stick radius, plastic strain gained
+  in the first and the last cycle;
+- ``<name>_fretting_loops.png``: the Q_x - Delta_x loop of every cycle, one panel per case;
+- ``<name>_cycles.png``: the energy dissipated per cycle and the plastic strain gained per
+  cycle against the cycle number.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from . import analysis, report
+
+
+def _cases(dataset) -> list[tuple[dict, dict]]:
+    usable = analysis._usable(dataset)
+    return [
+        (labels, isel)
+        for labels, isel in analysis._slices(dataset, [])
+        if bool(usable.isel(isel)) and np.isfinite(dataset["loop_energy"].isel(isel)).any()
+    ]
+
+
+def cycle_table(dataset):
+    """Per case: the first and the last cycle's energy, amplitudes, stick radius, plastic gain.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per finished case with cycles.
+    """
+    import pandas as pd
+
+    rows = []
+    for labels, isel in _cases(dataset):
+        case = dataset.isel(isel)
+        energy = case["loop_energy"].values
+        count = int(np.count_nonzero(np.isfinite(energy)))
+        row = {**labels, "cycles": count}
+
+        def pick(name, i, case=case):
+            return float(case[name].values[i]) if name in case else math.nan
+
+        for tag, i in (("first", 0), ("last", count - 1)):
+            row[f"E_{tag}_J"] = pick("loop_energy", i)
+        row["work/E_last"] = pick("cycle_friction_work", count - 1) / row["E_last_J"]
+        row["slip_amp_um"] = pick("slip_amplitude", count - 1) * 1e6
+        row["Q_amp_N"] = pick("force_amplitude", count - 1)
+        row["c_min/a_H"] = pick("min_stick_radius", count - 1) / float(case["hertz_radius"])
+        row["dep_first"] = pick("plastic_strain_increment", 0)
+        row["dep_last"] = pick("plastic_strain_increment", count - 1)
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def plot_loops(dataset, path: str | Path) -> Path | None:
+    """Q_x against Delta_x, every cycle in its own colour, one panel per case."""
+    plt = report._pyplot()
+    needed = ("tangential_force_x_history", "tangential_shift_x_history", "step_cycle_history")
+    if plt is None or not all(name in dataset for name in needed):
+        return None
+    cases = _cases(dataset)[: report.MAX_PANELS]
+    if not cases:
+        return None
+    fig, axes, columns = report._panel_grid(plt, len(cases), 3.8, 3.2, extra=1.0)
+    count = dataset.sizes["cycle"]
+    cmap = plt.get_cmap("viridis")
+    for k, (ax, (labels, isel)) in enumerate(zip(axes, cases, strict=True)):
+        case = dataset.isel(isel)
+        q = case["tangential_force_x_history"].values
+        d = case["tangential_shift_x_history"].values * 1e6
+        cycle = case["step_cycle_history"].values
+        for c in range(1, count + 1):
+            steps = np.flatnonzero(cycle == c)
+            if not steps.size:
+                continue
+            steps = np.concatenate([[steps[0] - 1], steps]) if steps[0] > 0 else steps
+            ax.plot(d[steps], q[steps], "-", color=cmap((c - 1) / max(count - 1, 1)), lw=1.2)
+        ax.set_title(report._title(labels), fontsize=8)
+        ax.set_xlabel("tangential shift Delta_x (um)")
+        if k % columns == 0:
+            ax.set_ylabel("tangential force Q_x (N)")
+        ax.grid(True, alpha=0.3)
+    mappable = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(1, max(count, 2)))
+    rows = math.ceil(len(axes) / columns)
+    fig.colorbar(mappable, ax=axes, shrink=min(0.9, 1.8 / rows), label="cycle")
+    report._suptitle(fig, f"{dataset.attrs.get('campaign', '')}: fretting loops Q_x - Delta_x")
+    report._save(plt, fig, path)
+    return Path(path)
+
+
+def plot_cycles(dataset, path: str | Path) -> Path | None:
+    """Energy dissipated and plastic strain gained per cycle, one line per case."""
+    plt = report._pyplot()
+    cases = _cases(dataset)[: report.MAX_LINES]
+    if plt is None or not cases:
+        return None
+    plastic = "plastic_strain_increment" in dataset
+    fig, axes, _ = report._panel_grid(plt, 2 if plastic else 1, 4.4, 3.4)
+    cycle = dataset["cycle"].values
+    for labels, isel in cases:
+        case = dataset.isel(isel)
+        (line,) = axes[0].plot(
+            cycle, case["loop_energy"].values * 1e3, "o-", ms=3, label=report._label(labels)
+        )
+        if "cycle_friction_work" in case:
+            axes[0].plot(
+                cycle, case["cycle_friction_work"].values * 1e3, "x", color=line.get_color()
+            )
+        if plastic:
+            gained = case["plastic_strain_increment"].values
+            axes[1].semilogy(
+                cycle, np.clip(gained, 1e-12, None), "o-", ms=3, color=line.get_color()
+            )
+    axes[0].set_ylabel("energy per cycle (mJ)")
+    axes[0].legend(fontsize=7, title="o loop area, x friction work", title_fontsize=7)
+    if plastic:
+        axes[1].set_ylabel("plastic strain gained per cycle (1, max over the volume)")
+    for ax in axes:
+        ax.set_xlabel("cycle")
+        ax.grid(True, which="both", alpha=0.3)
+    report._suptitle(fig, f"{dataset.attrs.get('campaign', '')}: per cycle")
+    report._save(plt, fig, path)
+    return Path(path)
+
+
+def section(dataset, out: Path, name: str, plt, figures: list) -> list[str]:
+    """Markdown lines of the cyclic part of the report (figures appended to ``figures``)."""
+    lines = ["## Load cycles", ""]
+    lines += [
+        "`E_*`: area of the Q_x - Delta_x loop of the first and the last cycle;",
+        "`work/E_last`: the friction work summed over the surface and the last cycle's steps",
+        "over that area (1 for an elastic contact: the energy balance); amplitudes and the",
+        "smallest stick radius of the last cycle; `dep_*`: equivalent plastic strain gained in",
+        "the first and the last cycle (largest over the volume).",
+        "",
+        report.markdown_table(cycle_table(dataset)),
+    ]
+    if plt is None:
+        return lines
+    for title, png in (
+        ("Fretting loops", plot_loops(dataset, out / f"{name}_fretting_loops.png")),
+        ("Per cycle", plot_cycles(dataset, out / f"{name}_cycles.png")),
+    ):
+        if png:
+            figures.append((title, png, "every finished case with cycles"))
+            lines += [f"### {title}", "", f"![{title}]({png.name})", ""]
+    return lines

@@ -1,0 +1,142 @@
+"""Cyclic load paths: cycle blocks, the fretting loop per cycle, repeated normal loading."""
+
+import numpy as np
+import pytest
+
+import solver
+from solver import reference
+from solver.case import SpecError, path_steps
+
+STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
+SWIFTLESS = {
+    "behaviour": "elastic-plastic",
+    "E": 210e9,
+    "nu": 0.3,
+    "hardening": {"law": "linear", "yield_stress": 1.3579e9, "modulus": 152.3e9},
+}
+
+
+def fretting_table(n, cycles=3, steps=20, mu=0.3, force=1000.0, fraction=0.5):
+    """Two identical steel spheres (beta = 0): W, then Q to +Q*, then cycles of -Q*, +Q*."""
+    amplitude = fraction * mu * force
+    return {
+        "body1": {"radius": 0.015, **STEEL},
+        "body2": {"radius": 0.015, **STEEL},
+        "load": {
+            "path": [
+                {"normal_force": force, "steps": 1},
+                {"tangential_force": [amplitude, 0.0], "steps": steps},
+                {
+                    "cycles": cycles,
+                    "stages": [
+                        {"tangential_force": [-amplitude, 0.0], "steps": steps},
+                        {"tangential_force": [amplitude, 0.0], "steps": steps},
+                    ],
+                },
+            ]
+        },
+        "friction": {"coefficient": mu},
+        "grid": {"n": n, "half_width": 1.5},
+    }
+
+
+def test_cycle_block_repeats_its_stages():
+    case = solver.Case.from_dict(fretting_table(16, cycles=4, steps=3))
+    assert case.cycles == 4 and len(case.stages) == 2 + 4 * 2
+    assert [s.cycle for s in case.stages] == [0, 0, 1, 1, 2, 2, 3, 3, 4, 4]
+    assert case.total_steps == 1 + 3 + 4 * 2 * 3 == path_steps(case.to_dict()["load"]["path"])
+    cycles = case.step_cycles()
+    assert cycles.tolist() == [0] * 4 + [c for c in (1, 2, 3, 4) for _ in range(6)]
+    # the normalised spec keeps the block; its id changes with the number of cycles
+    block = case.to_dict()["load"]["path"][2]
+    assert block["cycles"] == 4 and len(block["stages"]) == 2
+    assert solver.Case.from_dict(case.to_dict()) == case
+    other = solver.Case.from_dict(fretting_table(16, cycles=5, steps=3))
+    assert other.case_id != case.case_id
+    # targets alternate between -Q* and +Q* at the end of every stage of the block
+    targets = np.array(case.step_targets())
+    q = 0.5 * 0.3 * 1000.0
+    assert targets[3 + 3 :: 3, 1].tolist() == [-q, q] * 4
+    # relabelling flips Q_x inside the block too
+    swapped = case.swapped().to_dict()["load"]["path"][2]["stages"]
+    assert [s["tangential_force"][0] for s in swapped] == [q, -q]
+
+
+@pytest.mark.parametrize(
+    "block, message",
+    [
+        ({"cycles": 0, "stages": [{"steps": 1}]}, "load.path[1].cycles: must be between 1"),
+        ({"cycles": 2}, "load.path[1].stages: missing required field"),
+        ({"cycles": 2, "stages": []}, "load.path[1].stages: must be a non-empty array"),
+        ({"cycles": 2, "stages": [{"cycles": 2, "stages": []}]}, "cycle blocks do not nest"),
+        ({"cycles": 2, "stages": [{"steps": 1}], "steps": 3}, "load.path[1].steps: unknown key"),
+        (
+            {"cycles": 2, "stages": [{"tangential_force": 400.0}]},
+            "load.path[1].stages[0].tangential_force: |Q| = 400 N reaches mu W",
+        ),
+    ],
+)
+def test_bad_cycle_blocks_are_refused_by_name(block, message):
+    table = fretting_table(16)
+    table["load"]["path"][1:] = [block]
+    with pytest.raises(SpecError, match=message.replace("[", r"\[").replace("|", r"\|")):
+        solver.Case.from_dict(table)
+
+
+def test_fretting_cycles_match_mindlin_deresiewicz_and_the_friction_work():
+    """Per cycle: loop area vs Johnson's eq. 7.64 (beta = 0), and vs the summed friction work."""
+    mu, force, fraction = 0.3, 1000.0, 0.5
+    amplitude = fraction * mu * force
+    errors = []
+    for n in (32, 64):
+        case = solver.Case.from_dict(fretting_table(n, mu=mu, force=force, fraction=fraction))
+        result = solver.solve(case)
+        assert result.converged, result.notes
+        ds = result.to_xarray()
+        assert ds.cycle.values.tolist() == [1, 2, 3]
+        assert ds.step_cycle.dims == ("step",)
+        # two identical bodies: twice one body's full-slip shift (Johnson 1985, eq. 7.42)
+        shear_modulus = 210e9 / 2.6
+        full_slip = 2 * 3 * mu * force * (2 - 0.3) / (16 * shear_modulus * case.hertz.radius)
+        expected = reference.mindlin_deresiewicz_energy(amplitude, mu, force, full_slip)
+        energy = ds.loop_energy.values
+        errors.append(abs(energy[-1] / expected - 1))
+        # the steady loop: every cycle the same
+        assert np.ptp(energy) < 1e-4 * energy[-1]
+        # energy balance: the loop area is the friction work over the surface
+        np.testing.assert_allclose(ds.cycle_friction_work.values, energy, rtol=1e-4)
+        # amplitudes: the force's as prescribed; the shift below the full-slip one
+        np.testing.assert_allclose(ds.force_amplitude.values, amplitude, rtol=1e-9)
+        assert np.all(ds.slip_amplitude.values < full_slip)
+        # smallest stick zone at the reversals: Cattaneo's c / a = (1 - Q*/(mu W))^(1/3)
+        stick = ds.min_stick_radius.values / case.hertz.radius
+        cell = 3.0 / n
+        np.testing.assert_allclose(stick, (1 - fraction) ** (1 / 3), atol=cell)
+    assert errors[1] < errors[0] and errors[1] < 0.01, errors
+
+
+def test_repeated_normal_loading_shakes_down_with_isotropic_hardening():
+    """Isotropic hardening: the first cycle hardens the body; later cycles add no plastic strain."""
+    table = {
+        "body1": {"behaviour": "rigid", "radius": 0.015},
+        "body2": {"radius": "inf", **SWIFTLESS},
+        "load": {
+            "path": [
+                {
+                    "cycles": 3,
+                    "stages": [
+                        {"hertz_pressure": 5e9, "steps": 3},
+                        {"normal_force": 0.0, "steps": 1},
+                    ],
+                }
+            ]
+        },
+        "grid": {"n": [16, 16, 16]},
+    }
+    case = solver.Case.from_dict(table)
+    result = solver.solve(case)
+    assert result.converged, result.notes
+    gained = result.to_xarray().plastic_strain_increment.values
+    first = float(result.history["max_plastic_strain"][3])
+    assert gained[0] == pytest.approx(first, rel=1e-12)  # from a virgin body
+    assert np.all(np.abs(gained[1:]) < case.solver.plastic_tolerance * first), gained

@@ -1,0 +1,59 @@
+"""A cyclic campaign through the study layer: per-cycle variables assembled, report section."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from study import storage
+from study.assemble import assemble
+from study.campaign import load_campaign
+from study.driver import RunOptions, run_campaign
+from study.report import build_report
+
+CAMPAIGN = "campaigns/fretting_cycles.toml"
+
+
+@pytest.fixture(scope="module")
+def cycles_out(tmp_path_factory):
+    """The shipped fretting-cycles campaign, coarsened: 16^3, 2 cycles, 4 steps per stage."""
+    folder = tmp_path_factory.mktemp("cycles")
+    text = open(CAMPAIGN).read()
+    text = text.replace("n = [32, 32, 32]", "n = [16, 16, 16]").replace("cycles = 5", "cycles = 2")
+    text = text.replace("steps = 16", "steps = 4").replace("steps = 8", "steps = 2")
+    path = folder / "cycles.toml"
+    path.write_text(text)
+    campaign = load_campaign(path)
+    out = folder / "out"
+    assert run_campaign(campaign, out, options=RunOptions()).exit_status == 0
+    return campaign, out
+
+
+def test_per_cycle_variables_are_assembled_from_the_case_files(cycles_out):
+    campaign, out = cycles_out
+    ds = assemble(out, campaign)
+    assert ds.cycle.values.tolist() == [1, 2]
+    assert ds.loop_energy.dims == ("loading", "cycle")
+    for case in campaign.cases:
+        with xr.open_dataset(storage.case_path(out, case.case_id)) as one:
+            row = ds.isel(loading=case.index[0])
+            for name in ("loop_energy", "cycle_friction_work", "plastic_strain_increment"):
+                np.testing.assert_array_equal(row[name].values, one[name].values)
+    # a larger amplitude dissipates more, and the plastic strain grows less in cycle 2
+    energy = ds.loop_energy.isel(cycle=-1).values
+    assert energy[1] > energy[0] and energy[3] > energy[2]
+    gained = ds.plastic_strain_increment.values
+    assert np.all(gained[:, 1] <= gained[:, 0])
+    # the body has shaken down by cycle 2: the loop area is the friction work (1 %)
+    last = ds.isel(cycle=-1)
+    np.testing.assert_allclose(last.cycle_friction_work, last.loop_energy, rtol=0.01)
+
+
+def test_cycle_report_builds(cycles_out, monkeypatch):
+    pytest.importorskip("matplotlib")
+    monkeypatch.setattr("study.report.DPI", 40)
+    _, out = cycles_out
+    text = build_report(out).read_text()
+    assert "## Load cycles" in text
+    for name in ("fretting_loops", "cycles"):
+        png = out / f"fretting_cycles_{name}.png"
+        assert png.stat().st_size > 1000 and f"({png.name})" in text
