@@ -115,17 +115,35 @@ HARDENING_KEYS = {
 }
 
 
+#: Kinematic hardening laws (``hardening.kinematic.law``) and their keys.
+KINEMATIC_KEYS = {"prager": {"C"}, "armstrong-frederick": {"C", "gamma"}}
+
+
+def _parse_kinematic(table: Any, path: str) -> dict:
+    _check_keys(table, path, {"law", "C", "gamma"}, {"law"})
+    law = _plain(table["law"])
+    if law not in KINEMATIC_KEYS:
+        _fail(f"{path}.law", f"must be one of {', '.join(KINEMATIC_KEYS)}, got {law!r}")
+    _check_keys(table, path, KINEMATIC_KEYS[law] | {"law"}, KINEMATIC_KEYS[law])
+    modulus = _number(table["C"], f"{path}.C", positive=True)
+    recall = _number(table["gamma"], f"{path}.gamma", positive=True) if "gamma" in table else 0.0
+    return {"kinematic_modulus": modulus, "kinematic_recall": recall}
+
+
 def _parse_hardening(table: Any, path: str) -> Hardening:
-    _check_keys(table, path, {"law", "B", "C", "n", "yield_stress", "modulus"}, {"law"})
+    keys = {"law", "B", "C", "n", "yield_stress", "modulus", "kinematic"}
+    _check_keys(table, path, keys, {"law"})
     law = _plain(table["law"])
     if law not in HARDENING_KEYS:
         _fail(f"{path}.law", f"must be one of {', '.join(HARDENING_KEYS)}, got {law!r}")
-    _check_keys(table, path, HARDENING_KEYS[law] | {"law"}, HARDENING_KEYS[law])
+    _check_keys(table, path, HARDENING_KEYS[law] | {"law", "kinematic"}, HARDENING_KEYS[law])
     values = {}
     for key in HARDENING_KEYS[law]:
         values[key] = _number(table[key], f"{path}.{key}", positive=key != "modulus")
         if key == "modulus" and values[key] < 0:
             _fail(f"{path}.modulus", f"must be >= 0, got {values[key]}")
+    if "kinematic" in table:
+        values.update(_parse_kinematic(table["kinematic"], f"{path}.kinematic"))
     return Hardening(law=law, **values)
 
 
@@ -927,4 +945,9 @@ def _body_spec(body: Body) -> dict:
     if body.hardening is not None:
         h = body.hardening
         out["hardening"] = {"law": h.law} | {k: getattr(h, k) for k in HARDENING_KEYS[h.law]}
+        if h.kinematic:  # only then: isotropic cases keep their ids
+            law = "armstrong-frederick" if h.kinematic_recall > 0 else "prager"
+            out["hardening"]["kinematic"] = {"law": law, "C": h.kinematic_modulus} | (
+                {"gamma": h.kinematic_recall} if h.kinematic_recall > 0 else {}
+            )
     return out

@@ -27,7 +27,7 @@ Behaviour = Literal["rigid", "elastic", "elastic-plastic"]
 
 @dataclass(frozen=True)
 class Hardening:
-    """Isotropic hardening law of an elastic-plastic body (used by the plasticity loop).
+    """Hardening law of an elastic-plastic body: isotropic, optionally with a back stress.
 
     Parameters
     ----------
@@ -45,6 +45,12 @@ class Hardening:
         Initial yield stress sigma_Y0 (Pa) for ``linear`` and ``perfect``.
     modulus : float
         Linear hardening modulus H (Pa) for ``linear``.
+    kinematic_modulus : float
+        Kinematic hardening modulus C_k (Pa) of the back stress (0: isotropic hardening only).
+    kinematic_recall : float
+        Armstrong-Frederick recall gamma (dimensionless, 0: linear Prager-Ziegler).  The back
+        stress obeys ``d alpha = (2/3) C_k d eps_p - gamma alpha dp`` and saturates at
+        ``C_k / gamma`` (uniaxial); the yield surface is ``sigma_eq(s - alpha) = sigma_Y(e_p)``.
     """
 
     law: Literal["swift", "linear", "perfect"]
@@ -53,6 +59,13 @@ class Hardening:
     n: float = 0.0
     yield_stress: float = 0.0
     modulus: float = 0.0
+    kinematic_modulus: float = 0.0
+    kinematic_recall: float = 0.0
+
+    @property
+    def kinematic(self) -> bool:
+        """True with a back stress (kinematic hardening)."""
+        return self.kinematic_modulus > 0.0
 
     def flow_stress(self, plastic_strain):
         """Yield stress sigma_Y (Pa) at an equivalent plastic strain (float or array, >= 0)."""

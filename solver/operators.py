@@ -131,6 +131,9 @@ class CaseOperators:
             bodies = len(case.plastic_bodies)
             total += bodies * EigenstrainOperator.memory_bytes(volume, deviatoric=True)
             total += bodies * PLASTIC_WORK_ARRAYS * cells
+            pair = (case.body1, case.body2)
+            kinematic = sum(b.hardening is not None and b.hardening.kinematic for b in pair)
+            total += 2 * kinematic * cells  # back stress before and after the increment
         elif "stress" in case.fields:
             tractions = 3 if tangential else 1
             total += SubsurfaceStressOperator.memory_bytes(volume, tractions)

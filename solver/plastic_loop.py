@@ -57,11 +57,14 @@ class PlasticState:
     displacement : tuple of ndarray
         Residual surface displacements ``(u_x, u_y, u_z)`` (m) of ``strain`` in the plastic body's
         own frame (z into the body).
+    back_stress : ndarray or None
+        ``(6, nx, ny, nz)`` back stress (Pa) of kinematic hardening; None: zero.
     """
 
     strain: np.ndarray
     equivalent: np.ndarray
     displacement: tuple[np.ndarray, np.ndarray, np.ndarray]
+    back_stress: np.ndarray | None = None
 
     @classmethod
     def virgin(cls, shape: tuple[int, int, int]) -> PlasticState:
@@ -229,6 +232,7 @@ def plastic_step(
                     previous_plastic[i].equivalent,
                     material.hardening,
                     material.shear_modulus,
+                    back_stress=previous_plastic[i].back_stress,
                 )
             )
         change = np.stack([m.plastic_strain_increment for m in mapped]) - increment
@@ -257,6 +261,7 @@ def plastic_step(
             previous_plastic[i].strain + increment[i],
             previous_plastic[i].equivalent + mapped[i].equivalent_increment,
             displacements[body],
+            mapped[i].back_stress,
         )
         for i, body in enumerate(bodies)
     )

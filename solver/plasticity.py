@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .materials import Hardening
-from .tensor import deviator, norm
+from .tensor import contract, deviator, norm
 
 #: Relative tolerance of the consistency equation (on |r| / sigma_Y).
 RETURN_TOLERANCE = 1e-12
@@ -57,6 +57,8 @@ class ReturnMapping:
         Largest final ``|r| / sigma_Y`` over the yielding cells.
     converged : bool
         True when every yielding cell met :data:`RETURN_TOLERANCE`.
+    back_stress : ndarray or None
+        ``(6, ...)`` back stress after the increment (Pa), kinematic hardening only.
     """
 
     plastic_strain_increment: np.ndarray
@@ -66,6 +68,7 @@ class ReturnMapping:
     iterations: int
     residual: float
     converged: bool
+    back_stress: np.ndarray | None = None
 
 
 def equivalent_increment(
@@ -106,20 +109,40 @@ def equivalent_increment(
     q = np.asarray(trial_equivalent, dtype=float)
     e0 = np.asarray(plastic_strain, dtype=float)
     three_g = 3.0 * shear_modulus
-    low = np.zeros_like(q)
-    high = q / three_g
+
+    def evaluate(x, active):  # r, its scale and -dr/dx on the active cells
+        flow = hardening.flow_stress(e0[active] + x)
+        slope = three_g + hardening.slope(e0[active] + x)
+        return q[active] - three_g * x - flow, flow, slope
+
     # first Newton step from dp = 0 (exact for linear hardening and perfect plasticity)
     f0 = q - hardening.flow_stress(e0)
-    x = np.clip(f0 / (three_g + hardening.slope(e0)), 0.0, high)
-    active = np.arange(q.size)
+    x0 = f0 / (three_g + hardening.slope(e0))
+    return bracketed_newton(evaluate, x0, q / three_g, tolerance, max_iterations)
+
+
+def bracketed_newton(
+    evaluate, x0: np.ndarray, high: np.ndarray, tolerance: float, max_iterations: int
+) -> tuple[np.ndarray, int, float, bool]:
+    """Roots of decreasing scalar functions, one per cell, bracketed in ``[0, high]``.
+
+    ``evaluate(x, active)`` returns the residual ``r``, its scale and the slope ``-dr/dx`` at
+    ``x`` on the cells ``active``; ``r(0) > 0 > r(high)``.  Newton steps that leave the bracket
+    are replaced by bisection.  Stops when ``|r| <= tolerance * scale`` or the bracket is below
+    round-off.  Returns the roots, the iterations, the largest final ``|r| / scale`` and whether
+    every cell met the tolerance.
+    """
+    low = np.zeros_like(high)
+    high = high.copy()
+    x = np.clip(x0, 0.0, high)
+    active = np.arange(x.size)
     residual = 0.0
     iterations = 0
     while iterations < max_iterations:
         iterations += 1
-        xa, qa, ea = x[active], q[active], e0[active]
-        flow = hardening.flow_stress(ea + xa)
-        r = qa - three_g * xa - flow
-        scale = np.maximum(flow, np.finfo(float).tiny)
+        xa = x[active]
+        r, scale, slope = evaluate(xa, active)
+        scale = np.maximum(scale, np.finfo(float).tiny)
         positive = r > 0.0
         low[active] = np.where(positive, xa, low[active])
         high[active] = np.where(positive, high[active], xa)
@@ -132,13 +155,12 @@ def equivalent_increment(
             break
         active, r, xa = active[keep], r[keep], xa[keep]
         lo, hi = low[active], high[active]
-        step = xa + r / (three_g + hardening.slope(e0[active] + xa))
+        step = xa + r / slope[keep]
         inside = (step > lo) & (step < hi)
         x[active] = np.where(inside, step, 0.5 * (lo + hi))
     if active.size:  # the cap was reached: report the residual of the unconverged cells
-        flow = hardening.flow_stress(e0[active] + x[active])
-        r = q[active] - three_g * x[active] - flow
-        residual = max(residual, float(np.max(np.abs(r) / flow)))
+        r, scale, _ = evaluate(x[active], active)
+        residual = max(residual, float(np.max(np.abs(r) / scale)))
     return x, iterations, residual, active.size == 0
 
 
@@ -148,6 +170,7 @@ def return_mapping(
     hardening: Hardening,
     shear_modulus: float,
     *,
+    back_stress: np.ndarray | None = None,
     tolerance: float = RETURN_TOLERANCE,
     max_iterations: int = RETURN_MAX_ITERATIONS,
 ) -> ReturnMapping:
@@ -163,6 +186,8 @@ def return_mapping(
         Isotropic hardening law.
     shear_modulus : float
         Elastic shear modulus G (Pa).
+    back_stress : ndarray, optional
+        ``(6, ...)`` back stress before the increment (Pa; kinematic hardening, default zero).
     tolerance, max_iterations
         Stopping rule of the scalar Newton solve (:func:`equivalent_increment`).
 
@@ -170,6 +195,11 @@ def return_mapping(
     -------
     ReturnMapping
     """
+    if hardening.kinematic:
+        return _kinematic_return(
+            trial_stress, plastic_strain, back_stress, hardening, shear_modulus,
+            tolerance, max_iterations,
+        )  # fmt: skip
     trial_stress = np.asarray(trial_stress, dtype=float)
     shape = trial_stress.shape[1:]
     s = deviator(trial_stress)
@@ -196,3 +226,63 @@ def return_mapping(
         increment[:, plastic] = flow
         stress[:, plastic] -= 2.0 * shear_modulus * flow
     return ReturnMapping(increment, dp, stress, plastic, iterations, residual, converged)
+
+
+def _kinematic_return(
+    trial_stress, plastic_strain, back_stress, hardening, shear_modulus, tolerance, max_iterations
+) -> ReturnMapping:
+    """Return mapping with a back stress (Prager-Ziegler or Armstrong-Frederick), backward Euler.
+
+    With ``a = 1 / (1 + gamma dp)``, ``eta = s_trial - a alpha_n`` and ``N = eta / sigma_eq(eta)``
+    the relative stress ``s - alpha`` after the increment is parallel to ``eta``, and ``dp``
+    solves ``r(dp) = sigma_eq(eta) - (3 G + a C_k) dp - sigma_Y(e_p + dp) = 0``; then
+    ``d eps_p = (3/2) dp N`` and ``alpha = a (alpha_n + C_k dp N)``.  ``r`` falls from
+    ``r(0) = sigma_eq(s_trial - alpha_n) - sigma_Y > 0`` below zero before
+    ``(sigma_eq(s_trial) + sigma_eq(alpha_n)) / (3 G)``: the root is bracketed.  Prager-Ziegler
+    (gamma = 0) is radial: ``N`` is the trial direction.
+    """
+    trial_stress = np.asarray(trial_stress, dtype=float)
+    shape = trial_stress.shape[1:]
+    s = deviator(trial_stress)
+    alpha = np.zeros_like(s) if back_stress is None else np.asarray(back_stress, dtype=float)
+    q = np.sqrt(1.5) * norm(s - alpha)
+    e0 = np.broadcast_to(np.asarray(plastic_strain, dtype=float), shape)
+    plastic = q > hardening.flow_stress(e0) * (1.0 + tolerance)
+    dp = np.zeros(shape)
+    increment = np.zeros_like(trial_stress)
+    stress = trial_stress.copy()
+    new_alpha = alpha.copy()
+    iterations, residual, converged = 0, 0.0, True
+    if plastic.any():
+        three_g, c_k, gamma = (
+            3.0 * shear_modulus,
+            hardening.kinematic_modulus,
+            hardening.kinematic_recall,
+        )
+        sp, ap, ep = s[:, plastic], alpha[:, plastic], e0[plastic]
+        cross, alpha2, s2 = contract(sp, ap), contract(ap, ap), contract(sp, sp)
+
+        def evaluate(x, active):
+            a = 1.0 / (1.0 + gamma * x)
+            # sigma_eq(s - a alpha) from the invariants: no (6, n) temporaries per iteration
+            eta2 = s2[active] - 2.0 * a * cross[active] + a * a * alpha2[active]
+            eq = np.sqrt(1.5 * np.maximum(eta2, 0.0))
+            flow = hardening.flow_stress(ep[active] + x)
+            r = eq - (three_g + a * c_k) * x - flow
+            d_eq = 1.5 * gamma * a * a * (cross[active] - a * alpha2[active]) / np.maximum(eq, 1.0)
+            slope = three_g + c_k * a * a + hardening.slope(ep[active] + x) - d_eq
+            return r, flow, slope
+
+        high = (np.sqrt(1.5 * s2) + np.sqrt(1.5 * alpha2)) / three_g
+        x0 = (q[plastic] - hardening.flow_stress(ep)) / (three_g + c_k + hardening.slope(ep))
+        dpp, iterations, residual, converged = bracketed_newton(
+            evaluate, x0, high, tolerance, max_iterations
+        )
+        a = 1.0 / (1.0 + gamma * dpp)
+        eta = sp - a * ap
+        direction = eta / (np.sqrt(1.5) * norm(eta))
+        dp[plastic] = dpp
+        increment[:, plastic] = 1.5 * dpp * direction
+        stress[:, plastic] -= 2.0 * shear_modulus * increment[:, plastic]
+        new_alpha[:, plastic] = a * (ap + c_k * dpp * direction)
+    return ReturnMapping(increment, dp, stress, plastic, iterations, residual, converged, new_alpha)

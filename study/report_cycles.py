@@ -124,7 +124,10 @@ def plot_cycles(dataset, path: str | Path) -> Path | None:
     axes[0].legend(fontsize=7, title="o loop area, x friction work", title_fontsize=7)
     if plastic:
         axes[1].set_ylabel("plastic strain gained per cycle (1, max over the volume)")
+    from matplotlib.ticker import MaxNLocator
+
     for ax in axes:
+        ax.xaxis.set_major_locator(MaxNLocator(integer=True))
         ax.set_xlabel("cycle")
         ax.grid(True, which="both", alpha=0.3)
     report._suptitle(fig, f"{dataset.attrs.get('campaign', '')}: per cycle")
