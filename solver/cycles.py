@@ -63,6 +63,9 @@ def cycle_summary(history: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     if "friction_work" in history:
         work = np.asarray(history["friction_work"], dtype=float)
         out["cycle_friction_work"] = np.array([float(work[s].sum()) for s in blocks])
+    if "cycle_residual_stress" in history:
+        stress = np.asarray(history["cycle_residual_stress"], dtype=float)
+        out["max_residual_stress"] = np.array([float(stress[s[-1]]) for s in blocks])
     if "cycle_plastic_strain" in history:
         gained = np.asarray(history["cycle_plastic_strain"], dtype=float)
         out["plastic_strain_increment"] = np.array([float(gained[s[-1]]) for s in blocks])

@@ -236,7 +236,8 @@ def solve(case: Case) -> Result:
     names += ("residual", "step_converged")
     cycles = case.step_cycles()
     if case.cycles:
-        names += ("step_cycle",) + (("cycle_plastic_strain",) if plastic else ())
+        names += ("step_cycle",)
+        names += ("cycle_plastic_strain", "cycle_residual_stress") if plastic else ()
     history = {name: np.zeros(len(targets)) for name in names}
     if case.cycles:
         history["step_cycle"][:] = cycles
@@ -305,6 +306,10 @@ def solve(case: Case) -> Result:
             history["cycle_plastic_strain"][k] = max(
                 float((p.equivalent - start).max())
                 for p, start in zip(plastic_state, cycle_start, strict=True)
+            )
+            last = k + 1 == len(targets) or cycles[k + 1] != cycles[k]
+            history["cycle_residual_stress"][k] = (
+                _max_residual_stress(operators, plastic_state) if last else np.nan
             )
         history["residual"][k] = residual
         history["step_converged"][k] = float(step_ok)
@@ -384,6 +389,16 @@ def _record_plastic(
             axis_value(equivalent), volume.z, PLASTIC_ZONE_THRESHOLD
         )
         history["residual_depth" + suffix][k] = float(axis_value(plastic.displacement[2]))
+
+
+def _max_residual_stress(operators: CaseOperators, states: tuple[PlasticState, ...]) -> float:
+    """Largest von Mises stress of the plastic strain alone (Pa), over the plastic bodies."""
+    return max(
+        float(von_mises(operators.volume(body)[1].stress(p.strain)).max())
+        if p.strain.any()
+        else 0.0
+        for body, p in zip(operators.case.plastic_bodies, states, strict=True)
+    )
 
 
 def _plastic_fields(

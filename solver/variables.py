@@ -88,6 +88,12 @@ HISTORIES: dict[str, History] = {
         "sum",
     ),
     "step_cycle": History("1", "load cycle of the step (0: outside a cycle block)", None),
+    "cycle_residual_stress": History(
+        "Pa",
+        "largest von Mises residual stress of the plastic strain at the end of the step's load "
+        "cycle (NaN at the other steps)",
+        None,
+    ),
     "cycle_plastic_strain": History(
         "1",
         "equivalent plastic strain gained since the start of the step's load cycle, largest "
@@ -110,6 +116,10 @@ CYCLE_QUANTITIES: dict[str, tuple[str, str]] = {
         "smallest equivalent stick radius sqrt(stick_area / pi) of the cycle",
     ),
     "force_amplitude": ("N", "half the range of the tangential force Q_x over the cycle"),
+    "max_residual_stress": (
+        "Pa",
+        "largest von Mises residual stress of the plastic strain at the end of the cycle",
+    ),
     "plastic_strain_increment": (
         "1",
         "equivalent plastic strain gained over the cycle, largest over the volume",

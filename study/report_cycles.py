@@ -57,6 +57,7 @@ def cycle_table(dataset):
         row["c_min/a_H"] = pick("min_stick_radius", count - 1) / float(case["hertz_radius"])
         row["dep_first"] = pick("plastic_strain_increment", 0)
         row["dep_last"] = pick("plastic_strain_increment", count - 1)
+        row["res_MPa"] = pick("max_residual_stress", count - 1) / 1e6
         rows.append(row)
     return pd.DataFrame(rows)
 
@@ -143,7 +144,8 @@ def section(dataset, out: Path, name: str, plt, figures: list) -> list[str]:
         "`work/E_last`: the friction work summed over the surface and the last cycle's steps",
         "over that area (1 for an elastic contact: the energy balance); amplitudes and the",
         "smallest stick radius of the last cycle; `dep_*`: equivalent plastic strain gained in",
-        "the first and the last cycle (largest over the volume).",
+        "the first and the last cycle (largest over the volume); `res_MPa`: largest von Mises",
+        "residual stress at the end of the last cycle.",
         "",
         report.markdown_table(cycle_table(dataset)),
     ]

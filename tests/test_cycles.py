@@ -6,6 +6,7 @@ import pytest
 import solver
 from solver import reference
 from solver.case import SpecError, path_steps
+from solver.tensor import von_mises
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
 SWIFTLESS = {
@@ -132,11 +133,17 @@ def test_repeated_normal_loading_shakes_down_with_isotropic_hardening():
             ]
         },
         "grid": {"n": [16, 16, 16]},
+        "output": {"fields": ["residual_stress"]},
     }
     case = solver.Case.from_dict(table)
     result = solver.solve(case)
     assert result.converged, result.notes
-    gained = result.to_xarray().plastic_strain_increment.values
+    ds = result.to_xarray()
+    gained = ds.plastic_strain_increment.values
+    # the last cycle's residual stress is that of the final field (lifted off)
+    final = von_mises(result.fields["residual_stress"]).max()
+    assert ds.max_residual_stress.values[-1] == pytest.approx(final, rel=1e-12)
+    assert np.ptp(ds.max_residual_stress.values) < 1e-4 * final  # shaken down
     first = float(result.history["max_plastic_strain"][3])
     assert gained[0] == pytest.approx(first, rel=1e-12)  # from a virgin body
     assert np.all(np.abs(gained[1:]) < case.solver.plastic_tolerance * first), gained
