@@ -307,10 +307,10 @@ def solve(case: Case) -> Result:
                 float((p.equivalent - start).max())
                 for p, start in zip(plastic_state, cycle_start, strict=True)
             )
-            last = k + 1 == len(targets) or cycles[k + 1] != cycles[k]
-            history["cycle_residual_stress"][k] = (
-                _max_residual_stress(operators, plastic_state) if last else np.nan
-            )
+            if k + 1 == len(targets) or cycles[k + 1] != cycles[k]:  # the cycle's last step
+                history["cycle_residual_stress"][cycles == cycles[k]] = _max_residual_stress(
+                    operators, plastic_state
+                )
         history["residual"][k] = residual
         history["step_converged"][k] = float(step_ok)
         if plastic:

@@ -91,7 +91,7 @@ HISTORIES: dict[str, History] = {
     "cycle_residual_stress": History(
         "Pa",
         "largest von Mises residual stress of the plastic strain at the end of the step's load "
-        "cycle (NaN at the other steps)",
+        "cycle (the same for every step of a cycle)",
         None,
     ),
     "cycle_plastic_strain": History(
