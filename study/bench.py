@@ -33,6 +33,7 @@ DEFAULT_SIZES = {
     "cattaneo": [64, 128, 256],
     "plastic": [32, 64],
     "slipstick": [64, 128],
+    "cycles": [32, 64, 128],
 }
 
 
@@ -208,6 +209,10 @@ def run_benchmark(
         from .bench_slipstick import run_slipstick
 
         return run_slipstick(sizes)
+    if scene == "cycles":
+        from .bench_cycles import run_cycles
+
+        return run_cycles(sizes)
     if scene == "cattaneo":
         from .bench_cattaneo import run_cattaneo
 

@@ -131,7 +131,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     bench = sub.add_parser("bench", help="benchmarks against closed forms and peer codes")
     bench.add_argument(
-        "scene", choices=["hertz", "cattaneo", "plastic", "slipstick"], help="benchmark scene"
+        "scene",
+        choices=["hertz", "cattaneo", "plastic", "slipstick", "cycles"],
+        help="benchmark scene",
     )
     bench.add_argument("--sizes", type=int, nargs="+", help="grid sizes n (cells per side)")
     bench.add_argument("--peers", action="store_true", help="also run installed peer codes")
