@@ -71,3 +71,29 @@ def cycle_summary(history: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         out["plastic_strain_increment"] = np.array([float(gained[s[-1]]) for s in blocks])
     assert set(out) <= set(CYCLE_QUANTITIES)
     return out
+
+
+def cycle_variables(per_cycle: dict[str, np.ndarray], dims: tuple[str, ...] = ()) -> tuple:
+    """The ``cycle`` coordinate and CF variables of per-cycle arrays for an xarray dataset.
+
+    Parameters
+    ----------
+    per_cycle : dict of ndarray
+        :data:`solver.variables.CYCLE_QUANTITIES` names -> arrays whose last axis is the cycle.
+    dims : tuple of str
+        Dimensions before the cycle (a campaign's axes; none for one case).
+
+    Returns
+    -------
+    (dict, dict)
+        ``{"cycle": (dim, values, attrs)}`` and ``{name: (dims, values, attrs)}``.
+    """
+    count = max(np.shape(values)[-1] for values in per_cycle.values())
+    coords = {
+        "cycle": ("cycle", np.arange(1, count + 1), {"units": "1", "long_name": "load cycle"})
+    }
+    variables = {}
+    for name, values in per_cycle.items():
+        units, long_name = CYCLE_QUANTITIES[name]
+        variables[name] = ((*dims, "cycle"), values, {"units": units, "long_name": long_name})
+    return coords, variables

@@ -7,10 +7,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .case import Case
-from .cycles import cycle_summary
+from .cycles import cycle_summary, cycle_variables
 from .grid import SurfaceGrid
 from .tensor import COMPONENTS
-from .variables import CYCLE_QUANTITIES, FIELDS, HISTORIES
+from .variables import FIELDS, HISTORIES
 
 #: CF metadata of every history variable: name -> (units, long_name) (from :mod:`.variables`).
 HISTORY_META = {name: (h.units, h.long_name) for name, h in HISTORIES.items()}
@@ -113,15 +113,9 @@ class Result:
             data[name] = ("step", np.asarray(values), {"units": units, "long_name": long_name})
         per_cycle = cycle_summary(self.history)
         if per_cycle:
-            count = len(next(iter(per_cycle.values())))
-            coords["cycle"] = (
-                "cycle",
-                np.arange(1, count + 1),
-                {"units": "1", "long_name": "load cycle"},
-            )
-            for name, values in per_cycle.items():
-                units, long_name = CYCLE_QUANTITIES[name]
-                data[name] = ("cycle", values, {"units": units, "long_name": long_name})
+            cycle_coords, cycle_data = cycle_variables(per_cycle)
+            coords.update(cycle_coords)
+            data.update(cycle_data)
         attrs = {
             "Conventions": "CF-1.8",
             "title": "slipstick contact solution",

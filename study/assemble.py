@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 import solver
+from solver.cycles import cycle_variables
 from solver.loops import axis_value
 from solver.result import HISTORY_META
 from solver.variables import CYCLE_QUANTITIES, HISTORIES, reduced_scalars
@@ -311,14 +312,9 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
                 {"units": units, "long_name": f"{long_name} per load step"},
             )
     if per_cycle:
-        coords["cycle"] = (
-            "cycle",
-            np.arange(1, cycle_count + 1),
-            {"units": "1", "long_name": "load cycle"},
-        )
-        for name, values in per_cycle.items():
-            units, long_name = CYCLE_QUANTITIES[name]
-            data_vars[name] = ((*dims, "cycle"), values, {"units": units, "long_name": long_name})
+        cycle_coords, cycle_data = cycle_variables(per_cycle, dims)
+        coords.update(cycle_coords)
+        data_vars.update(cycle_data)
     if depth_profiles is not None:
         coords["z_over_a"] = (
             "z_over_a",
