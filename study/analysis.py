@@ -556,7 +556,9 @@ def convergence_summary(dataset, quantity: str, mesh_dim: str | None = None):
     pandas.DataFrame
         One row per combination of the other axes: ``meshes`` (finished cases), ``n_finest``,
         ``finest`` (value on the finest mesh), ``extrapolated`` (Richardson from the two finest
-        meshes with ``order_fit``, or with order 2 when the fit failed), ``order_fit`` (fit of
+        meshes with ``order_fit``, or with order 2 when the fit failed), ``error_bar``
+        (``|extrapolated - finest|``: the Richardson estimate of the finest mesh's error, so
+        the converged value is ``extrapolated +- error_bar``), ``order_fit`` (fit of
         ``v* + C h^p``, :func:`fit_convergence`), ``fit_at_bound``, ``order_finest`` (log-log
         fit of ``|v - v_finest|`` vs ``h``, finest excluded), ``reference`` (closed form on the
         finest mesh), ``rel_error_finest`` and ``rel_error_extrapolated`` (versus the closed
@@ -588,6 +590,7 @@ def convergence_summary(dataset, quantity: str, mesh_dim: str | None = None):
             "n_finest": int(n_coord[np.argmin(np.where(ok, h, np.inf))]) if np.any(ok) else -1,
             "finest": finest,
             "extrapolated": extrapolated,
+            "error_bar": abs(extrapolated - finest),
             "order_fit": fit.order,
             "fit_at_bound": fit.at_bound,
             "order_finest": order_finest,

@@ -41,7 +41,7 @@ TITLE_HEIGHT = 0.7
 LEGEND_ROW = 0.25
 _STATE_NAMES = ("separated", "stick", "slip")
 #: Table columns printed with 9 significant digits (values close to each other).
-VALUE_COLUMNS = ("value", "finest", "extrapolated", "reference")
+VALUE_COLUMNS = ("value", "finest", "extrapolated", "error_bar", "reference")
 
 
 # -- helpers -------------------------------------------------------------------------------------
@@ -743,7 +743,8 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
         lines += [
             f"{meaning}; `n` is the count.  `order_fit`: fit of",
             "v = v* + C h^p over all meshes; `extrapolated`: Richardson from the two finest meshes",
-            "with that order (order 2 when the fit hits its bounds, `fit_at_bound`);",
+            "with that order (order 2 when the fit hits its bounds, `fit_at_bound`), converged",
+            "value `extrapolated` +- `error_bar` (= |extrapolated - finest|);",
             "`order_finest`: log-log fit of |v - v_finest| vs h; `order_reference`: log-log fit",
             "of |v - closed form| vs h.  Relative errors are signed.",
             "",

@@ -100,6 +100,8 @@ def test_tables_on_synthetic_dataset():
     assert len(summary) == 3
     assert np.allclose(summary["order_fit"], 2.0, atol=0.05)
     assert np.allclose(summary["extrapolated"], 1e-4, rtol=1e-9)
+    # the error bar is the finest mesh's true error for an exact power law
+    assert np.allclose(summary["error_bar"], 1e-4 * 0.3 * (3.0 / 128) ** 2, rtol=1e-6)
     table = analysis.convergence_table(dataset, "max_pressure", "grid_n")
     assert len(table) == 12
     finest = table[table["n"] == 128]
