@@ -3,14 +3,14 @@
 All three are built with the case's FFT planner and threads and share what they can: the
 eigenstrain operator uses the same :class:`~solver.stress.SubsurfaceStressOperator` (its kernels
 serve both the stress of the tractions and the residual surface displacements).  Bundles are
-cached per (grid, materials, FFT settings), so cases of a campaign on the same grid reuse them.
+cached per (grid, materials, FFT settings), so cases of a campaign on the same grid reuse them;
+the volume operators of the last case only (they can take gigabytes).
 :meth:`CaseOperators.memory_bytes` states what a case's bundle and work arrays hold, for the
 study scheduler.
 """
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,8 +18,7 @@ import numpy as np
 from .case import Case, SolverOptions
 from .convolution import SurfaceOperator, surface_operator
 from .eigenstrain import EigenstrainOperator
-from .grid import VolumeGrid
-from .materials import Body, Pair
+from .materials import Pair
 from .stress import SubsurfaceStressOperator
 
 
@@ -35,17 +34,30 @@ def initial_gap(case: Case) -> np.ndarray:
     return 0.5 * (kx * x * x + ky * y * y)
 
 
-@functools.lru_cache(maxsize=4)
-def _volume_operators(
-    grid: VolumeGrid, body: Body, threads: int, planner: str, eigenstrain: bool
-) -> tuple[SubsurfaceStressOperator, EigenstrainOperator | None]:
-    stress = SubsurfaceStressOperator(grid, body.nu, threads=threads, planner=planner)
-    if not eigenstrain:
-        return stress, None
-    plastic = EigenstrainOperator(
-        grid, body.E, body.nu, threads=threads, planner=planner, surface_stress=stress
-    )
-    return stress, plastic
+#: Volume operators by (grid, body, FFT threads, planner, with eigenstrain), of the last case
+#: built only: they can take gigabytes, and a rank solving cases on different volume grids in
+#: turn must not hold the operators of each (:meth:`CaseOperators.memory_bytes` is per case).
+_VOLUME_OPERATORS: dict[tuple, tuple] = {}
+
+
+def _volume_operators(keys: list[tuple]) -> list[tuple]:
+    """(stress, eigenstrain or None) for each key, reusing the last case's; drops the others."""
+    for key in [k for k in _VOLUME_OPERATORS if k not in keys]:
+        del _VOLUME_OPERATORS[key]
+    out = []
+    for key in keys:
+        if key not in _VOLUME_OPERATORS:
+            grid, body, threads, planner, eigenstrain = key
+            stress = SubsurfaceStressOperator(grid, body.nu, threads=threads, planner=planner)
+            plastic = None
+            if eigenstrain:
+                plastic = EigenstrainOperator(
+                    grid, body.E, body.nu, threads=threads, planner=planner,
+                    surface_stress=stress,
+                )  # fmt: skip
+            _VOLUME_OPERATORS[key] = (stress, plastic)
+        out.append(_VOLUME_OPERATORS[key])
+    return out
 
 
 @dataclass
@@ -98,16 +110,14 @@ class CaseOperators:
         options = case.solver
         planner = planner_flag(options)
         surface = surface_operator(case.surface_grid, case.pair, options.fft_threads, planner)
-        stress = plastic = stress1 = plastic1 = None
         plastic_case = case.plastic_body is not None
+        keys = []
         if plastic_case or "stress" in case.fields:
-            stress, plastic = _volume_operators(
-                case.volume_grid, case.body2, options.fft_threads, planner, plastic_case
-            )
+            keys.append((case.volume_grid, case.body2, options.fft_threads, planner, plastic_case))
         if 1 in case.plastic_bodies:
-            stress1, plastic1 = _volume_operators(
-                case.volume_grid, case.body1, options.fft_threads, planner, True
-            )
+            keys.append((case.volume_grid, case.body1, options.fft_threads, planner, True))
+        volumes = _volume_operators(keys) + [(None, None)] * (2 - len(keys))
+        (stress, plastic), (stress1, plastic1) = volumes
         return cls(case, surface, initial_gap(case), stress, plastic, stress1, plastic1)
 
     @staticmethod

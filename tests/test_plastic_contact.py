@@ -258,3 +258,25 @@ def test_swift_sphere_8gpa_matches_the_finite_element_reference():
     # refinement moves the contact radius and zone depth towards the reference
     for key in ("contact_radius_over_a", "plastic_zone_depth_over_a"):
         assert abs(rows[1][key] - fe[key]) < abs(rows[0][key] - fe[key]), key
+
+
+def test_a_rank_keeps_the_volume_operators_of_one_case_only():
+    """Operators of a grid are reused by the next case on it and dropped by a case on another."""
+    from solver import operators
+    from solver.operators import CaseOperators
+
+    def table(depth, mu=0.0):
+        return {
+            "body1": {"behaviour": "rigid", "radius": 0.015},
+            "body2": {"radius": "inf", "behaviour": "elastic-plastic", **STEEL, "hardening": SWIFT},
+            "load": {"hertz_pressure": 5e9},
+            "friction": {"coefficient": mu},
+            "grid": {"n": [16, 16, 8], "depth": depth},
+        }
+
+    first = CaseOperators.build(solver.Case.from_dict(table(2.0)))
+    again = CaseOperators.build(solver.Case.from_dict(table(2.0, mu=0.3)))
+    assert again.eigenstrain is first.eigenstrain and again.stress is first.stress
+    other = CaseOperators.build(solver.Case.from_dict(table(2.5)))
+    assert other.eigenstrain is not first.eigenstrain
+    assert [key[0] for key in operators._VOLUME_OPERATORS] == [other.case.volume_grid]
