@@ -74,7 +74,11 @@ SCALARS = {
     "steps": ("1", "number of load steps"),
     "wall_time": ("s", "solve wall time"),
     "case_time": ("s", "wall time of the case on its rank before writing (set-up, solve, checks)"),
-    "peak_rss": ("byte", "peak resident memory of the computing process after the case"),
+    "peak_rss": (
+        "byte",
+        "peak resident memory of the computing process during the case (Linux; elsewhere its "
+        "peak so far)",
+    ),
     "mpi_rank": ("1", "MPI rank that computed the case (-1: none)"),
     "grid_cells": ("1", "grid cells of the case: nx ny, or nx ny nz with a volume grid"),
     "hertz_radius": ("m", "Hertz contact radius sqrt(a b) at the largest normal force"),

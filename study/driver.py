@@ -316,6 +316,7 @@ def run_case(
     }
     logger = logging.getLogger(LOGGER_NAME)
     logger.debug("case %s [%s] starts", case.case_id, case.label)
+    storage.reset_peak_rss()  # peak_rss: this case's peak, not the rank's earlier cases
     try:
         spec = case.spec
         threads = fft_threads or spec["solver"].get("fft_threads", 1)

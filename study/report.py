@@ -39,6 +39,8 @@ DPI = 110
 TITLE_HEIGHT = 0.7
 #: Height (inches) added per row of a legend below the panels.
 LEGEND_ROW = 0.25
+#: More slices than this in a convergence figure share one legend below the panels.
+SHARED_LEGEND_SLICES = 4
 _STATE_NAMES = ("separated", "stick", "slip")
 #: Table columns printed with 9 significant digits (values close to each other).
 VALUE_COLUMNS = ("value", "finest", "extrapolated", "error_bar", "reference")
@@ -269,7 +271,12 @@ def plot_convergence(dataset, mesh_dim: str, path: str | Path) -> Path | None:
 
     refs = analysis.closed_forms(dataset)
     slices = list(analysis._slices(dataset, [mesh_dim]))
-    fig, axes, _ = _panel_grid(plt, len(names), 4.2, 3.6)
+    # a few slices: a legend per panel with the fitted orders; many: one legend of the slices
+    # below the panels (the orders are in the report's tables)
+    shared = len(slices) > SHARED_LEGEND_SLICES
+    below = LEGEND_ROW * math.ceil(min(len(slices), MAX_LINES) / 3) + 0.2 if shared else 0.0
+    fig, axes, _ = _panel_grid(plt, len(names), 4.2, 3.6, below=below)
+    colours = {}
     for ax, name in zip(axes, names, strict=True):
         table = analysis.convergence_table(dataset, name, mesh_dim)
         basis = "closed form" if name in refs else "extrapolated"
@@ -283,7 +290,13 @@ def plot_convergence(dataset, mesh_dim: str, path: str | Path) -> Path | None:
             ok = np.isfinite(err) & (err > 0)
             if not np.any(ok):
                 continue
-            (line,) = ax.loglog(n[ok], err[ok], "o-", label=_label(labels) or "cases")
+            label = _label(labels) or "cases"
+            many = min(len(slices), MAX_LINES) > 10
+            index = len(colours)
+            colour = colours.setdefault(
+                label, plt.get_cmap("tab20")(index % 20) if many else f"C{index}"
+            )
+            ax.loglog(n[ok], err[ok], "o-", color=colour, label=None if shared else label)
             order, constant = analysis.observed_order(
                 rows["h_over_a"].to_numpy(dtype=float)[ok], err[ok]
             )
@@ -293,8 +306,8 @@ def plot_convergence(dataset, mesh_dim: str, path: str | Path) -> Path | None:
                     n[ok],
                     constant * h**order,
                     "--",
-                    color=line.get_color(),
-                    label=f"fit, order {order:.2f}",
+                    color=colour,
+                    label=None if shared else f"fit, order {order:.2f}",
                 )
         ns = np.unique(analysis.mesh_coordinate(dataset, mesh_dim).values.astype(float))
         ns = ns[:: max(1, math.ceil(len(ns) / 8))]  # at most 8 labels
@@ -307,6 +320,12 @@ def plot_convergence(dataset, mesh_dim: str, path: str | Path) -> Path | None:
         ax.grid(True, which="both", alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=7)
+    if shared:
+        from matplotlib.lines import Line2D
+
+        handles = [Line2D([], [], color=c, marker="o", label=k) for k, c in colours.items()]
+        handles.append(Line2D([], [], color="k", ls="--", label="fits C h^p (orders: report.md)"))
+        fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=7)
     title = f"{dataset.attrs.get('campaign', '')}: convergence along {mesh_dim}"
     _suptitle(fig, title, _convergence_note(dataset, mesh_dim) if len(slices) > MAX_LINES else "")
     _save(plt, fig, path)
@@ -786,7 +805,7 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
         f"Errors relative to the {basis} (`err_*`, signed); `error` is the largest absolute one;",
         "`pareto` marks the cases no other case beats in both wall time and error.  Wall time is",
         "the solve time of the case (it includes FFTW planning for the first case of a size on a",
-        "rank); peak memory is the process's peak resident set after the case.",
+        "rank); peak memory is the process's peak resident set during the case (Linux).",
         "",
     ]
     lines.append(markdown_table(speed))

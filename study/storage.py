@@ -470,8 +470,33 @@ def command_line() -> str:
     return " ".join(argv)
 
 
+def reset_peak_rss() -> bool:
+    """Restart the peak-resident-set count of this process (Linux: ``/proc/self/clear_refs``).
+
+    Returns True when the count was reset, so that :func:`peak_rss_bytes` measures from here
+    (one case); elsewhere (or without permission) it stays the process's peak so far.
+    """
+    try:
+        with open("/proc/self/clear_refs", "w") as handle:
+            handle.write("5")
+        return True
+    except OSError:
+        return False
+
+
 def peak_rss_bytes() -> int:
-    """Peak resident set size of this process so far (bytes)."""
+    """Peak resident set size of this process (bytes) since :func:`reset_peak_rss`, or so far.
+
+    Linux: ``VmHWM`` of ``/proc/self/status`` (which the reset restarts); elsewhere the
+    ``ru_maxrss`` of :func:`resource.getrusage`, the process's peak since it started.
+    """
+    try:
+        with open("/proc/self/status") as handle:
+            for line in handle:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     return int(peak if sys.platform == "darwin" else peak * 1024)
 

@@ -300,3 +300,21 @@ def test_mpiexec_run_uses_both_ranks_and_bad_file_stops_all(tmp_path):
     assert failed.returncode == 2, failed.stdout + failed.stderr
     assert failed.stderr.count("error: ") == 1 and "Traceback" not in failed.stderr
     assert "mesh too coarse" in failed.stderr
+
+
+def test_peak_memory_is_measured_per_case():
+    """After a reset the peak counts from there: a large array freed before does not count."""
+    import numpy as np
+
+    from study import storage
+
+    big = np.ones(64 * 2**20 // 8)  # 64 MiB
+    big[::512] = 2.0
+    del big
+    if not storage.reset_peak_rss():
+        pytest.skip("no /proc/self/clear_refs here")
+    after = storage.peak_rss_bytes()
+    small = np.ones(16 * 2**20 // 8)
+    small[::512] = 2.0
+    grown = storage.peak_rss_bytes() - after
+    assert 8 * 2**20 < grown < 48 * 2**20
