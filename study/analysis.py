@@ -689,9 +689,12 @@ def speed_error_table(dataset):
     """Wall time and peak memory of every case against its error.
 
     The error of a quantity is relative to its closed form where one applies (Hertz: p_0, a,
-    delta; Cattaneo: c/a), else to the Richardson-extrapolated value of its slice along the
-    first mesh axis.  ``error`` is the largest of the quantities' absolute relative errors;
-    ``pareto`` marks the cases on the front of (wall time, error).
+    delta; Cattaneo: c/a), else to the Richardson-extrapolated value of its slice (of the
+    non-refinement axes) along the mesh axis (:func:`_primary_mesh_axis`) at the finest value
+    of the other refinement axes (e.g. the most load steps): every case of the slice, coarse in
+    mesh or in steps, is measured against that one value.  ``error`` is the largest of the
+    quantities' absolute relative errors; ``pareto`` marks the cases on the front of
+    (wall time, error).
 
     Parameters
     ----------
@@ -718,10 +721,17 @@ def speed_error_table(dataset):
             targets[q] = refs[q].broadcast_like(dataset[q])
             basis[q] = "closed form"
         elif mesh:
-            summary = convergence_summary(dataset, q, mesh[0])
+            # one reference per slice of the other axes, for every refinement of it: the
+            # extrapolation along the primary axis at the finest value of the other refinements
+            primary = _primary_mesh_axis(dataset, mesh)
+            finest = {
+                d: int(np.argmax(mesh_coordinate(dataset, d).values)) for d in mesh if d != primary
+            }
+            sub = dataset.isel(finest)
+            summary = convergence_summary(sub, q, primary)
             target = dataset[q].copy(data=np.full(dataset[q].shape, np.nan))
             for (_, isel), extrapolated in zip(
-                _slices(dataset, [mesh[0]]), summary["extrapolated"], strict=True
+                _slices(sub, [primary]), summary["extrapolated"], strict=True
             ):
                 target[isel] = extrapolated
             targets[q] = target.transpose(*dataset[q].dims)
@@ -758,6 +768,17 @@ def speed_error_table(dataset):
     if len(table):
         table["pareto"] = _pareto(table["wall_time"].to_numpy(), table["error"].to_numpy())
     return table
+
+
+def _primary_mesh_axis(dataset, mesh: list[str]) -> str:
+    """The refinement axis the speed-versus-error reference extrapolates along.
+
+    Cells per side when swept, else the first refinement axis.
+    """
+    for dim in mesh:
+        if mesh_coordinate(dataset, dim).attrs.get("campaign_key", "grid.n") == "grid.n":
+            return dim
+    return mesh[0]
 
 
 def pareto_front(cost: Sequence[float], error: Sequence[float]) -> np.ndarray:

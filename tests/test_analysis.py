@@ -136,6 +136,37 @@ def test_load_steps_axis_is_a_refinement_with_h_one_over_steps():
     assert float(summary["extrapolated"].iloc[0]) == pytest.approx(e_star, rel=1e-9)
 
 
+def test_speed_error_reference_with_mesh_and_step_axes():
+    """One reference per slice: Richardson along the mesh at the most steps, for every case."""
+    n = np.array([16, 32, 64, 128])
+    steps = np.array([5, 10, 20])
+    h = 2 * 1.5 / n
+    e_star = 0.007
+    values = e_star * (1 + 0.4 * h[:, None] ** 2 + 0.3 / steps[None, :])
+    dims = ("grid_n", "load_steps")
+    dataset = xr.Dataset(
+        {
+            "status": (dims, np.ones(values.shape, dtype=np.int8)),
+            "case_id": (dims, np.full(values.shape, "x")),
+            "max_plastic_strain": (dims, values, {"units": "1"}),
+            "wall_time": (dims, np.ones(values.shape)),
+            "peak_rss": (dims, np.full(values.shape, 2.0**27)),
+        },
+        coords={
+            "grid_n": ("grid_n", n, {"campaign_key": "grid.n"}),
+            "load_steps": ("load_steps", steps, {"campaign_key": "load.steps"}),
+        },
+        attrs={"campaign": "two", "campaign_base": json.dumps({"grid": {"half_width": 1.5}})},
+    )
+    assert analysis.mesh_axes(dataset) == ["grid_n", "load_steps"]
+    table = analysis.speed_error_table(dataset)
+    reference = e_star * (1 + 0.3 / steps[-1])  # the mesh limit at 20 steps
+    expected = (values.ravel() - reference) / reference
+    np.testing.assert_allclose(table["err_max_plastic_strain"], expected, rtol=1e-6, atol=1e-12)
+    best = table.loc[table["error"].idxmin()]
+    assert (best["grid_n"], best["load_steps"]) == (128, 20)
+
+
 def test_closed_forms_when_beta_is_zero():
     dataset = synthetic_dataset()
     dataset["dundurs_beta"][:] = 0.0
