@@ -122,9 +122,11 @@ def plot_cycles(dataset, path: str | Path) -> Path | None:
                 cycle, np.clip(gained, 1e-12, None), "o-", ms=3, color=line.get_color()
             )
     axes[0].set_ylabel("energy per cycle (mJ)")
+    axes[0].set_title("dissipated", fontsize=9)
     axes[0].legend(fontsize=7, title="o loop area, x friction work", title_fontsize=7)
     if plastic:
-        axes[1].set_ylabel("plastic strain gained per cycle (1, max over the volume)")
+        axes[1].set_ylabel("plastic strain gained (1)")
+        axes[1].set_title("largest over the volume", fontsize=9)
     from matplotlib.ticker import MaxNLocator
 
     for ax in axes:
