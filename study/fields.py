@@ -96,6 +96,13 @@ def open_fields(out: str | Path, names: list[str] | None = None, **selection) ->
     axes = [
         axis for axis in campaign.axes if not any(c.name in selection for c in axis.coordinates)
     ]
+    for i, axis in enumerate(campaign.axes):
+        left = sorted({c.index[i] for c in cases})
+        if axis not in axes and len(left) > 1:
+            raise ValueError(
+                f"open_fields: the selection leaves {len(left)} values of the axis "
+                f"{axis.name!r}; select it by a coordinate that names one value"
+            )
     dims = tuple(axis.name for axis in axes)
     shape = tuple(axis.size for axis in axes)
     keep = [i for i, axis in enumerate(campaign.axes) if axis in axes]

@@ -132,3 +132,43 @@ def test_cases_with_different_cells_name_the_axis(tmp_path):
             open_fields(tmp_path / "out", **bad)
     with pytest.raises(ValueError, match="hold no 'stress'"):
         open_fields(tmp_path / "out", names=["stress"])
+
+
+PAIRS = """
+[campaign]
+name = "pairs"
+
+[base]
+grid = { n = [16, 16, 16], depth = 2.5 }
+load = { hertz_pressure = 5e9, steps = 2 }
+
+[define.steel]
+behaviour = "elastic"
+radius = 0.015
+E = 210e9
+nu = 0.3
+
+[define.swift]
+behaviour = "elastic-plastic"
+radius = 0.015
+E = 210e9
+nu = 0.3
+hardening = { law = "linear", yield_stress = 1.3579e9, modulus = 152.3e9 }
+
+[zip.pair]
+body1 = ["steel", "steel", "swift"]
+body2 = ["steel", "swift", "swift"]
+"""
+
+
+def test_a_selection_must_name_one_value_of_a_zipped_axis(tmp_path):
+    campaign = load_campaign(write(tmp_path, PAIRS))
+    assert campaign.shape == (3,)
+    assert run_campaign(campaign, tmp_path / "out", options=RunOptions()).exit_status == 0
+    with pytest.raises(ValueError, match="leaves 2 values of the axis 'pair'"):
+        open_fields(tmp_path / "out", body1="steel")
+    one = open_fields(tmp_path / "out", body1="swift", names=["plastic_strain"])
+    assert one.plastic_strain.dims == ("x_over_a", "y_over_a", "z_over_a")
+    both = open_fields(tmp_path / "out", names=["plastic_strain"])
+    assert np.isnan(both.plastic_strain.isel(pair=0).values).all()  # the elastic pair has none
+    np.testing.assert_array_equal(one.plastic_strain, both.plastic_strain.isel(pair=2))
