@@ -477,6 +477,8 @@ class GridSpec:
 
     ``depth`` None (not given) is resolved by :meth:`Case.from_dict`: the elastic yield depth
     with a margin for elastic-plastic cases (:func:`auto_depth`), else :data:`DEFAULT_DEPTH`.
+    ``depth_body1``: the depth of body 1's own volume grid when both bodies are elastic-plastic
+    and different (same cells; default: ``depth`` when given, else body 1's yield depth).
     """
 
     nx: int
@@ -484,6 +486,7 @@ class GridSpec:
     nz: int = 0
     half_width: float = 1.5
     depth: float | None = None
+    depth_body1: float | None = None
 
 
 #: Field outputs a case may request.
@@ -614,15 +617,24 @@ class Case:
         _check_plastic_scene(body1, body2, stages, grid)
         plastics = [b for b in (body2, body1) if b.behaviour == "elastic-plastic"]
         plastic = plastics[0] if plastics else None
+        p_max = hertz(
+            max(stage.normal_force for stage in stages), pair.composite_modulus, (kx, ky)
+        ).max_pressure
+
+        def yield_depth(body: Body) -> float:
+            return auto_depth(p_max, body.hardening.initial_yield_stress, body.nu)
+
+        two_fields = len(plastics) == 2 and body1 != body2  # a volume grid each
+        if grid.depth_body1 is not None and not two_fields:
+            _fail(
+                "grid.depth_body1",
+                "only two different elastic-plastic bodies have a volume grid each; use grid.depth",
+            )
+        if two_fields and grid.depth_body1 is None:
+            depth1 = grid.depth if grid.depth is not None else yield_depth(body1)
+            grid = dataclasses.replace(grid, depth_body1=depth1)
         if grid.depth is None:
-            depth = DEFAULT_DEPTH
-            if plastic is not None:  # deep enough for each plastic body (one volume grid)
-                p_max = hertz(
-                    max(stage.normal_force for stage in stages), pair.composite_modulus, (kx, ky)
-                ).max_pressure
-                depth = max(
-                    auto_depth(p_max, b.hardening.initial_yield_stress, b.nu) for b in plastics
-                )
+            depth = yield_depth(plastic) if plastic is not None else DEFAULT_DEPTH
             grid = dataclasses.replace(grid, depth=depth)
         solver = _parse_solver(table.get("solver", {}))
         output = _check_keys(table.get("output", {}), "output", {"fields"})
@@ -655,6 +667,7 @@ class Case:
                 "n": [grid.nx, grid.ny] + ([grid.nz] if grid.nz else []),
                 "half_width": grid.half_width,
                 **({"depth": grid.depth} if grid.nz else {}),
+                **({"depth_body1": grid.depth_body1} if grid.depth_body1 else {}),
             },
             # FFT threads and planner change no result beyond round-off: not in the case id
             "solver": {
@@ -786,10 +799,19 @@ class Case:
 
     @property
     def volume_grid(self) -> VolumeGrid | None:
-        """The volume grid below the surface, or None when nz = 0."""
+        """The volume grid below the surface (in body 2), or None when nz = 0."""
+        return self.volume_grid_of(2)
+
+    def volume_grid_of(self, body: int) -> VolumeGrid | None:
+        """The volume grid of body ``body`` (1 or 2).
+
+        Body 1 has its own only with two different elastic-plastic bodies
+        (``grid.depth_body1``); else it is body 2's.
+        """
         if not self.grid.nz:
             return None
-        depth = self.grid.depth * self.hertz.max_semi_axis
+        depth = self.grid.depth_body1 if body == 1 and self.grid.depth_body1 else self.grid.depth
+        depth *= self.hertz.max_semi_axis
         return VolumeGrid(self.surface_grid, self.grid.nz, depth / self.grid.nz)
 
     @property
@@ -902,7 +924,7 @@ def _parse_grid(table: Any) -> GridSpec:
     ``nz`` (the volume grid's cells in depth) may be given apart from a 1- or 2-entry ``n``,
     not as well as a 3-entry one.
     """
-    _check_keys(table, "grid", {"n", "nz", "half_width", "depth"}, {"n"})
+    _check_keys(table, "grid", {"n", "nz", "half_width", "depth", "depth_body1"}, {"n"})
     n = _plain(table["n"])
     if isinstance(n, list):
         if len(n) not in (2, 3):
@@ -924,7 +946,10 @@ def _parse_grid(table: Any) -> GridSpec:
     depth = _number(table["depth"], "grid.depth", positive=True) if "depth" in table else None
     if "depth" in table and not nz:
         _fail("grid.depth", "a depth needs a volume grid: give grid.n = [nx, ny, nz]")
-    return GridSpec(sizes[0], sizes[1], nz, half_width, depth)
+    depth1 = None
+    if "depth_body1" in table:
+        depth1 = _number(table["depth_body1"], "grid.depth_body1", positive=True)
+    return GridSpec(sizes[0], sizes[1], nz, half_width, depth, depth1)
 
 
 def _json_number(value):

@@ -201,6 +201,7 @@ def _relabelled(result: Result, case: Case) -> Result:
         result.wall_time,
         {name: mirrored(name, values) for name, values in result.fields.items()},
         result.depth,
+        result.depth_body1,
     )
 
 
@@ -314,7 +315,7 @@ def solve(case: Case) -> Result:
         history["residual"][k] = residual
         history["step_converged"][k] = float(step_ok)
         if plastic:
-            _record_plastic(history, k, step, volume, case.plastic_bodies)
+            _record_plastic(history, k, step, case)
             reached = sorted({f for p in plastic_state for f in _box_faces_reached(p.equivalent)})
             if reached and not faces_noted:
                 faces_noted = True
@@ -346,6 +347,8 @@ def solve(case: Case) -> Result:
     )
     if plastic or "stress" in case.fields:
         result.depth = volume.z
+        if 1 in case.plastic_bodies:
+            result.depth_body1 = case.volume_grid_of(1).z
     if "stress" in case.fields:
         sheared = state.shear_x.any() or state.shear_y.any()
         shears = (state.shear_x, state.shear_y) if sheared else (None, None)
@@ -374,12 +377,11 @@ def _record(history: dict, k: int, outcome: StepResult, area: float) -> None:
         history["coupling_iterations"][k] = outcome.iterations.get("coupling", 0)
 
 
-def _record_plastic(
-    history: dict, k: int, step, volume: VolumeGrid, bodies: tuple[int, ...]
-) -> None:
+def _record_plastic(history: dict, k: int, step, case: Case) -> None:
     history["plastic_iterations"][k] = step.iterations
-    for body, plastic in zip(bodies, step.plastic, strict=True):
+    for body, plastic in zip(case.plastic_bodies, step.plastic, strict=True):
         suffix = BODY1_SUFFIX if body == 1 else ""
+        volume = case.volume_grid_of(body)
         equivalent = plastic.equivalent
         history["max_plastic_strain" + suffix][k] = equivalent.max()
         history["max_plastic_strain_depth" + suffix][k] = (

@@ -115,7 +115,7 @@ class CaseOperators:
         if plastic_case or "stress" in case.fields:
             keys.append((case.volume_grid, case.body2, options.fft_threads, planner, plastic_case))
         if 1 in case.plastic_bodies:
-            keys.append((case.volume_grid, case.body1, options.fft_threads, planner, True))
+            keys.append((case.volume_grid_of(1), case.body1, options.fft_threads, planner, True))
         volumes = _volume_operators(keys) + [(None, None)] * (2 - len(keys))
         (stress, plastic), (stress1, plastic1) = volumes
         return cls(case, surface, initial_gap(case), stress, plastic, stress1, plastic1)

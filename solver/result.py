@@ -50,6 +50,9 @@ class Result:
         plastic strain tensor and the residual stress.
     depth : ndarray or None
         Layer-centre depths (m) of the volume fields.
+    depth_body1 : ndarray or None
+        Layer-centre depths (m) of body 1's own volume grid (two different elastic-plastic
+        bodies), dimension ``z_body1``.
     """
 
     case: Case
@@ -65,6 +68,7 @@ class Result:
     wall_time: float = 0.0
     fields: dict[str, np.ndarray] = field(default_factory=dict)
     depth: np.ndarray | None = None
+    depth_body1: np.ndarray | None = None
 
     @property
     def status(self) -> str:
@@ -103,6 +107,12 @@ class Result:
         if self.depth is not None:
             body = 1 if case.plastic_body1 else 2
             coords["z"] = ("z", self.depth, {"units": "m", "long_name": f"depth into body {body}"})
+        if self.depth_body1 is not None:
+            coords["z_body1"] = (
+                "z_body1",
+                self.depth_body1,
+                {"units": "m", "long_name": "depth into body 1 (its own volume grid)"},
+            )
         for name, values in self.fields.items():
             declared = FIELDS[name]
             if "component" in declared.dims:

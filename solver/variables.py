@@ -6,7 +6,8 @@ the reserved names of campaign axes are all derived from these two tables.
 A history has one value per load step; its ``reduction`` says how a campaign turns it into a
 per-case scalar (``"last"`` step, ``"max"`` over the steps, ``"sum"``; None: not reduced) and
 ``scalar`` names that scalar.  A field has named dimensions: ``x``, ``y`` (surface cells),
-``z`` (volume layers, depth into body 2), ``component`` (:data:`solver.tensor.COMPONENTS`).
+``z`` (volume layers, depth into body 2; ``z_body1`` into body 1 on its own grid),
+``component`` (:data:`solver.tensor.COMPONENTS`).
 
 ``swap_sign`` is the factor a value takes when the bodies are relabelled (an elastic-plastic
 body 1 is solved as body 2, :meth:`solver.case.Case.swapped`): body 1's frame is body 2's
@@ -174,7 +175,11 @@ HISTORIES.update(
 )
 FIELDS.update(
     {
-        name + BODY1_SUFFIX: replace(FIELDS[name], long_name=FIELDS[name].long_name + ", body 1")
+        name + BODY1_SUFFIX: replace(
+            FIELDS[name],
+            long_name=FIELDS[name].long_name + ", body 1",
+            dims=tuple("z" + BODY1_SUFFIX if d == "z" else d for d in FIELDS[name].dims),
+        )
         for name in PLASTIC_BODY_FIELDS
     }
 )

@@ -39,6 +39,8 @@ if TYPE_CHECKING:
 FIELD_NAMES = (*FIELDS, "contact_state")
 #: Value of an integer field (``contact_state``) in a case not finished (float fields: NaN).
 MISSING_FLAG = -1
+#: Cell dimensions of the case files (``z_body1``: body 1's own volume grid).
+CELL_DIMS = ("x", "y", "z", "z_body1")
 #: Relative tolerance within which two cases' normalised cell centres count as the same.
 COORDINATE_RTOL = 1e-9
 
@@ -132,7 +134,7 @@ def open_fields(out: str | Path, names: list[str] | None = None, **selection) ->
     for name in names:
         for case_id in holding[name]:
             data = opened[case_id]
-            for d in (d for d in ("x", "y", "z") if d in data[name].dims):
+            for d in (d for d in CELL_DIMS if d in data[name].dims):
                 values = _normalised(data, d)
                 if d not in reference:
                     reference[d], source[d] = values, case_id
@@ -146,7 +148,7 @@ def open_fields(out: str | Path, names: list[str] | None = None, **selection) ->
                         f"along {d}; select one value of the axis {axis!r} that changes them "
                         f"(e.g. open_fields(out, {axis}=...))"
                     )
-    cell_dims = [d for d in ("x", "y", "z") if d in reference]
+    cell_dims = [d for d in CELL_DIMS if d in reference]
     index_of = {c.case_id: tuple(c.index[i] for i in keep) for c in cases}
     data_vars = {}
     for name in names:

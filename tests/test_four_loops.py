@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import solver
+from solver.case import auto_depth
 from solver.operators import CaseOperators
 from solver.steps import ContactState, ResidualDisplacement, slip_stick_step
 
@@ -264,3 +265,23 @@ def test_dissimilar_plastic_pair_reports_both_bodies():
     dataset = result.to_xarray()
     assert "plastic_strain_body1" in dataset and "max_plastic_strain_body1" in dataset
     assert dataset["plastic_strain_body1"].attrs["long_name"].endswith("body 1")
+    # each body has its own volume grid, sized from its own yield depth (the softer: deeper)
+    p_max = case.hertz.max_pressure
+    for body, material in ((1, case.body1), (2, case.body2)):
+        expected = auto_depth(p_max, material.hardening.initial_yield_stress, material.nu)
+        grid = case.volume_grid_of(body)
+        assert grid.nz * grid.dz == pytest.approx(expected * case.hertz.max_semi_axis)
+    assert case.volume_grid_of(1).dz > case.volume_grid_of(2).dz
+    assert dataset["plastic_strain_body1"].dims == ("x", "y", "z_body1")
+    np.testing.assert_allclose(dataset["z_body1"], case.volume_grid_of(1).z)
+    assert h["plastic_zone_depth_body1"][-1] < case.volume_grid_of(1).z[-1]
+
+
+def test_depth_body1_only_for_two_plastic_fields():
+    table = ep_ep({"law": "linear", "yield_stress": 0.6e9, "modulus": 20e9}).to_dict()
+    table["grid"]["depth_body1"] = 3.0
+    assert solver.Case.from_dict(table).grid.depth_body1 == 3.0
+    symmetric = ep_ep(SWIFT).to_dict()
+    symmetric["grid"]["depth_body1"] = 3.0
+    with pytest.raises(solver.SpecError, match="grid.depth_body1: only two different"):
+        solver.Case.from_dict(symmetric)
