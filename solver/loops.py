@@ -327,6 +327,12 @@ def solve(case: Case) -> Result:
             converged = False
             notes.extend(f"step {k + 1}: {m}" for m in messages)
     notes.extend(_path_dependence_notes(case) if coupled else [])
+    if any(stage.cycle and stage.steps == 1 for stage in case.stages):
+        notes.append(
+            "a cycle stage in one step: its loop has two points and no area (loop_energy, "
+            "cycle_friction_work); give several steps per stage (10 per half cycle: 1.5 % "
+            "from Mindlin-Deresiewicz at 64^2)"
+        )
 
     contact = state.pressure > 0
     if contact_step is slip_stick_step:

@@ -147,3 +147,53 @@ def test_repeated_normal_loading_shakes_down_with_isotropic_hardening():
     first = float(result.history["max_plastic_strain"][3])
     assert gained[0] == pytest.approx(first, rel=1e-12)  # from a virgin body
     assert np.all(np.abs(gained[1:]) < case.solver.plastic_tolerance * first), gained
+
+
+def test_hard_cycles_report_status_and_stay_finite():
+    """Q* at 0.95 mu W in two steps per half cycle, 20 cycles, on a coarse mesh: converged,
+    finite, the loop area still the friction work, every cycle the same.  With one step per
+    half cycle the loop has two points and no area: a note says so."""
+    table = fretting_table(16, cycles=3, steps=1, fraction=0.95)
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.converged and any("one step" in note for note in result.notes)
+    np.testing.assert_allclose(result.to_xarray().loop_energy.values, 0.0, atol=1e-12)
+    table = fretting_table(16, cycles=20, steps=2, fraction=0.95)
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.converged, result.notes
+    ds = result.to_xarray()
+    assert all(np.isfinite(ds[name].values).all() for name in ds.data_vars)
+    energy = ds.loop_energy.values
+    assert np.all(energy > 0) and np.ptp(energy[1:]) < 1e-6 * energy[-1]
+    np.testing.assert_allclose(ds.cycle_friction_work.values, energy, rtol=1e-4)
+
+
+def test_cycles_beyond_what_the_material_carries_are_reported_not_converged():
+    """Armstrong-Frederick saturating at 300 MPa under repeated 10 GPa indentation: the
+    plastic strain runs away; the result says so, per step, without NaN."""
+    hardening = {
+        "law": "perfect",
+        "yield_stress": 1.3579e9,
+        "kinematic": {"law": "armstrong-frederick", "C": 15e9, "gamma": 50.0},
+    }
+    table = {
+        "body1": {"behaviour": "rigid", "radius": 0.015},
+        "body2": {"radius": "inf", **SWIFTLESS, "hardening": hardening},
+        "load": {
+            "path": [
+                {
+                    "cycles": 2,
+                    "stages": [
+                        {"hertz_pressure": 10e9, "steps": 3},
+                        {"normal_force": 0.0, "steps": 1},
+                    ],
+                }
+            ]
+        },
+        "grid": {"n": [16, 16, 16]},
+    }
+    result = solver.solve(solver.Case.from_dict(table))
+    assert not result.converged and result.status == "not_converged"
+    assert any("not converged" in note for note in result.notes)
+    assert result.history["step_converged"].min() == 0.0
+    ds = result.to_xarray()
+    assert all(np.isfinite(ds[name].values).all() for name in ds.data_vars)
