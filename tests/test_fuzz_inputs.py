@@ -44,6 +44,9 @@ GOOD = {
     "sweep": {"solver.slip_tolerance": [1e-6, 1e-7]},
 }
 
+#: An elastic-plastic body 2 (the fault is in its hardening, checked before the grid).
+EP_BODY2 = {"behaviour": "elastic-plastic", "radius": "inf", "E": 210e9, "nu": 0.3}
+KINEMATIC = {"law": "perfect", "yield_stress": 1e9}
 #: Wrong values for any number of the base table (each is refused wherever a number belongs).
 WRONG_FOR_ANY_NUMBER = ["abc", {"x": 1}, True, math.nan, -math.inf, [1, 2, 3, 4, 5]]
 #: Numbers out of each field's range: huge, tiny, infinite, beyond the float range.
@@ -102,6 +105,44 @@ STRUCTURE = [
     ("sweep", {"body2.colour": [1, 2]}, "body2.colour: unknown key"),
     ("sweep", 5, "[sweep]: must be a table"),
     ("campaign", {"case_timeout": math.nan}, "campaign.case_timeout"),
+    # cycle blocks, kinematic hardening, [define] tables
+    (
+        "base.load",
+        {"path": [{"hertz_pressure": 1e9}, {"cycles": "many", "stages": [{}]}]},
+        "load.path[1].cycles: must be an integer",
+    ),
+    (
+        "base.load",
+        {"path": [{"hertz_pressure": 1e9}, {"cycles": 10**400, "stages": [{}]}]},
+        "load.path[1].cycles",
+    ),
+    (
+        "base.load",
+        {"path": [{"hertz_pressure": 1e9}, {"cycles": 2, "stages": 5}]},
+        "load.path[1].stages: must be a non-empty array",
+    ),
+    (
+        "base.load",
+        {"path": [{"hertz_pressure": 1e9}, {"cycles": 2, "stages": [5]}]},
+        "load.path[1].stages[0]: must be a table",
+    ),
+    (
+        "base.load",
+        {"path": [{"cycles": 2, "stages": [{"steps": 1}]}]},
+        "load.path[0].stages[0]: missing load",
+    ),
+    (
+        "base.body2",
+        EP_BODY2 | {"hardening": KINEMATIC | {"kinematic": {"law": "prager", "C": math.nan}}},
+        "body2.hardening.kinematic.C: must be finite",
+    ),
+    (
+        "base.body2",
+        EP_BODY2 | {"hardening": KINEMATIC | {"kinematic": 5}},
+        "body2.hardening.kinematic: must be a table",
+    ),
+    ("define", {"steel": 5}, "[define]: must hold named tables"),
+    ("sweep", {"body1": ["nosuch"]}, "'nosuch' is not a [define.NAME] table"),
     ("campaign", {"profile_points": 10**400}, "campaign.profile_points"),
 ]
 
