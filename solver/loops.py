@@ -257,6 +257,7 @@ def solve(case: Case) -> Result:
     cells = MIN_SUBSTEP_RADIUS_CELLS * max(grid.dx, grid.dy) / case.hertz.radius
     smallest = case.max_normal_force * min(1.0, cells) ** 3
     guess, direction = None, 0.0
+    previous = None  # (plastic increment, load increment) of the step before the last
     faces_noted = False
     outcome = None
     cycle_start = None
@@ -267,14 +268,14 @@ def solve(case: Case) -> Result:
         if plastic:
             new_direction = np.sign(target[0] - previous_target[0])
             if new_direction != direction:
-                guess = None
+                guess = previous = None
             direction = new_direction
         if coupled:
             for sub in load_substeps(previous_target, target, case.solver.max_load_ratio, smallest):
                 if plastic:  # sub-steps are increments of the plastic history too
                     step = plastic_step(operators, contact_step, state, plastic_state, sub, guess)
                     state, plastic_state = step.contact.state, step.plastic
-                    guess = step.increment
+                    guess, previous = step.increment, None  # no extrapolation across sub-steps
                     work += step.contact.friction_work
                     if not step.converged:
                         converged = False
@@ -287,7 +288,16 @@ def solve(case: Case) -> Result:
                     work += sub_outcome.friction_work
         messages = []
         if plastic:
-            step = plastic_step(operators, contact_step, state, plastic_state, target, guess)
+            load_step = np.subtract(target, previous_target)
+            predicted = guess
+            if (
+                guess is not None
+                and previous is not None
+                and np.allclose(load_step, previous[1], rtol=1e-9, atol=0.0)
+            ):  # the same load increment again: extrapolate the plastic increment linearly
+                predicted = 2.0 * guess - previous[0]
+            step = plastic_step(operators, contact_step, state, plastic_state, target, predicted)
+            previous = (guess, load_step) if guess is not None else None
             outcome, plastic_state, guess = step.contact, step.plastic, step.increment
             step_ok = step.converged
             residual = max(outcome.residual, step.residual)
