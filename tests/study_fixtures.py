@@ -91,3 +91,19 @@ def set_path(table: dict, where: str, value) -> None:
         del node[keys[-1]]
     else:
         node[keys[-1]] = value
+
+
+def pair_campaign(base: str, hardening: str, extra: str = "") -> str:
+    """A campaign "pairs" of E-E / E-EP / EP-EP steel spheres (R = 15 mm) on one zipped axis.
+
+    ``base``: the lines of ``[base]`` (grid, load, friction); ``hardening``: the inline table of
+    the elastic-plastic steel; ``extra``: more tables ([sweep], [alias]).
+    """
+    steel = "radius = 0.015\nE = 210e9\nnu = 0.3\n"
+    return (
+        f'[campaign]\nname = "pairs"\n\n[base]\n{base}\n'
+        f'[define.steel]\nbehaviour = "elastic"\n{steel}\n'
+        f'[define.swift]\nbehaviour = "elastic-plastic"\n{steel}hardening = {hardening}\n\n'
+        '[zip.pair]\nbody1 = ["steel", "steel", "swift"]\nbody2 = ["steel", "swift", "swift"]\n'
+        f"\n{extra}"
+    )

@@ -6,7 +6,7 @@ import dask
 import numpy as np
 import pytest
 import xarray as xr
-from study_fixtures import write
+from study_fixtures import pair_campaign, write
 
 from study import storage
 from study.campaign import load_campaign
@@ -134,31 +134,10 @@ def test_cases_with_different_cells_name_the_axis(tmp_path):
         open_fields(tmp_path / "out", names=["stress"])
 
 
-PAIRS = """
-[campaign]
-name = "pairs"
-
-[base]
-grid = { n = [16, 16, 16], depth = 2.5 }
-load = { hertz_pressure = 5e9, steps = 2 }
-
-[define.steel]
-behaviour = "elastic"
-radius = 0.015
-E = 210e9
-nu = 0.3
-
-[define.swift]
-behaviour = "elastic-plastic"
-radius = 0.015
-E = 210e9
-nu = 0.3
-hardening = { law = "linear", yield_stress = 1.3579e9, modulus = 152.3e9 }
-
-[zip.pair]
-body1 = ["steel", "steel", "swift"]
-body2 = ["steel", "swift", "swift"]
-"""
+PAIRS = pair_campaign(
+    "grid = { n = [16, 16, 16], depth = 2.5 }\nload = { hertz_pressure = 5e9, steps = 2 }",
+    '{ law = "linear", yield_stress = 1.3579e9, modulus = 152.3e9 }',
+)
 
 
 def test_a_selection_must_name_one_value_of_a_zipped_axis(tmp_path):

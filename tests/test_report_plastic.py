@@ -5,45 +5,19 @@ import math
 import numpy as np
 import pytest
 import xarray as xr
-from study_fixtures import write
+from study_fixtures import pair_campaign, write
 
 from study import report_plastic
 from study.campaign import load_campaign
 from study.driver import RunOptions, run_campaign
 from study.report import build_report
 
-PAIRS = """
-[campaign]
-name = "pairs"
-
-[base]
-friction = { coefficient = 0.3 }
-grid = { n = [16, 16, 16] }
-load = { hertz_pressure = 6e9, steps = 2 }
-
-[define.steel]
-behaviour = "elastic"
-radius = 0.015
-E = 210e9
-nu = 0.3
-
-[define.swift]
-behaviour = "elastic-plastic"
-radius = 0.015
-E = 210e9
-nu = 0.3
-hardening = { law = "swift", B = 945e6, C = 20.0, n = 0.121 }
-
-[sweep]
-"load.hertz_pressure" = [4e9, 6e9]
-
-[zip.pair]
-body1 = ["steel", "steel", "swift"]
-body2 = ["steel", "swift", "swift"]
-
-[alias]
-"load.hertz_pressure" = "p_h"
-"""
+PAIRS = pair_campaign(
+    "friction = { coefficient = 0.3 }\ngrid = { n = [16, 16, 16] }\n"
+    "load = { hertz_pressure = 6e9, steps = 2 }",
+    '{ law = "swift", B = 945e6, C = 20.0, n = 0.121 }',
+    '[sweep]\n"load.hertz_pressure" = [4e9, 6e9]\n\n[alias]\n"load.hertz_pressure" = "p_h"\n',
+)
 
 
 @pytest.fixture(scope="module")
