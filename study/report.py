@@ -831,7 +831,7 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
         from . import report_plastic
 
         lines += report_plastic.section(dataset, out, name, plt, figures)
-    if "loop_energy" in dataset:
+    if "cycle" in dataset.dims:
         from . import report_cycles
 
         lines += report_cycles.section(dataset, out, name, plt, figures)

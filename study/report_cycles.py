@@ -6,8 +6,8 @@
   and the last cycle, slip and force amplitudes, smallest stick radius, plastic strain gained
   in the first and the last cycle;
 - ``<name>_fretting_loops.png``: the Q_x - Delta_x loop of every cycle, one panel per case;
-- ``<name>_cycles.png``: the energy dissipated per cycle and the plastic strain gained per
-  cycle against the cycle number.
+- ``<name>_cycles.png``: the energy dissipated, the plastic strain gained and the residual
+  stress per cycle against the cycle number (those the scene has).
 """
 
 from __future__ import annotations
@@ -17,15 +17,31 @@ from pathlib import Path
 
 import numpy as np
 
+from solver.variables import CYCLE_QUANTITIES
+
 from . import analysis, report
+
+#: Per-cycle quantities drawn against the cycle, in this order, when the campaign has them:
+#: name -> (scale, axis label, panel title, log axis).
+PANELS = {
+    "loop_energy": (1e3, "energy per cycle (mJ)", "dissipated", False),
+    "plastic_strain_increment": (1.0, "plastic strain gained (1)", "largest over the volume", True),
+    "max_residual_stress": (1e-6, "residual stress (MPa)", "largest von Mises, cycle end", False),
+}
+
+
+def _per_cycle(dataset) -> list[str]:
+    """The per-cycle quantities of :data:`solver.variables.CYCLE_QUANTITIES` in the dataset."""
+    return [name for name in CYCLE_QUANTITIES if name in dataset]
 
 
 def _cases(dataset) -> list[tuple[dict, dict]]:
     usable = analysis._usable(dataset)
+    first = _per_cycle(dataset)[0]
     return [
         (labels, isel)
         for labels, isel in analysis._slices(dataset, [])
-        if bool(usable.isel(isel)) and np.isfinite(dataset["loop_energy"].isel(isel)).any()
+        if bool(usable.isel(isel)) and np.isfinite(dataset[first].isel(isel)).any()
     ]
 
 
@@ -42,9 +58,9 @@ def cycle_table(dataset):
     rows = []
     for labels, isel in _cases(dataset):
         case = dataset.isel(isel)
-        energy = case["loop_energy"].values
-        count = int(np.count_nonzero(np.isfinite(energy)))
-        row = {**labels, "cycles": count}
+        count = int(np.count_nonzero(np.isfinite(case[_per_cycle(dataset)[0]].values)))
+        status = {1: "converged", 2: "not_converged"}.get(int(case["status"]), "?")
+        row = {**labels, "status": status, "cycles": count}
 
         def pick(name, i, case=case):
             return float(case[name].values[i]) if name in case else math.nan
@@ -59,7 +75,7 @@ def cycle_table(dataset):
         row["dep_last"] = pick("plastic_strain_increment", count - 1)
         row["res_MPa"] = pick("max_residual_stress", count - 1) / 1e6
         rows.append(row)
-    return pd.DataFrame(rows)
+    return pd.DataFrame(rows).dropna(axis=1, how="all")  # a scene's absent quantities
 
 
 def plot_loops(dataset, path: str | Path) -> Path | None:
@@ -99,40 +115,37 @@ def plot_loops(dataset, path: str | Path) -> Path | None:
 
 
 def plot_cycles(dataset, path: str | Path) -> Path | None:
-    """Energy dissipated and plastic strain gained per cycle, one line per case."""
+    """The per-cycle quantities (:data:`PANELS`) against the cycle, one line per case."""
     plt = report._pyplot()
     cases = _cases(dataset)[: report.MAX_LINES]
-    if plt is None or not cases:
+    names = [name for name in PANELS if name in dataset]
+    if plt is None or not cases or not names:
         return None
-    plastic = "plastic_strain_increment" in dataset
-    fig, axes, _ = report._panel_grid(plt, 2 if plastic else 1, 4.4, 3.4)
-    cycle = dataset["cycle"].values
-    for labels, isel in cases:
-        case = dataset.isel(isel)
-        (line,) = axes[0].plot(
-            cycle, case["loop_energy"].values * 1e3, "o-", ms=3, label=report._label(labels)
-        )
-        if "cycle_friction_work" in case:
-            axes[0].plot(
-                cycle, case["cycle_friction_work"].values * 1e3, "x", color=line.get_color()
-            )
-        if plastic:
-            gained = case["plastic_strain_increment"].values
-            axes[1].semilogy(
-                cycle, np.clip(gained, 1e-12, None), "o-", ms=3, color=line.get_color()
-            )
-    axes[0].set_ylabel("energy per cycle (mJ)")
-    axes[0].set_title("dissipated", fontsize=9)
-    axes[0].legend(fontsize=7, title="o loop area, x friction work", title_fontsize=7)
-    if plastic:
-        axes[1].set_ylabel("plastic strain gained (1)")
-        axes[1].set_title("largest over the volume", fontsize=9)
     from matplotlib.ticker import MaxNLocator
 
-    for ax in axes:
+    fig, axes, _ = report._panel_grid(plt, len(names), 4.4, 3.4)
+    cycle = dataset["cycle"].values
+    for k, (labels, isel) in enumerate(cases):
+        case = dataset.isel(isel)
+        colour = f"C{k % 10}"
+        for ax, name in zip(axes, names, strict=True):
+            scale, _, _, log = PANELS[name]
+            values = case[name].values * scale
+            plot = ax.semilogy if log else ax.plot
+            label = report._label(labels) if ax is axes[0] else None
+            plot(cycle, np.clip(values, 1e-12, None) if log else values, "o-", ms=3,
+                 color=colour, label=label)  # fmt: skip
+            if name == "loop_energy" and "cycle_friction_work" in case:
+                ax.plot(cycle, case["cycle_friction_work"].values * scale, "x", color=colour)
+    for ax, name in zip(axes, names, strict=True):
+        _, ylabel, title, _ = PANELS[name]
+        ax.set_ylabel(ylabel)
+        ax.set_title(title, fontsize=9)
         ax.xaxis.set_major_locator(MaxNLocator(integer=True))
         ax.set_xlabel("cycle")
         ax.grid(True, which="both", alpha=0.3)
+    note = "o loop area, x friction work" if "loop_energy" in names else None
+    axes[0].legend(fontsize=7, title=note, title_fontsize=7)
     report._suptitle(fig, f"{dataset.attrs.get('campaign', '')}: per cycle")
     report._save(plt, fig, path)
     return Path(path)
