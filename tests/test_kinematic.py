@@ -109,7 +109,7 @@ def test_armstrong_frederick_saturated_loop():
 SIGMA_Y0 = 1.3579e9
 
 
-def indentation(hardening, cycles=1, steps=1, pressure=5e9, n=16):
+def indentation(hardening, cycles=1, steps=1, pressure=5e9, n=16, half_width=1.5):
     """A rigid sphere pressed into a flat (and lifted off) ``cycles`` times."""
     stages = [{"hertz_pressure": pressure, "steps": steps}]
     if cycles > 1:
@@ -120,7 +120,7 @@ def indentation(hardening, cycles=1, steps=1, pressure=5e9, n=16):
         "body2": {"behaviour": "elastic-plastic", "radius": "inf", "E": 210e9, "nu": 0.3,
                   "hardening": hardening},
         "load": {"path": path},
-        "grid": {"n": [n, n, n]},
+        "grid": {"n": [n, n, n], "half_width": half_width},
     }  # fmt: skip
     result = solver.solve(solver.Case.from_dict(table))
     assert result.converged, result.notes
@@ -140,29 +140,32 @@ def test_prager_equals_linear_isotropic_hardening_in_one_loading_step():
 
 
 def test_repeated_indentation_reverse_yields_with_kinematic_hardening_only():
-    """10 GPa, loaded and lifted off 4 times, same modulus 15 GPa: isotropic hardening shakes
-    down after the first cycle; Prager's back stress lets the residual stresses yield the body
-    in reverse on every unloading (the Bauschinger effect): alternating plasticity, a steady
-    gain of equivalent plastic strain per cycle, while the permanent dent does not ratchet."""
-    modulus = 15e9
+    """A soft steel (sigma_Y0 = 0.8 GPa, modulus 15 GPa) indented to 8 GPa and lifted off 3
+    times, the plastic zone inside the box (half_width 2.5 a_H: no face note).  On unloading
+    the stress range exceeds 2 sigma_Y: isotropic hardening has grown the surface and shakes
+    down after the first cycle; Prager's surface moves with the back stress, so the body yields
+    in reverse on every unloading (the Bauschinger effect): alternating plasticity, a gain of
+    equivalent plastic strain every cycle (0.56-0.59 % here; 0.52-0.55 % with 12 loading
+    steps instead of 6), while the dent settles (its change per cycle shrinks: no ratchet)."""
+    soft = 0.8e9
     kinds = {
-        "isotropic": {"law": "linear", "yield_stress": SIGMA_Y0, "modulus": modulus},
-        "prager": {"law": "perfect", "yield_stress": SIGMA_Y0,
-                   "kinematic": {"law": "prager", "C": modulus}},
+        "isotropic": {"law": "linear", "yield_stress": soft, "modulus": 15e9},
+        "prager": {"law": "perfect", "yield_stress": soft,
+                   "kinematic": {"law": "prager", "C": 15e9}},
     }  # fmt: skip
     gained, dent = {}, {}
     for name, hardening in kinds.items():
-        result = indentation(hardening, cycles=4, steps=4, pressure=10e9)
+        result = indentation(hardening, cycles=3, steps=6, pressure=8e9, n=28, half_width=2.5)
+        assert not any("face" in note for note in result.notes), result.notes
         ds = result.to_xarray()
         gained[name] = ds.plastic_strain_increment.values
-        ends = np.searchsorted(ds.step_cycle.values, [1, 2, 3, 4], side="right") - 1
+        ends = np.searchsorted(ds.step_cycle.values, [1, 2, 3], side="right") - 1
         dent[name] = ds.residual_depth.values[ends]  # lifted off at the end of each cycle
     tolerance = result.case.solver.plastic_tolerance
     assert np.all(gained["isotropic"][1:] < tolerance * gained["isotropic"][0])
-    alternating = gained["prager"][1:]
-    assert np.all(alternating > 0.05 * gained["prager"][0])
-    assert np.ptp(alternating) < 0.1 * alternating.mean()
-    assert np.ptp(dent["prager"]) < 0.01 * dent["prager"].max()
+    assert np.all(gained["prager"][1:] > 0.1 * gained["prager"][0])
+    change = np.abs(np.diff(dent["prager"]))
+    assert change[1] < change[0] < 0.01 * dent["prager"][0]
 
 
 @pytest.mark.parametrize(

@@ -57,3 +57,24 @@ def test_cycle_report_builds(cycles_out, monkeypatch):
     for name in ("fretting_loops", "cycles"):
         png = out / f"fretting_cycles_{name}.png"
         assert png.stat().st_size > 1000 and f"({png.name})" in text
+
+
+def test_normal_load_cycles_report(tmp_path, monkeypatch):
+    """The shipped repeated-indentation campaign, coarsened (2 cycles): a cycle section without
+    fretting loops (no tangential load) but with the plastic strain and residual stress panels."""
+    pytest.importorskip("matplotlib")
+    monkeypatch.setattr("study.report.DPI", 40)
+    text = open("campaigns/repeated_indentation.toml").read()
+    text = text.replace("n = [28, 28, 28]", "n = [26, 26, 26]").replace("cycles = 5", "cycles = 2")
+    path = tmp_path / "indent.toml"
+    path.write_text(text.replace("steps = 6", "steps = 3"))
+    campaign = load_campaign(path)
+    out = tmp_path / "out"
+    assert run_campaign(campaign, out, options=RunOptions()).exit_status == 0
+    report = build_report(out).read_text()
+    assert "## Load cycles" in report and "| hardening | status | cycles |" in report
+    assert (out / "repeated_indentation_cycles.png").stat().st_size > 1000
+    assert not (out / "repeated_indentation_fretting_loops.png").exists()
+    ds = assemble(out, campaign)
+    assert ds.plastic_strain_increment.dims == ("hardening", "cycle")
+    assert "loop_energy" not in ds
