@@ -168,8 +168,9 @@ def test_hard_cycles_report_status_and_stay_finite():
 
 
 def test_cycles_beyond_what_the_material_carries_are_reported_not_converged():
-    """Armstrong-Frederick saturating at 300 MPa under repeated 10 GPa indentation: the
-    plastic strain runs away; the result says so, per step, without NaN."""
+    """Armstrong-Frederick saturating at 300 MPa, indented to 10 GPa twice in a domain its
+    plastic zone outgrows: the plasticity loop does not settle; the result says so, per step,
+    without NaN."""
     hardening = {
         "law": "perfect",
         "yield_stress": 1.3579e9,
