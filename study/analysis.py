@@ -79,6 +79,15 @@ def mesh_coordinate(dataset, dim: str):
     return next((found[key] for key in MESH_KEYS if key in found), None)
 
 
+def finest_index(dataset, index: dict | None = None, skip: Sequence[str] = ()) -> dict:
+    """``index`` (isel) completed with the finest value of every mesh axis not in ``skip``."""
+    out = dict(index or {})
+    for dim in mesh_axes(dataset):
+        if dim not in skip:
+            out[dim] = int(np.argmax(mesh_coordinate(dataset, dim).values))
+    return out
+
+
 def mesh_axes(dataset) -> list[str]:
     """Dimensions along which the mesh size varies (see :func:`mesh_coordinate`)."""
     return [dim for dim in axis_dims(dataset) if mesh_coordinate(dataset, dim) is not None]
@@ -634,11 +643,7 @@ def sensitivity_table(dataset, quantity: str, axis: str):
     import pandas as pd
 
     dataset = with_derived(dataset)
-    selection = {}
-    for dim in mesh_axes(dataset):
-        if dim != axis:
-            selection[dim] = int(np.argmax(mesh_coordinate(dataset, dim).values))
-    sub = dataset.isel(selection)
+    sub = dataset.isel(finest_index(dataset, skip=[axis]))
     x_coord = numeric_coordinate(sub, axis)
     if x_coord is None or sub.sizes[axis] < 2:
         return pd.DataFrame()
@@ -724,10 +729,7 @@ def speed_error_table(dataset):
             # one reference per slice of the other axes, for every refinement of it: the
             # extrapolation along the primary axis at the finest value of the other refinements
             primary = _primary_mesh_axis(dataset, mesh)
-            finest = {
-                d: int(np.argmax(mesh_coordinate(dataset, d).values)) for d in mesh if d != primary
-            }
-            sub = dataset.isel(finest)
+            sub = dataset.isel(finest_index(dataset, skip=[primary]))
             summary = convergence_summary(sub, q, primary)
             target = dataset[q].copy(data=np.full(dataset[q].shape, np.nan))
             for (_, isel), extrapolated in zip(

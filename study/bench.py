@@ -138,6 +138,18 @@ def _child(target, args, queue) -> None:
         queue.put(("error", f"{type(error).__name__}: {error}"))
 
 
+def timed_solve(table: dict):
+    """Solve a case table: ``(case, result, wall s, CPU s, resident-memory growth MB)``."""
+    import solver
+
+    case = solver.Case.from_dict(table)
+    with peak_memory() as memory:
+        c0, t0 = time.process_time(), time.perf_counter()
+        result = solver.solve(case)
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    return case, result, wall, cpu, memory["peak_MB"]
+
+
 def _isolated(target, *args, timeout: float = 1800.0):
     context = multiprocessing.get_context("spawn")
     queue = context.Queue()

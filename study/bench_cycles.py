@@ -19,11 +19,10 @@ runs at 64^3, 10 cycles: ``python -m study.bench_cycles --plastic N --cycles C``
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 
-from .bench import _isolated, format_table, peak_memory
+from .bench import _isolated, format_table, timed_solve
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
 SWIFT = {"law": "swift", "B": 945e6, "C": 20.0, "n": 0.121}
@@ -61,13 +60,7 @@ def fretting_table(
 
 
 def _solve(table: dict) -> dict:
-    import solver
-
-    case = solver.Case.from_dict(table)
-    with peak_memory() as memory:
-        wall, cpu = time.perf_counter(), time.process_time()
-        result = solver.solve(case)
-        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    case, result, wall, cpu, memory = timed_solve(table)
     ds = result.to_xarray()
     per_cycle = {
         name: ds[name].values.tolist()
@@ -79,7 +72,7 @@ def _solve(table: dict) -> dict:
         "status": result.status,
         "wall": wall,
         "cpu": cpu,
-        "memory": memory["peak_MB"],
+        "memory": memory,
         "hertz_radius": case.hertz.radius,
         "finite": bool(all(np.isfinite(v).all() for v in result.history.values())),
         **per_cycle,

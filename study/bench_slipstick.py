@@ -20,11 +20,10 @@ Spence runs with both FFT planners (``solver.fft_planner``; the plans' timing is
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 
-from .bench import _isolated, format_table, peak_memory
+from .bench import _isolated, format_table, timed_solve
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
 RADIUS, FORCE = 0.015, 1000.0
@@ -62,19 +61,13 @@ def pair_table(n: int, tangential: list[tuple[float, int]]) -> dict:
 
 
 def _solve(table: dict) -> dict:
-    import solver
-
-    case = solver.Case.from_dict(table)
-    with peak_memory() as memory:
-        c0, t0 = time.process_time(), time.perf_counter()
-        result = solver.solve(case)
-        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    case, result, wall, cpu, memory = timed_solve(table)
     h = result.history
     area = np.asarray(h["contact_area"])
     return {
         "time": wall,
         "cpu": cpu,
-        "memory": memory["peak_MB"],
+        "memory": memory,
         "converged": result.converged,
         "tangential": int(np.sum(h["slip_iterations"])),
         "normal": int(np.sum(h["normal_iterations"])),

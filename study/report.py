@@ -576,9 +576,7 @@ def stick_slip_panels(dataset, cases_dir: str | Path) -> tuple[list, str]:
     slices = list(analysis._slices(dataset, mesh))
     found, missing = [], 0
     for labels, isel in slices:
-        index = dict(isel)
-        for dim in mesh:
-            index[dim] = int(np.argmax(analysis.mesh_coordinate(dataset, dim).values))
+        index = analysis.finest_index(dataset, isel)
         if not bool(usable.isel(index)):
             missing += 1
             continue

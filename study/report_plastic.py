@@ -41,25 +41,12 @@ COLUMNS = {
 _SCALE = {"ep_max_%": 100.0, "dent_um": 1e6}
 
 
-def _refinement_dims(dataset) -> list[str]:
-    """Axes that refine the solution: mesh and load steps (:func:`analysis.mesh_axes`)."""
-    return analysis.mesh_axes(dataset)
-
-
-def _finest(dataset, index: dict) -> dict:
-    """``index`` completed with the finest value of every refinement axis."""
-    out = dict(index)
-    for dim in _refinement_dims(dataset):
-        out[dim] = int(np.argmax(analysis.mesh_coordinate(dataset, dim).values))
-    return out
-
-
 def shown_cases(dataset) -> list[tuple[dict, dict]]:
     """(labels, isel) of the finished cases on the finest refinement of every slice."""
     usable = analysis._usable(dataset)
     cases = []
-    for labels, isel in analysis._slices(dataset, _refinement_dims(dataset)):
-        index = _finest(dataset, isel)
+    for labels, isel in analysis._slices(dataset, analysis.mesh_axes(dataset)):
+        index = analysis.finest_index(dataset, isel)
         if bool(usable.isel(index)):
             cases.append((labels, index))
     return cases
@@ -96,7 +83,7 @@ def overlay_dim(dataset) -> str | None:
     A non-numeric (named) axis, else the friction axis, else the last axis that is neither a
     refinement nor a load axis.
     """
-    dims = [d for d in analysis.axis_dims(dataset) if d not in _refinement_dims(dataset)]
+    dims = [d for d in analysis.axis_dims(dataset) if d not in analysis.mesh_axes(dataset)]
     if not dims:
         return None
     for dim in dims:
@@ -160,15 +147,15 @@ def plot_profiles(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
     if plt is None or "pressure_profile" not in dataset:
         return None
     overlay = overlay_dim(dataset)
-    exclude = [*_refinement_dims(dataset), *([overlay] if overlay else [])]
+    exclude = [*analysis.mesh_axes(dataset), *([overlay] if overlay else [])]
     usable = analysis._usable(dataset)
     panels = []
     for labels, isel in analysis._slices(dataset, exclude):
         lines = []
         for line_labels, line_isel in analysis._slices(
-            dataset.isel(isel), _refinement_dims(dataset)
+            dataset.isel(isel), analysis.mesh_axes(dataset)
         ):
-            index = _finest(dataset, {**isel, **line_isel})
+            index = analysis.finest_index(dataset, {**isel, **line_isel})
             if bool(usable.isel(index)):
                 lines.append((line_labels, index))
         if lines:
@@ -243,7 +230,7 @@ def plot_load_curves(dataset, path: str | Path) -> Path | None:
     if plt is None or not loads or "max_plastic_strain" not in dataset:
         return None
     load = loads[0]
-    exclude = [*_refinement_dims(dataset), load]
+    exclude = [*analysis.mesh_axes(dataset), load]
     usable = analysis._usable(dataset)
     panels = (
         ("max_pressure", 1e-9, "max pressure p_max (GPa)"),
@@ -255,7 +242,7 @@ def plot_load_curves(dataset, path: str | Path) -> Path | None:
     for labels, isel in list(analysis._slices(dataset, exclude))[: report.MAX_LINES]:
         xs, ys = [], {name: [] for name, _, _ in panels}
         for i in range(dataset.sizes[load]):
-            index = _finest(dataset, {**isel, load: i})
+            index = analysis.finest_index(dataset, {**isel, load: i})
             if not bool(usable.isel(index)):
                 continue
             case = dataset.isel(index)

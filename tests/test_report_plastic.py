@@ -7,7 +7,7 @@ import pytest
 import xarray as xr
 from study_fixtures import pair_campaign, write
 
-from study import report_plastic
+from study import analysis, report_plastic
 from study.campaign import load_campaign
 from study.driver import RunOptions, run_campaign
 from study.report import build_report
@@ -61,7 +61,7 @@ def test_plastic_report_table_and_figures(pairs, monkeypatch):
 def test_overlay_and_refinement_axes(pairs):
     with xr.open_dataset(pairs / "pairs.nc") as ds:
         assert report_plastic.overlay_dim(ds) == "pair"  # the named axis
-        assert report_plastic._refinement_dims(ds) == []
+        assert analysis.mesh_axes(ds) == []
         assert [labels for labels, _ in report_plastic.shown_cases(ds)][1] == {
             "p_h": 4e9,
             "body1": "steel",
