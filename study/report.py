@@ -318,6 +318,9 @@ def plot_convergence(dataset, mesh_dim: str, path: str | Path) -> Path | None:
         ax.set_ylabel(f"|rel. error| vs {basis} (1)")
         ax.set_title(analysis.QUANTITIES.get(name, (None, name))[1], fontsize=10)
         ax.grid(True, which="both", alpha=0.3)
+        if not ax.lines:  # every case equal to its extrapolation (e.g. counted in whole cells)
+            ax.text(0.5, 0.5, f"no change along {mesh_dim}", transform=ax.transAxes,
+                    ha="center", va="center", fontsize=9, color="0.4")  # fmt: skip
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=7)
     if shared:

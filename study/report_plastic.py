@@ -333,7 +333,7 @@ def plot_sections(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
             fontsize=7,
             bbox={"facecolor": "white", "edgecolor": "0.7", "alpha": 0.9, "pad": 2},
         )
-        ax.set_xlim(-1.5, 1.5)
+        ax.set_xlim(x[0] - dx / 2, x[-1] + dx / 2)  # the whole box: nothing of the zone cut
         ax.set_title(report._title(labels) if labels else "", fontsize=8)
         ax.set_xlabel("x / a_H (1)")
         if k % columns == 0:
