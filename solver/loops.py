@@ -14,12 +14,14 @@ symmetric EP-EP pair (seed eq. 2), any friction    load_steps, plasticity, norma
 
 (DESIGN §3.8.)  Every increment calls one contact step (:mod:`solver.steps`), wrapped by the
 plasticity loop (:mod:`solver.plastic_loop`) in elastic-plastic scenes.  The driver owns the
-sub-stepping of coupled friction scenes (:func:`load_substeps`, sub-steps not recorded), the
+sub-stepping of coupled friction scenes (:func:`load_substeps`; a sub-step's iterations and
+friction work count in its step, its state is not recorded), the
 per-step histories (declared in :mod:`solver.variables`) and the notes.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Callable
 
@@ -261,8 +263,10 @@ def solve(case: Case) -> Result:
     faces_noted = False
     outcome = None
     cycle_start = None
+    before = None  # (state, load increment) of the step before the last (elastic predictor)
     for k, target in enumerate(targets):
         work = 0.0  # friction work of the step, its sub-steps included
+        sub_iterations = dict.fromkeys((*_ITERATION_HISTORY.values(), "plastic_iterations"), 0)
         if plastic and cycles[k] and (k == 0 or cycles[k] != cycles[k - 1]):
             cycle_start = [p.equivalent.copy() for p in plastic_state]
         if plastic:
@@ -277,6 +281,7 @@ def solve(case: Case) -> Result:
                     state, plastic_state = step.contact.state, step.plastic
                     guess, previous = step.increment, None  # no extrapolation across sub-steps
                     work += step.contact.friction_work
+                    _count(sub_iterations, step.contact.iterations, step.iterations)
                     if not step.converged:
                         converged = False
                         notes.append(
@@ -286,6 +291,7 @@ def solve(case: Case) -> Result:
                     sub_outcome = contact_step(operators, state, sub)
                     state = sub_outcome.state
                     work += sub_outcome.friction_work
+                    _count(sub_iterations, sub_outcome.iterations)
         messages = []
         if plastic:
             load_step = np.subtract(target, previous_target)
@@ -304,7 +310,11 @@ def solve(case: Case) -> Result:
             if step.message:
                 messages.append(step.message)
         else:
-            outcome = contact_step(operators, state, target)
+            initial = None
+            if not coupled and contact_step is slip_stick_step:
+                initial = _extrapolated(state, before, np.subtract(target, previous_target))
+                before = (state, np.subtract(target, previous_target))
+            outcome = contact_step(operators, state, target, None, initial)
             step_ok, residual = outcome.converged, outcome.residual
             if outcome.message:
                 messages.append(outcome.message)
@@ -326,6 +336,9 @@ def solve(case: Case) -> Result:
         history["step_converged"][k] = float(step_ok)
         if plastic:
             _record_plastic(history, k, step, case)
+        for name, count in sub_iterations.items():  # the sub-steps' iterations count too
+            if name in history:
+                history[name][k] += count
             reached = sorted({f for p in plastic_state for f in _box_faces_reached(p.equivalent)})
             if reached and not faces_noted:
                 faces_noted = True
@@ -377,20 +390,52 @@ def solve(case: Case) -> Result:
     return result
 
 
+def _extrapolated(
+    state: ContactState, before: tuple[ContactState, np.ndarray] | None, load_step: np.ndarray
+) -> ContactState | None:
+    """Starting shear tractions of an uncoupled slip-stick increment that repeats the last one.
+
+    ``2 q_k - q_{k-1}`` when the load increment equals the previous one (a tangential stage
+    in equal steps), else None (start from ``state``).  Only a starting point: the tangential
+    solve projects it onto the friction disks and iterates to its tolerance.
+    """
+    if before is None or not np.allclose(load_step, before[1], rtol=1e-9, atol=0.0):
+        return None
+    older = before[0]
+    return dataclasses.replace(
+        state,
+        shear_x=2.0 * state.shear_x - older.shear_x,
+        shear_y=2.0 * state.shear_y - older.shear_y,
+    )
+
+
+#: Iteration counts of a contact step (:attr:`StepResult.iterations`) and their histories.
+_ITERATION_HISTORY = {
+    "normal": "normal_iterations", "slip": "slip_iterations", "coupling": "coupling_iterations",
+}  # fmt: skip
+
+
+def _count(totals: dict, contact: dict, plastic: int = 0) -> None:
+    """Add a sub-step's contact and plasticity iteration counts to ``totals`` (by history)."""
+    for key, name in _ITERATION_HISTORY.items():
+        totals[name] += contact.get(key, 0)
+    totals["plastic_iterations"] += plastic
+
+
 def _record(history: dict, k: int, outcome: StepResult, area: float) -> None:
     state = outcome.state
     history["normal_force"][k] = state.pressure.sum() * area
     history["approach"][k] = outcome.approach
     history["max_pressure"][k] = state.pressure.max()
     history["contact_area"][k] = np.count_nonzero(state.pressure) * area
-    history["normal_iterations"][k] = outcome.iterations.get("normal", 0)
+    for key, name in _ITERATION_HISTORY.items():
+        if name in history:
+            history[name][k] = outcome.iterations.get(key, 0)
     if "stick_area" in history:
         history["tangential_force_x"][k] = state.shear_x.sum() * area
         history["tangential_force_y"][k] = state.shear_y.sum() * area
         history["tangential_shift_x"][k], history["tangential_shift_y"][k] = state.shift
         history["stick_area"][k] = np.count_nonzero(outcome.stick) * area
-        history["slip_iterations"][k] = outcome.iterations.get("slip", 0)
-        history["coupling_iterations"][k] = outcome.iterations.get("coupling", 0)
 
 
 def _record_plastic(history: dict, k: int, step, case: Case) -> None:

@@ -23,18 +23,20 @@ The slip-stick step (DESIGN §3.4-3.5), for each coupling iteration:
    - (Delta - Delta_{k-1})``;
 3. repeat while the relative pressure change exceeds ``coupling_tolerance``.
 
-Without coupling (beta = 0 or Goodman) one pass is exact.
+Without coupling (beta = 0 or Goodman) one pass is exact, and an increment at the W of the
+previous one with no residual print (a tangential stage) reuses its converged normal solution.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .anderson import Anderson
-from .normal import solve_normal
+from .normal import NormalSolution, solve_normal
 from .reference import hertz
 from .tangential import solve_tangential
 
@@ -74,6 +76,13 @@ class ContactState:
         Tangential displacement (m) caused by ``pressure`` (the beta term).
     residual_x, residual_y : ndarray
         Tangential residual displacement (m) from plastic strain at this state.
+    shear_slip_x, shear_slip_y : ndarray or None
+        Tangential displacement ``K_t q`` (m) caused by ``shear_x, shear_y`` (the next step's
+        memory term), None when not computed.
+    normal_force : float
+        W (N) the pressure was solved for.
+    normal : NormalSolution or None
+        The normal solve that gave ``pressure`` (None when the pressure came from elsewhere).
     """
 
     pressure: np.ndarray
@@ -84,12 +93,16 @@ class ContactState:
     pressure_slip_y: np.ndarray
     residual_x: np.ndarray
     residual_y: np.ndarray
+    shear_slip_x: np.ndarray | None = None
+    shear_slip_y: np.ndarray | None = None
+    normal_force: float = 0.0
+    normal: NormalSolution | None = None
 
     @classmethod
     def unloaded(cls, shape: tuple[int, int]) -> ContactState:
         """The state before the first increment: no tractions, no shift."""
         zero = np.zeros(shape)
-        return cls(zero, zero, zero, np.zeros(2), zero, zero, zero, zero)
+        return cls(zero, zero, zero, np.zeros(2), zero, zero, zero, zero, zero, zero)
 
 
 @dataclass(frozen=True)
@@ -141,11 +154,19 @@ def _start_pressure(operators: CaseOperators, force: float, *states) -> np.ndarr
     )
 
 
+def _reusable_normal(previous: ContactState, force: float) -> NormalSolution | None:
+    """The previous increment's converged normal solution if it was for the same W (N)."""
+    normal = previous.normal
+    if normal is None or not normal.converged or previous.normal_force != force:
+        return None
+    return dataclasses.replace(normal, iterations=0, message="the previous increment's")
+
+
 def _unloaded_step(previous, gap, residual) -> StepResult:
     """Zero normal force: no tractions; the approach at which the bodies just touch."""
     zero = np.zeros_like(gap)
     res_x, res_y = (zero, zero) if residual is None else (residual.x, residual.y)
-    state = ContactState(zero, zero, zero, previous.shift, zero, zero, res_x, res_y)
+    state = ContactState(zero, zero, zero, previous.shift, zero, zero, res_x, res_y, zero, zero)
     iterations = {"normal": 0, "slip": 0, "coupling": 0}
     stick = np.zeros(gap.shape, bool)
     return StepResult(state, True, iterations, 0.0, "", stick, float(gap.min()))
@@ -179,7 +200,10 @@ def normal_step(
     )
     zero = np.zeros_like(gap)
     res_x, res_y = (zero, zero) if residual is None else (residual.x, residual.y)
-    state = ContactState(solution.pressure, zero, zero, previous.shift, zero, zero, res_x, res_y)
+    state = ContactState(
+        solution.pressure, zero, zero, previous.shift, zero, zero, res_x, res_y, zero, zero,
+        force, solution,
+    )  # fmt: skip
     return StepResult(
         state,
         solution.converged,
@@ -206,11 +230,15 @@ def slip_stick_step(
     base_gap = _extra_gap(operators, residual)
     if force == 0.0:
         return _unloaded_step(previous, base_gap, residual)
-    coupled = case.pair.dundurs_beta != 0.0 and not options.goodman
+    beta = case.pair.dundurs_beta
+    coupled = beta != 0.0 and not options.goodman
     zero = np.zeros_like(base_gap)
     res_x, res_y = (zero, zero) if residual is None else (residual.x, residual.y)
     # known part of the slip increment: -K_t q_{k-1} + Delta_{k-1} - u_t(p_{k-1}) + du_t^r
-    prev_ux, prev_uy = surface.tangential(previous.shear_x, previous.shear_y)
+    if previous.shear_slip_x is None:
+        prev_ux, prev_uy = surface.tangential(previous.shear_x, previous.shear_y)
+    else:
+        prev_ux, prev_uy = previous.shear_slip_x, previous.shear_slip_y
     known_x = -prev_ux + previous.shift[0] - previous.pressure_slip_x + res_x - previous.residual_x
     known_y = -prev_uy + previous.shift[1] - previous.pressure_slip_y + res_y - previous.residual_y
 
@@ -226,20 +254,26 @@ def slip_stick_step(
         # loop ends when the pressure change is below the coupling tolerance in a pass whose
         # inner solves were at least that tight.
         inexact = min(1e-2, INEXACT * change) if coupled else 0.0
-        extra = base_gap + surface.normal_from_shear(qx, qy) if coupled else base_gap
-        normal = solve_normal(
-            surface,
-            extra,
-            force,
-            initial_pressure=pressure,
-            tolerance=max(options.normal_tolerance, inexact),
-            max_iterations=options.normal_max_iterations,
-        )
+        # uncoupled, no residual print: the normal problem depends on W alone
+        normal = None if coupled or residual is not None else _reusable_normal(previous, force)
+        if normal is None:
+            extra = base_gap + surface.normal_from_shear(qx, qy) if coupled else base_gap
+            normal = solve_normal(
+                surface,
+                extra,
+                force,
+                initial_pressure=pressure,
+                tolerance=max(options.normal_tolerance, inexact),
+                max_iterations=options.normal_max_iterations,
+            )
         change = float(
             np.abs(normal.pressure - pressure).sum() / max(normal.pressure.sum(), 1e-300)
         )
         pressure = normal.pressure
-        pxs, pys = surface.tangential_from_pressure(pressure)
+        if beta == 0.0:  # the pressure shifts no surface point tangentially
+            pxs, pys = zero, zero
+        else:
+            pxs, pys = surface.tangential_from_pressure(pressure)
         tangential = solve_tangential(
             surface,
             pressure,
@@ -278,8 +312,9 @@ def slip_stick_step(
         )
     # the state is the last solve's (not the mixed iterate)
     state = ContactState(
-        pressure, tangential.shear_x, tangential.shear_y, shift, pxs, pys, res_x, res_y
-    )
+        pressure, tangential.shear_x, tangential.shear_y, shift, pxs, pys, res_x, res_y,
+        tangential.displacement_x, tangential.displacement_y, force, normal,
+    )  # fmt: skip
     mean_x = 0.5 * (tangential.shear_x + previous.shear_x)
     mean_y = 0.5 * (tangential.shear_y + previous.shear_y)
     work = -float(np.sum(mean_x * tangential.slip_x + mean_y * tangential.slip_y))

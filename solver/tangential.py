@@ -59,6 +59,8 @@ class TangentialSolution:
         Shear tractions on body 2 (Pa).
     slip_x, slip_y : ndarray
         Slip increments s (m); zero in stick up to the residual.
+    displacement_x, displacement_y : ndarray
+        ``K_t q`` (m), the tangential displacement of the returned shear tractions.
     shift : tuple of float
         Rigid tangential shift Delta (m) of body 1 relative to body 2.
     stick : ndarray of bool
@@ -77,6 +79,8 @@ class TangentialSolution:
     shear_y: np.ndarray
     slip_x: np.ndarray
     slip_y: np.ndarray
+    displacement_x: np.ndarray
+    displacement_y: np.ndarray
     shift: tuple[float, float]
     stick: np.ndarray
     iterations: int
@@ -486,6 +490,8 @@ def solve_tangential(
         qy,
         sx * contact,
         sy * contact,
+        ux,
+        uy,
         (float(shift[0]), float(shift[1])),
         stick,
         iterations,

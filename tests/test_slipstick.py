@@ -1,6 +1,7 @@
 """Slip-stick friction: Cattaneo-Mindlin, Spence, zero shear for beta = 0, stability."""
 
 import copy
+import dataclasses
 import math
 
 import numpy as np
@@ -294,3 +295,73 @@ def test_fretting_loop_energy_matches_mindlin_deresiewicz():
         errors.append(abs(area / expected - 1))
     assert errors[1] < errors[0]
     assert errors[1] < 0.01
+
+
+def test_uncoupled_tangential_stage_reuses_the_normal_solution():
+    """beta = 0: a tangential stage at fixed W solves no normal problem again, and its pressure
+    is the normal contact solution of that W; a stage that also changes W solves anew."""
+    table = cattaneo_table(32, 0.5)
+    table["load"]["path"][1]["steps"] = 4
+    table["load"]["path"].append({"normal_force": 1500.0, "tangential_force": [0.0, 0.0]})
+    case = solver.Case.from_dict(table)
+    result = solver.solve(case)
+    assert result.converged
+    h = result.history
+    assert h["normal_iterations"][0] > 0
+    assert np.all(h["normal_iterations"][1:5] == 0)  # W = 1000 N throughout
+    assert h["normal_iterations"][5] > 0  # W = 1500 N: a new normal problem
+    operators = CaseOperators.build(case)
+    fresh = solver.normal.solve_normal(operators.surface, operators.gap, 1500.0)
+    assert np.abs(result.pressure - fresh.pressure).max() < 1e-6 * fresh.pressure.max()
+    assert h["approach"][5] == pytest.approx(fresh.approach, rel=1e-6)
+    assert np.all(h["approach"][1:5] == h["approach"][0])
+
+
+def test_state_carries_the_tangential_displacement_of_its_shear():
+    """The next increment's memory term K_t q_{k-1} is taken from the state: it must equal a
+    fresh convolution of the state's shear tractions."""
+    case = solver.Case.from_dict(cattaneo_table(32, 0.5))
+    operators = CaseOperators.build(case)
+    state = ContactState.unloaded(operators.gap.shape)
+    for target in case.step_targets():
+        state = slip_stick_step(operators, state, target).state
+    ux, uy = operators.surface.tangential(state.shear_x, state.shear_y)
+    scale = np.abs(ux).max()
+    assert np.abs(state.shear_slip_x - ux).max() < 1e-12 * scale
+    assert np.abs(state.shear_slip_y - uy).max() < 1e-12 * scale
+
+
+def test_extrapolated_start_only_for_a_repeated_increment():
+    from solver.loops import _extrapolated
+
+    shape = (4, 4)
+    rng = np.random.default_rng(1)
+    older = dataclasses.replace(ContactState.unloaded(shape), shear_x=rng.random(shape))
+    state = dataclasses.replace(older, shear_x=rng.random(shape), shear_y=rng.random(shape))
+    step = np.array([0.0, 10.0, 0.0])
+    start = _extrapolated(state, (older, step), step)
+    assert np.array_equal(start.shear_x, 2 * state.shear_x - older.shear_x)
+    assert np.array_equal(start.pressure, state.pressure)
+    assert _extrapolated(state, (older, step), 2 * step) is None  # a different increment
+    assert _extrapolated(state, None, step) is None
+
+
+def test_substep_iterations_are_counted(monkeypatch):
+    """The iteration histories include the sub-steps of a coupled scene: their sums equal the
+    operator applications the tangential solver reported over the whole solve."""
+    import solver.steps as steps
+
+    reported = []
+    original = steps.solve_tangential
+
+    def counting(*args, **kwargs):
+        solution = original(*args, **kwargs)
+        reported.append(solution.iterations)
+        return solution
+
+    monkeypatch.setattr(steps, "solve_tangential", counting)
+    result = solver.solve(solver.Case.from_dict(spence_table(24, steps=4)))
+    assert result.converged
+    assert len(reported) > result.history["coupling_iterations"][-1]  # sub-steps ran
+    assert result.history["slip_iterations"].sum() == sum(reported)
+    assert result.history["coupling_iterations"].sum() == len(reported)
