@@ -23,6 +23,15 @@ The slip-stick step (DESIGN §3.4-3.5), for each coupling iteration:
    - (Delta - Delta_{k-1})``;
 3. repeat while the relative pressure change exceeds ``coupling_tolerance``.
 
+With coupling (beta != 0) these two solves are first merged into one iteration
+(:func:`_merged_coupling`): the normal solve of step 1 is repeated after every Newton step of
+the tangential active-set iteration instead of after a whole tangential solve, so that the
+coupling converges alongside the friction problem.  On Spence's scene (70 steps) this takes
+2.5x fewer tangential-operator applications than alternating whole solves, to the same
+solution (tests: to 1e-6 rms).  Where it does not converge (a contact of a few cells with no
+stick cell for its split) the step goes on with the alternating solves above, Anderson-
+accelerated on the shear tractions, from where it stopped.
+
 Without coupling (beta = 0 or Goodman) one pass is exact, and an increment at the W of the
 previous one with no residual print (a tangential stage) reuses its converged normal solution.
 """
@@ -38,7 +47,7 @@ import numpy as np
 from .anderson import Anderson
 from .normal import NormalSolution, solve_normal
 from .reference import hertz
-from .tangential import solve_tangential
+from .tangential import solve_tangential, solve_tangential_coupled
 
 if TYPE_CHECKING:
     from .operators import CaseOperators
@@ -47,6 +56,9 @@ if TYPE_CHECKING:
 #: Inner solves of a coupling pass run at ``INEXACT`` times the last pressure change (at most
 #: 1e-2): 0.03 took Spence's scene (64^2, 10 steps) from 9.3 s to 6.5 s against 0.1.
 INEXACT = 0.03
+#: Coupled increments start with the merged iteration (:func:`_merged_coupling`); False
+#: alternates whole normal and tangential solves from the start (its fallback), for comparison.
+MERGED_COUPLING = True
 
 
 @dataclass(frozen=True)
@@ -248,7 +260,20 @@ def slip_stick_step(
     counts = {"normal": 0, "slip": 0, "coupling": 0}
     converged_all, worst, change = True, 0.0, np.inf
     messages = []
+    if coupled and MERGED_COUPLING:
+        tangential, normal, pxs, pys = _merged_coupling(
+            operators, base_gap, force, (known_x, known_y), (qx_target, qy_target),
+            pressure, (qx, qy), counts,
+        )  # fmt: skip
+        if tangential.converged:
+            return _step_result(
+                operators, previous, tangential, normal, (pxs, pys), (res_x, res_y), force,
+                counts, max(normal.residual, tangential.residual), True, "",
+            )  # fmt: skip
+        # fall back on alternating whole solves from where it stopped
+        pressure, qx, qy = normal.pressure, tangential.shear_x, tangential.shear_y
     mixer = Anderson(options.anderson_memory)  # on the shear tractions, the coupling's state
+    first = counts["coupling"]
     for loop in range(1, options.coupling_max_iterations + 1):
         # Inexact fixed point: inner solves only as tight as the coupling is converged; the
         # loop ends when the pressure change is below the coupling tolerance in a pass whose
@@ -284,7 +309,6 @@ def slip_stick_step(
             tolerance=max(options.slip_tolerance, inexact),
             max_iterations=options.slip_max_iterations,
         )
-        shift = np.array(tangential.shift)
         if coupled:  # Anderson-accelerated fixed point q -> T(N(q))
             shear = np.stack((qx, qy))
             qx, qy = mixer(shear, np.stack((tangential.shear_x, tangential.shear_y)) - shear)
@@ -292,7 +316,7 @@ def slip_stick_step(
             qx, qy = tangential.shear_x, tangential.shear_y
         counts["normal"] += normal.iterations
         counts["slip"] += tangential.iterations
-        counts["coupling"] = loop
+        counts["coupling"] = first + loop
         worst = max(normal.residual, tangential.residual)
         for solution, name in ((normal, "normal"), (tangential, "tangential")):
             if not solution.converged:
@@ -311,20 +335,86 @@ def slip_stick_step(
             f"(pressure change {change:.3g})"
         )
     # the state is the last solve's (not the mixed iterate)
+    return _step_result(
+        operators, previous, tangential, normal, (pxs, pys), (res_x, res_y), force, counts,
+        worst, converged_all, "; ".join(messages),
+    )  # fmt: skip
+
+
+def _step_result(
+    operators, previous, tangential, normal, pressure_slip, residual, force, counts, worst,
+    converged, message,
+) -> StepResult:  # fmt: skip
+    """The slip-stick step's outcome from its last normal and tangential solves."""
     state = ContactState(
-        pressure, tangential.shear_x, tangential.shear_y, shift, pxs, pys, res_x, res_y,
-        tangential.displacement_x, tangential.displacement_y, force, normal,
+        normal.pressure, tangential.shear_x, tangential.shear_y, np.array(tangential.shift),
+        *pressure_slip, *residual, tangential.displacement_x, tangential.displacement_y, force,
+        normal,
     )  # fmt: skip
     mean_x = 0.5 * (tangential.shear_x + previous.shear_x)
     mean_y = 0.5 * (tangential.shear_y + previous.shear_y)
     work = -float(np.sum(mean_x * tangential.slip_x + mean_y * tangential.slip_y))
     return StepResult(
         state,
-        converged_all,
+        converged,
         counts,
         worst,
-        "; ".join(messages),
+        message,
         tangential.stick,
         normal.approach,
-        work * case.surface_grid.cell_area,
+        work * operators.case.surface_grid.cell_area,
     )
+
+
+def _merged_coupling(operators, base_gap, force, known, shear_target, pressure, shear, counts):
+    """Coupled increment in one active-set iteration (:func:`solve_tangential_coupled`).
+
+    After every Newton step of the tangential iteration the normal problem is solved again
+    with the current shear tractions' normal displacement (as tightly as the tangential
+    residual and the last pressure change require); the pressure has settled when it changes
+    by less than the coupling tolerance in a normal solve at least that tight.  Adds the
+    iteration counts to ``counts``; returns (tangential, normal, pxs, pys): on convergence
+    the normal solve the shear tractions were solved with, else the last one.
+    """
+    surface, options = operators.surface, operators.case.solver
+    last = {"pressure": pressure, "change": np.inf}
+    renewals = []  # (normal solution, pxs, pys) of every renewal
+
+    def renew(qx, qy, residual):
+        tight = min(1e-2, INEXACT * min(last["change"], residual))
+        tolerance = max(options.normal_tolerance, tight)
+        normal = solve_normal(
+            surface,
+            base_gap + surface.normal_from_shear(qx, qy),
+            force,
+            initial_pressure=last["pressure"],
+            tolerance=tolerance,
+            max_iterations=options.normal_max_iterations,
+        )
+        change = float(
+            np.abs(normal.pressure - last["pressure"]).sum() / max(normal.pressure.sum(), 1e-300)
+        )
+        pxs, pys = surface.tangential_from_pressure(normal.pressure)
+        last.update(pressure=normal.pressure, change=change)
+        renewals.append((normal, pxs, pys))
+        counts["normal"] += normal.iterations
+        counts["coupling"] += 1
+        settled = (
+            normal.converged
+            and change < options.coupling_tolerance
+            and tolerance <= options.coupling_tolerance
+        )
+        return normal.pressure, (known[0] + pxs, known[1] + pys), settled
+
+    tangential = solve_tangential_coupled(
+        surface,
+        operators.case.friction_coefficient,
+        renew,
+        shear_target,
+        shear,
+        tolerance=options.slip_tolerance,
+        max_iterations=options.slip_max_iterations // 2,
+    )
+    counts["slip"] += tangential.iterations
+    # converged: the shear tractions were solved with the pressure before the last renewal
+    return tangential, *renewals[-2 if tangential.converged else -1]

@@ -34,6 +34,10 @@ with ``Delta`` the multiplier of the force constraint.  Two methods, the second 
    iteration for the force multiplier).  It converges for this convex problem whatever the
    stick set does.
 
+With the normal-tangential coupling (Dundurs beta != 0), :func:`solve_tangential_coupled` runs
+the active-set iteration with the pressure renewed by a normal solve after every Newton step
+(the caller's ``renew``), instead of a whole tangential solve per normal solve.
+
 Convergence: the residual ``max(rms of |s| on stick cells, rms over the contact of the slip-cell
 error |s + |s| q/|q|| and of the excess over the disks (times the cell self-compliance)) /
 scale`` measures every optimality condition (the force is enforced exactly); ``scale`` is the
@@ -42,6 +46,7 @@ largest of the caller's scale, the rms of ``K_t q`` over the contact and the shi
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -297,7 +302,9 @@ def _newton_solve(operator, qx, qy, ux, uy, cx, cy, stick, slip, bound, toleranc
     return coefficients(*restrict(ux + cx, uy + cy)), applications
 
 
-def _active_set(operator, bound, contact, cx, cy, target, qx, qy, scale, tolerance, budget):
+def _active_set(
+    operator, bound, contact, cx, cy, target, qx, qy, scale, tolerance, budget, renew=None
+):
     """Active-set Newton iteration (module docstring).
 
     Each pass splits the contact by the trial traction ``z = q - rho s`` (``rho`` =
@@ -308,11 +315,23 @@ def _active_set(operator, bound, contact, cx, cy, target, qx, qy, scale, toleran
     iterate, when the stick set empties, the residual has not fallen by 10 % in
     :data:`STAGNATION` passes, or ``budget`` operator applications are spent.
 
+    ``renew(qx, qy, residual)``, when given, makes the pressure follow the shear tractions
+    (:func:`solve_tangential_coupled`): it is called before the first pass and after every
+    Newton step and returns ``(bound, contact, cx, cy, settled)``, the disks and offset for the
+    current shear and whether the pressure has settled.  The iteration stops when a Newton
+    step's residual is below ``tolerance`` and the renewal after it has settled; the iterate
+    then belongs to the data before that renewal.
+
     Returns (qx, qy, ux, uy, shift, residual, stick, applications, converged).
     """
     compliance = operator.tangential_diagonal()
     rho = SPLIT / compliance
     area_target = np.asarray(target, dtype=float)
+    settled = True
+    if renew is not None:
+        bound, contact, cx, cy, settled = renew(qx, qy, np.inf)
+    if scale is None:  # the rms of the offset over the contact
+        scale = max(np.sqrt(_sum((cx * cx + cy * cy) * contact) / max(contact.sum(), 1)), 1e-300)
     qx, qy, multiplier = project_onto_feasible(qx, qy, bound, area_target, np.zeros(2))
     ux, uy = operator.tangential(qx, qy)
     applications = 1
@@ -323,7 +342,9 @@ def _active_set(operator, bound, contact, cx, cy, target, qx, qy, scale, toleran
     residual, stick = _optimality(ux, uy, qx, qy, cx, cy, shift, bound, contact, scale, compliance)
     best = (residual, qx.copy(), qy.copy(), ux.copy(), uy.copy(), shift.copy(), stick)
     stagnant = 0
-    while residual >= tolerance and applications < budget and stagnant < STAGNATION:
+    while (
+        (residual >= tolerance or not settled) and applications < budget and stagnant < STAGNATION
+    ):
         # split by the trial traction z = q - rho s; slip cells move to z
         zx = qx - rho * (ux + cx - shift[0])
         zy = qy - rho * (uy + cy - shift[1])
@@ -354,12 +375,21 @@ def _active_set(operator, bound, contact, cx, cy, target, qx, qy, scale, toleran
         )
         if not np.isfinite(residual):
             break
+        if renew is not None:  # the pressure for these shear tractions
+            renewed = renew(qx, qy, residual)
+            settled = renewed[4]
+            if residual < tolerance and settled:
+                break  # converged on the data it was computed with
+            bound, contact, cx, cy = renewed[:4]
         if residual < 0.9 * best[0]:
             stagnant = 0
         else:
             stagnant += 1
         if residual < best[0]:
             best = (residual, qx.copy(), qy.copy(), ux.copy(), uy.copy(), shift.copy(), stick)
+    if renew is not None:  # the current iterate: the one the last data belong to
+        converged = residual < tolerance and settled
+        return qx, qy, ux, uy, shift, residual, stick, applications, converged
     residual, qx, qy, ux, uy, shift, stick = best
     return qx, qy, ux, uy, shift, residual, stick, applications, residual < tolerance
 
@@ -479,6 +509,10 @@ def solve_tangential(
             max_iterations - iterations, check_every,
         )  # fmt: skip
         iterations += used
+    return _solution(qx, qy, ux, uy, cx, cy, shift, contact, stick, iterations, residual, converged)
+
+
+def _solution(qx, qy, ux, uy, cx, cy, shift, contact, stick, iterations, residual, converged):
     sx, sy = ux + cx - shift[0], uy + cy - shift[1]
     message = (
         f"converged in {iterations} iterations"
@@ -486,16 +520,72 @@ def solve_tangential(
         else f"not converged after {iterations} iterations (residual {residual:.3g})"
     )
     return TangentialSolution(
-        qx,
-        qy,
-        sx * contact,
-        sy * contact,
-        ux,
-        uy,
-        (float(shift[0]), float(shift[1])),
-        stick,
-        iterations,
-        float(residual),
-        converged,
-        message,
-    )
+        qx, qy, sx * contact, sy * contact, ux, uy, (float(shift[0]), float(shift[1])), stick,
+        iterations, float(residual), converged, message,
+    )  # fmt: skip
+
+
+def solve_tangential_coupled(
+    operator: SurfaceOperator,
+    friction_coefficient: float,
+    renew: Callable[[np.ndarray, np.ndarray, float], tuple],
+    force: tuple[float, float],
+    initial: tuple[np.ndarray, np.ndarray],
+    *,
+    tolerance: float = 1e-8,
+    max_iterations: int = 5000,
+) -> TangentialSolution:
+    """Tangential solve whose pressure follows the shear tractions (normal-tangential coupling).
+
+    The active-set Newton iteration of :func:`solve_tangential` with the pressure renewed
+    after every Newton step instead of held fixed: ``renew(qx, qy, residual)`` solves the
+    normal problem for the current shear tractions (``residual``, the current relative
+    residual, lets it solve only as tightly as needed) and returns ``(pressure, (cx, cy),
+    settled)``: the pressure (Pa), the offset ``c`` (m) that goes with it and whether the
+    pressure has settled (changed less than the coupling tolerance in a tight normal solve).
+    One Newton step per normal solve instead of a whole tangential solve: the coupling
+    converges alongside the friction problem.  Converged when a Newton step leaves a KKT
+    residual below ``tolerance`` and the pressure renewed after it has settled; the solution
+    belongs to the renewal before that one (the caller keeps both).  Otherwise the caller
+    falls back on alternating whole solves (no projected-gradient fallback here).
+
+    Parameters
+    ----------
+    operator : SurfaceOperator
+        Surface operator.
+    friction_coefficient : float
+        mu (dimensionless), > 0.
+    renew : callable
+        See above.
+    force : (float, float)
+        Prescribed tangential force (N).
+    initial : (ndarray, ndarray)
+        Starting shear tractions (Pa).
+    tolerance : float
+        Relative tolerance of the KKT residual.
+    max_iterations : int
+        Cap on applications of the tangential operator.
+
+    Returns
+    -------
+    TangentialSolution
+    """
+    area = operator.grid.cell_area
+    data = []  # (contact, cx, cy) of every renewal
+
+    def disks(qx, qy, residual):
+        pressure, (cx, cy), settled = renew(qx, qy, residual)
+        contact = pressure > 0.0
+        data.append((contact, cx, cy))
+        return friction_coefficient * np.where(contact, pressure, 0.0), contact, cx, cy, settled
+
+    target = np.array(force, dtype=float) / area
+    zero = np.zeros_like(initial[0])  # placeholders: the first renewal sets the disks
+    qx, qy, ux, uy, shift, residual, stick, iterations, converged = _active_set(
+        operator, zero, zero > 0, zero, zero, target, initial[0], initial[1], None, tolerance,
+        budget=max_iterations, renew=disks,
+    )  # fmt: skip
+    contact, cx, cy = data[-2] if converged else data[-1]  # the data q was solved with
+    return _solution(
+        qx, qy, ux, uy, cx, cy, shift, contact, stick, iterations, residual, converged
+    )  # fmt: skip

@@ -68,7 +68,9 @@ HISTORIES: dict[str, History] = {
     "slip_iterations": History(
         "1", "tangential-operator applications of the slip solver (summed over the step)", "sum"
     ),
-    "coupling_iterations": History("1", "slip-stick (normal-tangential) loop iterations", "sum"),
+    "coupling_iterations": History(
+        "1", "slip-stick (normal-tangential) loop passes: normal solves of the step", "sum"
+    ),
     "plastic_iterations": History("1", "plasticity-loop iterations (contact solves)", "sum"),
     "max_plastic_strain": History("1", "maximum equivalent plastic strain", "max"),
     "max_plastic_strain_depth": History("m", "depth of the maximum equivalent plastic strain"),

@@ -347,21 +347,81 @@ def test_extrapolated_start_only_for_a_repeated_increment():
 
 
 def test_substep_iterations_are_counted(monkeypatch):
-    """The iteration histories include the sub-steps of a coupled scene: their sums equal the
-    operator applications the tangential solver reported over the whole solve."""
+    """The iteration histories include the sub-steps of a coupled scene: their sums equal what
+    the normal and tangential solvers reported over the whole solve."""
     import solver.steps as steps
 
-    reported = []
-    original = steps.solve_tangential
+    reported = {"normal": [], "slip": []}
 
-    def counting(*args, **kwargs):
-        solution = original(*args, **kwargs)
-        reported.append(solution.iterations)
-        return solution
+    def counting(function, key):
+        def wrapper(*args, **kwargs):
+            solution = function(*args, **kwargs)
+            reported[key].append(solution.iterations)
+            return solution
 
-    monkeypatch.setattr(steps, "solve_tangential", counting)
+        return wrapper
+
+    for name, key in (
+        ("solve_normal", "normal"),
+        ("solve_tangential", "slip"),
+        ("solve_tangential_coupled", "slip"),
+    ):
+        monkeypatch.setattr(steps, name, counting(getattr(steps, name), key))
     result = solver.solve(solver.Case.from_dict(spence_table(24, steps=4)))
     assert result.converged
-    assert len(reported) > result.history["coupling_iterations"][-1]  # sub-steps ran
-    assert result.history["slip_iterations"].sum() == sum(reported)
-    assert result.history["coupling_iterations"].sum() == len(reported)
+    h = result.history
+    assert len(reported["normal"]) > h["coupling_iterations"][-1]  # sub-steps ran
+    assert h["slip_iterations"].sum() == sum(reported["slip"])
+    assert h["normal_iterations"].sum() == sum(reported["normal"])
+    assert h["coupling_iterations"].sum() == len(reported["normal"])
+
+
+@pytest.mark.parametrize("path", ["spence", "shear_reversal_unloading"])
+def test_merged_coupling_equals_alternating_solves(monkeypatch, path):
+    """beta != 0: the merged iteration (the pressure renewed after every Newton step of the
+    tangential solve) converges to the solution of alternating whole solves, to the
+    tolerances, falling back on them at most once (the first sub-step of Spence's scene, a
+    contact of a dozen cells whose split has no stick cell)."""
+    import solver.steps as steps
+
+    if path == "spence":
+        table = spence_table(40, steps=10)
+    else:
+        table = spence_table(40, mu=0.5)
+        table["load"] = {
+            "path": [
+                {"normal_force": 1000.0, "steps": 10},
+                {"tangential_force": [150.0, 0.0], "steps": 5},
+                {"tangential_force": [-100.0, 50.0], "steps": 5},
+                {"normal_force": 400.0, "steps": 4},
+            ]
+        }
+    case = solver.Case.from_dict(table)
+    monkeypatch.setattr(steps, "MERGED_COUPLING", False)
+    alternating = solver.solve(case)
+    monkeypatch.setattr(steps, "MERGED_COUPLING", True)
+    outcomes = []
+    original = steps.solve_tangential_coupled
+
+    def recording(*args, **kwargs):
+        solution = original(*args, **kwargs)
+        outcomes.append(solution.converged)
+        return solution
+
+    monkeypatch.setattr(steps, "solve_tangential_coupled", recording)
+    merged = solver.solve(case)
+    assert alternating.converged and merged.converged
+    assert len(outcomes) >= 10 and outcomes.count(False) <= 1  # the fallbacks
+
+    def rms_difference(a, b):
+        return np.sqrt(np.mean((a - b) ** 2) / np.mean(a**2))
+
+    for name in ("pressure", "shear_x", "shear_y"):
+        a, b = getattr(alternating, name), getattr(merged, name)
+        if a.any():
+            assert rms_difference(a, b) < 1e-4, name
+    h_a, h_m = alternating.history, merged.history
+    assert np.allclose(h_m["tangential_shift_x"], h_a["tangential_shift_x"], rtol=1e-4, atol=1e-12)
+    assert np.allclose(h_m["approach"], h_a["approach"], rtol=1e-6)
+    assert abs(np.sum(merged.contact_state == 1) - np.sum(alternating.contact_state == 1)) <= 4
+    assert h_m["slip_iterations"].sum() < h_a["slip_iterations"].sum()
