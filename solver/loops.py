@@ -336,9 +336,6 @@ def solve(case: Case) -> Result:
         history["step_converged"][k] = float(step_ok)
         if plastic:
             _record_plastic(history, k, step, case)
-        for name, count in sub_iterations.items():  # the sub-steps' iterations count too
-            if name in history:
-                history[name][k] += count
             reached = sorted({f for p in plastic_state for f in _box_faces_reached(p.equivalent)})
             if reached and not faces_noted:
                 faces_noted = True
@@ -346,6 +343,9 @@ def solve(case: Case) -> Result:
                     f"step {k + 1}: plastic strain reaches the volume grid's "
                     f"{', '.join(reached)} face: enlarge the box"
                 )
+        for name, count in sub_iterations.items():  # the sub-steps' iterations count too
+            if name in history:
+                history[name][k] += count
         if not step_ok:
             converged = False
             notes.extend(f"step {k + 1}: {m}" for m in messages)
