@@ -285,3 +285,33 @@ def test_depth_body1_only_for_two_plastic_fields():
     symmetric["grid"]["depth_body1"] = 3.0
     with pytest.raises(solver.SpecError, match="grid.depth_body1: only two different"):
         solver.Case.from_dict(symmetric)
+
+
+def test_merged_coupling_in_the_four_loops_equals_alternating_solves(monkeypatch):
+    """Fretting II (rigid sphere on Swift steel, beta != 0, mu = 0.5) at 16^3: the merged
+    normal-tangential iteration inside the plasticity loop gives the solution of alternating
+    whole solves, to the loops' tolerances."""
+    import solver.steps as steps
+
+    table = {
+        "body1": {"radius": 0.015, "behaviour": "rigid"},
+        "body2": {"radius": "inf", "behaviour": "elastic-plastic", **STEEL, "hardening": SWIFT},
+        "load": {"hertz_pressure": 6e9, "steps": 6},
+        "friction": {"coefficient": 0.5},
+        "grid": {"n": [16, 16, 16]},
+    }
+    case = solver.Case.from_dict(table)
+    results = {}
+    for merged in (False, True):
+        monkeypatch.setattr(steps, "MERGED_COUPLING", merged)
+        results[merged] = solver.solve(case)
+    alternating, merged = results[False], results[True]
+    assert alternating.converged and merged.converged
+    for name in ("pressure", "shear_x", "shear_y"):
+        a, b = getattr(alternating, name), getattr(merged, name)
+        assert np.abs(a - b).max() <= 1e-4 * np.abs(a).max(), name
+    strain_a = alternating.fields["plastic_strain"]
+    strain_b = merged.fields["plastic_strain"]
+    yield_strain = case.body2.hardening.initial_yield_stress / case.body2.E
+    assert np.abs(strain_a - strain_b).max() <= 10 * case.solver.plastic_tolerance * yield_strain
+    assert merged.history["slip_iterations"].sum() < alternating.history["slip_iterations"].sum()
