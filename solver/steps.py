@@ -28,9 +28,10 @@ With coupling (beta != 0) these two solves are first merged into one iteration
 the tangential active-set iteration instead of after a whole tangential solve, so that the
 coupling converges alongside the friction problem.  On Spence's scene (70 steps) this takes
 2.5x fewer tangential-operator applications than alternating whole solves, to the same
-solution (tests: to 1e-6 rms).  Where it does not converge (a contact of a few cells with no
-stick cell for its split) the step goes on with the alternating solves above, Anderson-
-accelerated on the shear tractions, from where it stopped.
+solution (tests: to 1e-4 rms; 1e-6 seen).  Where it does not converge (its split has no stick
+cell: full slip, as in Spence's scene at mu = 0.01, or a sub-step's contact of a dozen cells)
+the step goes on with the alternating solves above, Anderson-accelerated on the shear
+tractions, from where it stopped.
 
 Without coupling (beta = 0 or Goodman) one pass is exact, and an increment at the W of the
 previous one with no residual print (a tangential stage) reuses its converged normal solution.
