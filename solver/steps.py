@@ -375,7 +375,8 @@ def _merged_coupling(operators, base_gap, force, known, shear_target, pressure, 
     residual and the last pressure change require); the pressure has settled when it changes
     by less than the coupling tolerance in a normal solve at least that tight.  Adds the
     iteration counts to ``counts``; returns (tangential, normal, pxs, pys): on convergence
-    the normal solve the shear tractions were solved with, else the last one.
+    the normal solve the shear tractions were solved with (its pressure within the coupling
+    tolerance of the tight solve that followed it), else the last one.
     """
     surface, options = operators.surface, operators.case.solver
     last = {"pressure": pressure, "change": np.inf}
