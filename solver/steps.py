@@ -167,6 +167,11 @@ def _start_pressure(operators: CaseOperators, force: float, *states) -> np.ndarr
     )
 
 
+def _pressure_change(new: np.ndarray, old: np.ndarray) -> float:
+    """Relative L1 change of the pressure, sum |new - old| / sum new (the coupling measure)."""
+    return float(np.abs(new - old).sum() / max(new.sum(), 1e-300))
+
+
 def _reusable_normal(previous: ContactState, force: float) -> NormalSolution | None:
     """The previous increment's converged normal solution if it was for the same W (N)."""
     normal = previous.normal
@@ -292,9 +297,7 @@ def slip_stick_step(
                 tolerance=max(options.normal_tolerance, inexact),
                 max_iterations=options.normal_max_iterations,
             )
-        change = float(
-            np.abs(normal.pressure - pressure).sum() / max(normal.pressure.sum(), 1e-300)
-        )
+        change = _pressure_change(normal.pressure, pressure)
         pressure = normal.pressure
         if beta == 0.0:  # the pressure shifts no surface point tangentially
             pxs, pys = zero, zero
@@ -393,9 +396,7 @@ def _merged_coupling(operators, base_gap, force, known, shear_target, pressure, 
             tolerance=tolerance,
             max_iterations=options.normal_max_iterations,
         )
-        change = float(
-            np.abs(normal.pressure - last["pressure"]).sum() / max(normal.pressure.sum(), 1e-300)
-        )
+        change = _pressure_change(normal.pressure, last["pressure"])
         pxs, pys = surface.tangential_from_pressure(normal.pressure)
         last.update(pressure=normal.pressure, change=change)
         renewals.append((normal, pxs, pys))
