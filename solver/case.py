@@ -15,6 +15,7 @@ import hashlib
 import json
 import math
 import tomllib
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -23,7 +24,14 @@ import numpy as np
 
 from .grid import SurfaceGrid, VolumeGrid
 from .materials import Body, Hardening, Pair
-from .reference import HertzContact, hertz, hertz_force_for_pressure, hertz_yield_depth
+from .reference import (
+    HertzContact,
+    first_yield_pressure,
+    hertz,
+    hertz_force_for_pressure,
+    hertz_yield_depth,
+    hertz_yield_region,
+)
 from .variables import OPTIONAL_FIELDS
 
 #: Smallest number of cells the contact diameter may span.
@@ -38,6 +46,28 @@ RADIUS_RANGE = (1e-9, 1e6)
 #: It is the contact's strain scale (a / R = pi/2 p_H / E* for a sphere): below 1e-9 the
 #: contact is a rounding error, above 1 the small-strain theory the solver rests on is void.
 PRESSURE_RATIO_RANGE = (1e-9, 1.0)
+#: Initial yield strain sigma_Y0 / E accepted for an elastic-plastic body: from the softest
+#: annealed metals (indium, lead: ~1e-4) to metallic glasses (~0.02), with a decade of slack.
+YIELD_STRAIN_RANGE = (1e-5, 0.1)
+#: Swift's offset C (micro-strain) accepted: its initial slope B n 1e6 C^(n-1) is finite.
+SWIFT_OFFSET_RANGE = (1e-3, 1e7)
+#: Largest hardening modulus (linear H, kinematic C) over Young's modulus.
+MAX_HARDENING_RATIO = 10.0
+#: Largest Armstrong-Frederick recall gamma (dimensionless; measured values are 10-1000).
+MAX_RECALL = 1e6
+#: Largest number of load increments of a path (cycle blocks repeated): every increment is a
+#: contact solve and a row of every history.
+MAX_INCREMENTS = 1_000_000
+#: Equivalent plastic strain up to which the small-strain theory is trusted (the reference
+#: paper stops at 2 %); also the strain of the reference flow stress of :func:`plastic_index`.
+SMALL_STRAIN_LIMIT = 0.02
+#: Johnson's index E* a / (R sigma_Y) of a fully plastic indentation (Johnson 1985, §6.4:
+#: ~30 for a sphere; the mean pressure has reached ~3 sigma_Y): refused, small strain is void.
+FULLY_PLASTIC_INDEX = 30.0
+#: Johnson's index past which the case gets a note: measured here, a perfectly plastic body
+#: (16^3, 10 steps) converged at every step at 9.4 (p_H = 6 sigma_Y, e_p 2 %) and no longer at
+#: 12.6 (8 sigma_Y, e_p 6 %); the plastic zone outgrows the 1.5 a_H window there as well.
+UNCONTAINED_PLASTIC_INDEX = 10.0
 
 
 class SpecError(ValueError):
@@ -50,7 +80,7 @@ def _fail(path: str, message: str) -> None:
 
 def _check_keys(table: Any, path: str, allowed: set[str], required: set[str] = frozenset()):
     if not isinstance(table, dict):
-        _fail(path, f"must be a table, got {type(table).__name__}")
+        _fail(path or "case", f"must be a table, got {type(table).__name__}")
     unknown = sorted(set(table) - allowed)
     if unknown:
         _fail(
@@ -142,6 +172,16 @@ def _parse_hardening(table: Any, path: str) -> Hardening:
         values[key] = _number(table[key], f"{path}.{key}", positive=key != "modulus")
         if key == "modulus" and values[key] < 0:
             _fail(f"{path}.modulus", f"must be >= 0, got {values[key]}")
+    if law == "swift":
+        low, high = SWIFT_OFFSET_RANGE
+        if not low <= values["C"] <= high:
+            _fail(
+                f"{path}.C",
+                f"Swift's offset C (micro-strain) must be in [{low:g}, {high:g}], got "
+                f"{values['C']:g} (the paper's steel: C = 20)",
+            )
+        if not values["n"] <= 1:
+            _fail(f"{path}.n", f"Swift's exponent must be in (0, 1], got {values['n']:g}")
     if "kinematic" in table:
         values.update(_parse_kinematic(table["kinematic"], f"{path}.kinematic"))
     return Hardening(law=law, **values)
@@ -196,20 +236,38 @@ def _radius(value: Any, path: str) -> float:
 
 
 def _check_yield_stress(hardening: Hardening, young: float, path: str) -> None:
-    """The initial yield stress (Swift: B C^n) must be finite and below Young's modulus."""
+    """Initial yield strain (Swift: B C^n / E) in :data:`YIELD_STRAIN_RANGE`; moduli bounded."""
     if hardening.law == "swift":
         try:
             sigma = hardening.B * hardening.C**hardening.n
         except OverflowError:
             sigma = math.inf
-        formula = f"B C^n = {hardening.B:g} x {hardening.C:g}^{hardening.n:g}"
+        formula, where = f"B C^n = {hardening.B:g} x {hardening.C:g}^{hardening.n:g}", "B"
     else:
-        sigma, formula = hardening.yield_stress, "yield_stress"
-    if not (math.isfinite(sigma) and 0 < sigma < young):
+        sigma, formula, where = hardening.yield_stress, "yield_stress", "yield_stress"
+    low, high = YIELD_STRAIN_RANGE
+    if not (math.isfinite(sigma) and low * young <= sigma <= high * young):
         _fail(
-            path,
-            f"the initial yield stress {formula} = {sigma:g} Pa must be finite and below the "
-            f"body's E = {young:g} Pa",
+            f"{path}.{where}",
+            f"the initial yield stress {formula} = {sigma:g} Pa must be between {low:g} and "
+            f"{high:g} times the body's E = {young:g} Pa, i.e. in [{low * young:.4g}, "
+            f"{high * young:.4g}] Pa",
+        )
+    for key, value in (
+        ("modulus", hardening.modulus),
+        ("kinematic.C", hardening.kinematic_modulus),
+    ):
+        if value > MAX_HARDENING_RATIO * young:
+            _fail(
+                f"{path}.{key}",
+                f"a hardening modulus must be at most {MAX_HARDENING_RATIO:g} times the body's "
+                f"E = {young:g} Pa, got {value:g} Pa",
+            )
+    if hardening.kinematic_recall > MAX_RECALL:
+        _fail(
+            f"{path}.kinematic.gamma",
+            f"must be at most {MAX_RECALL:g} (measured recalls are 10-1000), got "
+            f"{hardening.kinematic_recall:g}",
         )
 
 
@@ -249,6 +307,18 @@ def _parse_path(raw_stages: list, pair: Pair) -> tuple[list[LoadStage], list[str
     """
     stages, paths, given = [], [], []
     previous = (0.0, (0.0, 0.0))
+    total = 0  # increments so far
+
+    def count(path: str, steps: int) -> int:
+        if total + steps > MAX_INCREMENTS:
+            _fail(
+                path,
+                f"the load path reaches {_show(total + steps)} increments (cycle blocks "
+                f"repeated), more than {MAX_INCREMENTS:,}; give fewer steps per stage or fewer "
+                "cycles (the memory and the time grow with every increment)",
+            )
+        return total + steps
+
     for i, raw in enumerate(raw_stages):
         path = f"load.path[{i}]"
         if isinstance(raw, dict) and "cycles" in raw:
@@ -259,6 +329,9 @@ def _parse_path(raw_stages: list, pair: Pair) -> tuple[list[LoadStage], list[str
                 _fail(f"{path}.stages", "must be a non-empty array of tables ([[...stages]])")
             block, offset = [], max((stage.cycle for stage in stages), default=0)
             for cycle in range(offset + 1, offset + cycles + 1):
+                if cycle == offset + 2:  # the block's increments are known: refuse before
+                    per_cycle = sum(spec["steps"] for spec in block)  # repeating it
+                    count(f"{path}.cycles", per_cycle * (cycles - 1))
                 for j, sub in enumerate(inner):
                     where = f"{path}.stages[{j}]"
                     if isinstance(sub, dict) and "cycles" in sub:
@@ -268,11 +341,13 @@ def _parse_path(raw_stages: list, pair: Pair) -> tuple[list[LoadStage], list[str
                     stages.append(stage)
                     paths.append(where)
                     previous = (stage.normal_force, stage.tangential_force)
+                    total = count(f"{where}.steps", stage.steps)
                     if cycle == offset + 1:
                         block.append(spec)
             given.append({"cycles": cycles, "stages": block})
             continue
         stage, spec = _parse_stage(raw, path, previous, pair, not stages)
+        total = count(f"{path}.steps", stage.steps)
         stages.append(stage)
         paths.append(path)
         given.append(spec)
@@ -500,6 +575,12 @@ MODEL_VERSION = 2
 DEFAULT_DEPTH = 1.2
 #: Margin on the elastic yield depth that sizes an elastic-plastic case's volume grid.
 YIELD_DEPTH_MARGIN = 1.2
+#: Volume depths accepted (``grid.depth``, ``grid.depth_body1``; units of the Hertz radius).
+DEPTH_RANGE = (0.05, 20.0)
+#: Fewest volume cells across the elastic yield region in depth (:func:`_check_volume`).
+MIN_YIELD_CELLS = 2
+#: Thickest volume cell (units of a_H) of an elastic-plastic body (:func:`_check_volume`).
+MAX_CELL_DEPTH = 0.25
 
 
 def auto_depth(max_pressure: float, yield_stress: float, nu: float) -> float:
@@ -533,6 +614,9 @@ class Case:
         Optional field outputs.
     spec : dict
         The normalised table (SI units); its hash is :attr:`case_id`.
+    warnings : tuple of str
+        What the case is built with but should be read with care (a plastic zone past the
+        contained regime, :func:`plastic_index`); the solve repeats them in its notes.
     """
 
     body1: Body
@@ -543,6 +627,7 @@ class Case:
     solver: SolverOptions
     fields: tuple[str, ...] = ()
     spec: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
+    warnings: tuple[str, ...] = field(default=(), compare=False, hash=False, repr=False)
 
     # -- construction -----------------------------------------------------------------------
     @classmethod
@@ -636,6 +721,19 @@ class Case:
         if grid.depth is None:
             depth = yield_depth(plastic) if plastic is not None else DEFAULT_DEPTH
             grid = dataclasses.replace(grid, depth=depth)
+        warnings = []
+        peak = max(range(len(stages)), key=lambda i: stages[i].normal_force)
+        for body, name in ((body2, "body 2"), (body1, "body 1")):
+            if body.behaviour != "elastic-plastic" or (name == "body 1" and body1 == body2):
+                continue
+            own = name == "body 1" and two_fields
+            key = "depth_body1" if own else "depth"
+            given_depth = key in table["grid"] or (own and "depth" in table["grid"])
+            depth = grid.depth_body1 if own else grid.depth
+            note = _plastic_regime(body, p_max, paths[peak], name)  # first: it may refuse
+            if note:
+                warnings.append(note)
+            _check_volume(body, depth, grid.nz, p_max, f"grid.{key}" if given_depth else "grid.n")
         solver = _parse_solver(table.get("solver", {}))
         output = _check_keys(table.get("output", {}), "output", {"fields"})
         fields = _plain(output.get("fields", []))
@@ -677,7 +775,10 @@ class Case:
             },
             "output": {"fields": sorted(fields)},
         }
-        case = cls(body1, body2, tuple(stages), mu, grid, solver, tuple(sorted(fields)), spec)
+        case = cls(
+            body1, body2, tuple(stages), mu, grid, solver, tuple(sorted(fields)), spec,
+            tuple(warnings),
+        )  # fmt: skip
         case._check_resolution()
         return case
 
@@ -819,17 +920,18 @@ class Case:
         """Number of load increments over the whole path."""
         return sum(stage.steps for stage in self.stages)
 
-    def step_targets(self) -> list[tuple[float, float, float]]:
-        """(W, Q_x, Q_y) (N) at the end of every load increment, in order."""
-        out = []
+    def step_targets(self) -> Iterator[tuple[float, float, float]]:
+        """(W, Q_x, Q_y) (N) at the end of every load increment, in order, one at a time.
+
+        A generator (the path is never held whole): :attr:`total_steps` counts it.
+        """
         w0, (qx0, qy0) = 0.0, (0.0, 0.0)
         for stage in self.stages:
             w1, (qx1, qy1) = stage.normal_force, stage.tangential_force
             for k in range(1, stage.steps + 1):
                 f = k / stage.steps
-                out.append((w0 + f * (w1 - w0), qx0 + f * (qx1 - qx0), qy0 + f * (qy1 - qy0)))
+                yield (w0 + f * (w1 - w0), qx0 + f * (qx1 - qx0), qy0 + f * (qy1 - qy0))
             w0, qx0, qy0 = w1, qx1, qy1
-        return out
 
     def step_cycles(self) -> np.ndarray:
         """Load cycle of every increment (:attr:`LoadStage.cycle`: 0 outside a cycle block)."""
@@ -943,13 +1045,102 @@ def _parse_grid(table: Any) -> GridSpec:
         sizes.append(_integer(table["nz"], "grid.nz", 4, MAX_CELLS))
     nz = sizes[2] if len(sizes) == 3 else 0
     half_width = _number(table.get("half_width", 1.5), "grid.half_width", positive=True)
-    depth = _number(table["depth"], "grid.depth", positive=True) if "depth" in table else None
+    depths = {}
+    for key in ("depth", "depth_body1"):
+        if key in table:
+            depths[key] = _number(table[key], f"grid.{key}", positive=True)
+            low, high = DEPTH_RANGE
+            if not low <= depths[key] <= high:
+                _fail(
+                    f"grid.{key}",
+                    f"must be in [{low:g}, {high:g}] (units of the Hertz radius a_H), got "
+                    f"{depths[key]:g}; leave it out to size the box from the yield region",
+                )
     if "depth" in table and not nz:
         _fail("grid.depth", "a depth needs a volume grid: give grid.n = [nx, ny, nz]")
-    depth1 = None
-    if "depth_body1" in table:
-        depth1 = _number(table["depth_body1"], "grid.depth_body1", positive=True)
-    return GridSpec(sizes[0], sizes[1], nz, half_width, depth, depth1)
+    return GridSpec(
+        sizes[0], sizes[1], nz, half_width, depths.get("depth"), depths.get("depth_body1")
+    )
+
+
+def _check_volume(body: Body, depth: float, nz: int, max_pressure: float, path: str) -> None:
+    """Refuse a plastic body's volume grid that cannot resolve its yield region.
+
+    ``depth`` in units of a_H.  Cells at most :data:`MAX_CELL_DEPTH` thick: the Hertz von
+    Mises stress peaks at 0.48 a_H, and half-a_H cells gave no plastic strain at all
+    (p_H = 1.8 sigma_Y) or 40 % too little (2.9 sigma_Y).  With the frictionless Hertz yield
+    region on the axis at the maximum load (:func:`~solver.reference.hertz_yield_region`),
+    the box must reach the depth where plasticity starts (a shallower one gives an elastic
+    answer), and the region inside the box must span :data:`MIN_YIELD_CELLS` cells.
+    """
+    nu, sigma = body.nu, body.hardening.initial_yield_stress
+    cell = depth / nz
+    thick = f"cells {cell:.3g} a_H thick (depth {depth:g} a_H over nz = {nz})"
+    if cell > MAX_CELL_DEPTH:
+        _fail(
+            path,
+            f"{thick} cannot resolve a plastic zone (at most {MAX_CELL_DEPTH:g} a_H): use "
+            f"nz >= {math.ceil(depth / MAX_CELL_DEPTH)}",
+        )
+    top, bottom = hertz_yield_region(max_pressure, sigma, nu)
+    if bottom == 0.0:  # the Hertz field does not yield (friction may, near the surface)
+        return
+    start = first_yield_pressure(sigma, nu)[1]
+    region = f"the Hertz yield region at p_H = {max_pressure:.4g} Pa spans {top:.3g}-{bottom:.3g}"
+    region += " a_H"
+    if depth < start:
+        _fail(
+            path,
+            f"the box ends at {depth:g} a_H, above the depth {start:.3g} a_H where plasticity "
+            f"starts ({region}): use depth >= {bottom:.3g}, or leave it out (sized "
+            "from the yield region)",
+        )
+    span = min(bottom, depth) - top
+    if span < MIN_YIELD_CELLS * cell:
+        _fail(
+            path,
+            f"{thick} are too coarse for the yield region ({region}: {span / cell:.2g} "
+            f"cells, at least {MIN_YIELD_CELLS} needed): use "
+            f"nz >= {math.ceil(MIN_YIELD_CELLS * depth / span)}",
+        )
+
+
+def plastic_index(body: Body, max_pressure: float) -> float:
+    """Johnson's index E* a / (R sigma_Y) of an elastic-plastic body at a Hertz pressure.
+
+    Hertz's a / R = pi p_0 / (2 E*) makes it ``pi p_0 / (2 sigma_Y)``; sigma_Y is the flow
+    stress at :data:`SMALL_STRAIN_LIMIT` (the hardening the small-strain range can use).
+    Johnson (1985, §6.4): first yield at ~2.5 (p_0 = 1.6 sigma_Y), a fully plastic
+    indentation at ~30.
+    """
+    sigma = float(body.hardening.flow_stress(SMALL_STRAIN_LIMIT))
+    return math.pi * max_pressure / (2.0 * sigma)
+
+
+def _plastic_regime(body: Body, max_pressure: float, path: str, name: str) -> str | None:
+    """Refuse a fully plastic indentation; a note (returned) past the contained regime."""
+    index = plastic_index(body, max_pressure)
+    sigma = float(body.hardening.flow_stress(SMALL_STRAIN_LIMIT))
+    told = (
+        f"Johnson's index E* a/(R sigma_Y) = pi p_H/(2 sigma_Y) = {index:.3g} for {name} "
+        f"(p_H = {max_pressure:.4g} Pa, sigma_Y = {sigma:.4g} Pa at e_p = "
+        f"{SMALL_STRAIN_LIMIT:g})"
+    )
+    if index >= FULLY_PLASTIC_INDEX:
+        _fail(
+            path,
+            f"{told} reaches {FULLY_PLASTIC_INDEX:g}, a fully plastic indentation (Johnson 1985, "
+            "§6.4): plastic strains of tens of %, beyond the small-strain theory; lower the "
+            f"load to p_H < {FULLY_PLASTIC_INDEX * 2 * sigma / math.pi:.4g} Pa",
+        )
+    if index > UNCONTAINED_PLASTIC_INDEX:
+        return (
+            f"{told} is past {UNCONTAINED_PLASTIC_INDEX:g}: the plastic zone is no longer "
+            "contained (mean pressure near 3 sigma_Y), plastic strains reach several %, the "
+            "edge of the small-strain theory; the plasticity loop may not converge at every "
+            "step (told per step) and the zone may outgrow the box (told)"
+        )
+    return None
 
 
 def _json_number(value):

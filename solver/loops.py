@@ -27,7 +27,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .case import Case
+from .case import SMALL_STRAIN_LIMIT, Case
 from .grid import VolumeGrid
 from .operators import CaseOperators
 from .plastic_loop import PlasticState, mirror, plastic_step
@@ -204,6 +204,7 @@ def _relabelled(result: Result, case: Case) -> Result:
         {name: mirrored(name, values) for name, values in result.fields.items()},
         result.depth,
         result.depth_body1,
+        result.truncated,
     )
 
 
@@ -241,7 +242,8 @@ def solve(case: Case) -> Result:
     if case.cycles:
         names += ("step_cycle",)
         names += ("cycle_plastic_strain", "cycle_residual_stress") if plastic else ()
-    history = {name: np.zeros(len(targets)) for name in names}
+    total = case.total_steps
+    history = {name: np.zeros(total) for name in names}
     if case.cycles:
         history["step_cycle"][:] = cycles
     volume: VolumeGrid | None = case.volume_grid
@@ -249,7 +251,7 @@ def solve(case: Case) -> Result:
 
     state = ContactState.unloaded(operators.gap.shape)
     plastic_state = tuple(PlasticState.virgin(volume.shape) for _ in case.plastic_bodies)
-    notes: list[str] = []
+    notes: list[str] = list(case.warnings)
     converged = True
     coupled = contact_step is slip_stick_step and case.pair.dundurs_beta != 0.0
     coupled = coupled and not case.solver.goodman
@@ -328,7 +330,7 @@ def solve(case: Case) -> Result:
                 float((p.equivalent - start).max())
                 for p, start in zip(plastic_state, cycle_start, strict=True)
             )
-            if k + 1 == len(targets) or cycles[k + 1] != cycles[k]:  # the cycle's last step
+            if k + 1 == total or cycles[k + 1] != cycles[k]:  # the cycle's last step
                 history["cycle_residual_stress"][cycles == cycles[k]] = _max_residual_stress(
                     operators, plastic_state
                 )
@@ -357,6 +359,13 @@ def solve(case: Case) -> Result:
             "from Mindlin-Deresiewicz at 64^2)"
         )
 
+    if plastic:
+        largest = max(float(p.equivalent.max()) for p in plastic_state)
+        if largest > SMALL_STRAIN_LIMIT:
+            notes.append(
+                f"the equivalent plastic strain reaches {largest:.3g}, beyond the small-strain "
+                f"range ({SMALL_STRAIN_LIMIT:g}) the theory rests on"
+            )
     contact = state.pressure > 0
     if contact_step is slip_stick_step:
         contact_state = np.where(contact, np.where(outcome.stick, STICK, SLIP), SEPARATED)
@@ -373,6 +382,7 @@ def solve(case: Case) -> Result:
         loops=loops,
         converged=converged,
         notes=notes,
+        truncated=faces_noted,
     )
     if plastic or "stress" in case.fields:
         result.depth = volume.z

@@ -184,8 +184,10 @@ def plastic_step(
     options = case.solver
     bodies = case.plastic_bodies
     materials = [case.body2 if b == 2 else case.body1 for b in bodies]
-    # yield strain of each body, the scale of its increment's change
-    scales = [m.hardening.initial_yield_stress / m.E for m in materials]
+    # yield strain of each body, the scale of its increment's change (a validated case has
+    # sigma_Y0 / E >= 1e-5; the floor keeps a hand-built one from dividing by zero)
+    tiny = np.finfo(float).tiny
+    scales = [max(m.hardening.initial_yield_stress / m.E, tiny) for m in materials]
 
     previous_strain = np.stack([p.strain for p in previous_plastic])
     increment = np.zeros_like(previous_strain) if guess is None else guess.copy()

@@ -193,11 +193,14 @@ def hertz_axis_stress(depth_over_radius, nu: float):
     return radial, axial, np.abs(radial - axial)
 
 
-def hertz_yield_depth(max_pressure: float, yield_stress: float, nu: float) -> float:
-    """Deepest z / a on the axis where the Hertz von Mises stress reaches ``yield_stress``.
+def hertz_yield_region(max_pressure: float, yield_stress: float, nu: float) -> tuple[float, float]:
+    """Depths z / a (top, bottom) between which the Hertz von Mises stress on the axis yields.
 
-    The elastic prediction of the plastic zone's depth (frictionless Hertz contact); 0 when the
-    contact stays elastic (``max_pressure`` below :func:`first_yield_pressure`).
+    The elastic prediction of the plastic zone on the contact axis (frictionless Hertz contact):
+    the von Mises stress ``|sigma_r - sigma_z|`` exceeds ``yield_stress`` for ``top <= z / a <=
+    bottom`` (one interval: the stress rises from 0.2 p_0 at the surface (nu = 0.3) to its
+    maximum at 0.48 a and decays below).  ``(0, 0)`` when the contact stays elastic
+    (``max_pressure`` below :func:`first_yield_pressure`); ``top`` is 0 when the surface yields.
 
     Parameters
     ----------
@@ -211,14 +214,34 @@ def hertz_yield_depth(max_pressure: float, yield_stress: float, nu: float) -> fl
     import numpy as np
 
     zeta = np.linspace(0.0, 20.0, 200001)
-    above = np.flatnonzero(hertz_axis_stress(zeta, nu)[2] * max_pressure >= yield_stress)
-    if above.size == 0:
-        return 0.0
-    k = min(above[-1], zeta.size - 2)
-    # linear interpolation of the crossing between samples k and k + 1
-    _, _, vm = hertz_axis_stress(zeta[k : k + 2], nu)
     ratio = yield_stress / max_pressure
-    return float(zeta[k] + (vm[0] - ratio) / (vm[0] - vm[1]) * (zeta[k + 1] - zeta[k]))
+    excess = hertz_axis_stress(zeta, nu)[2] - ratio
+    above = np.flatnonzero(excess >= 0)
+    if above.size == 0:
+        return 0.0, 0.0
+
+    def crossing(k: int) -> float:  # linear interpolation between samples k and k + 1
+        return float(zeta[k] + excess[k] / (excess[k] - excess[k + 1]) * (zeta[k + 1] - zeta[k]))
+
+    first, last = above[0], min(above[-1], zeta.size - 2)
+    return (0.0 if first == 0 else crossing(first - 1)), crossing(last)
+
+
+def hertz_yield_depth(max_pressure: float, yield_stress: float, nu: float) -> float:
+    """Deepest z / a on the axis where the Hertz von Mises stress reaches ``yield_stress``.
+
+    The bottom of :func:`hertz_yield_region`; 0 when the contact stays elastic.
+
+    Parameters
+    ----------
+    max_pressure : float
+        Hertz peak pressure p_0 (Pa).
+    yield_stress : float
+        Initial yield stress sigma_Y0 (Pa).
+    nu : float
+        Poisson's ratio.
+    """
+    return hertz_yield_region(max_pressure, yield_stress, nu)[1]
 
 
 def first_yield_pressure(yield_stress: float, nu: float) -> tuple[float, float]:

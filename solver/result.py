@@ -17,6 +17,11 @@ HISTORY_META = {name: (h.units, h.long_name) for name, h in HISTORIES.items()}
 
 #: Values of ``contact_state``.
 SEPARATED, STICK, SLIP = 0, 1, 2
+#: What a solve says of itself (:attr:`Result.status`).
+SOLVE_STATUSES = ("converged", "not_converged", "truncated")
+#: Flags of a case's status in a campaign dataset: a solve's status, or ``pending`` (not run
+#: yet) and ``failed`` (raised, timed out, or its file is corrupt).
+STATUS_FLAGS = {"pending": 0, "converged": 1, "not_converged": 2, "failed": 3, "truncated": 4}
 
 
 @dataclass
@@ -41,6 +46,9 @@ class Result:
         True when every solve of every step converged.
     notes : list of str
         Warnings and status messages (non-convergence, path dependence...).
+    truncated : bool
+        True when the plastic strain reaches a face of the volume box (a note says which and
+        when): the plastic zone is cut, the answer is not to be trusted.
     wall_time : float
         Solve time (s).
     fields : dict of ndarray
@@ -69,11 +77,18 @@ class Result:
     fields: dict[str, np.ndarray] = field(default_factory=dict)
     depth: np.ndarray | None = None
     depth_body1: np.ndarray | None = None
+    truncated: bool = False
 
     @property
     def status(self) -> str:
-        """``"converged"`` or ``"not_converged"``."""
-        return "converged" if self.converged else "not_converged"
+        """``"converged"``, ``"not_converged"`` or ``"truncated"``.
+
+        ``"truncated"``: every solve converged, but the plastic zone reaches a face of the
+        volume box (:attr:`truncated`), so the answer is not to be trusted.
+        """
+        if not self.converged:
+            return "not_converged"
+        return "truncated" if self.truncated else "converged"
 
     def to_xarray(self):
         """The result as an :class:`xarray.Dataset` with CF attributes (SI units)."""

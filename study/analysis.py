@@ -30,6 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from solver.result import SOLVE_STATUSES, STATUS_FLAGS
+
 #: Quantities studied (when present in the dataset): name -> (units, label).
 QUANTITIES = {
     "max_pressure": ("Pa", "max pressure p_0"),
@@ -453,9 +455,9 @@ def _label_coordinates(dataset, dim: str) -> list[str]:
 
 
 def _usable(dataset):
-    """Quantities masked to finished cases (status converged or not_converged)."""
+    """Quantities masked to finished cases (status converged, not_converged or truncated)."""
     status = dataset["status"]
-    return status.isin([1, 2])
+    return status.isin([STATUS_FLAGS[name] for name in SOLVE_STATUSES])
 
 
 def mesh_sizes(dataset, mesh_dim: str):

@@ -7,7 +7,8 @@ zipped key (the one with the dimension's name, if any, indexes it).
 
 Variables (all with ``units`` and ``long_name``):
 
-- ``status`` (axes): int8 flags 0 pending, 1 converged, 2 not_converged, 3 failed;
+- ``status`` (axes): int8 flags 0 pending, 1 converged, 2 not_converged, 3 failed, 4 truncated
+  (converged, but the plastic zone reaches a face of the volume box);
   ``case_id`` and ``error`` (axes): strings;
 - per-case scalars (axes): :data:`SCALARS`, the histories' reductions declared in
   :mod:`solver.variables` (last step, largest or summed over the steps) and provenance;
@@ -38,7 +39,7 @@ import numpy as np
 import solver
 from solver.cycles import cycle_variables
 from solver.loops import axis_value
-from solver.result import HISTORY_META
+from solver.result import HISTORY_META, STATUS_FLAGS
 from solver.variables import CYCLE_QUANTITIES, HISTORIES, reduced_scalars
 
 from . import storage
@@ -57,7 +58,6 @@ _REDUCTION_TEXT = {
 Z_OVER_A = np.linspace(0.0, 4.0, 161)
 
 #: Status flags of the assembled dataset.
-STATUS_FLAGS = {"pending": 0, "converged": 1, "not_converged": 2, "failed": 3}
 
 #: Per-case scalars reduced from the solver's histories (:mod:`solver.variables`):
 #: name -> (history, reduction, units).

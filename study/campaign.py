@@ -50,7 +50,8 @@ Swept values are numbers, strings or booleans, never lists.  A volume grid is sw
 its two keys: ``"grid.n"`` (one number: nx = ny) and ``"grid.nz"`` (cells in depth).  The rule
 for a ``"grid.n"`` axis over a base with ``grid.n = [nx, ny, nz]``: the base's nz is kept, so
 every case has the volume grid ``[n, n, nz]`` (nz is not scaled with n); to vary nz as well,
-zip ``"grid.n"`` with ``"grid.nz"`` or sweep ``"grid.nz"`` on its own axis.
+zip ``"grid.n"`` with ``"grid.nz"`` or sweep ``"grid.nz"`` on its own axis (which replaces the
+base's nz, also when the base gives it in ``grid.n``).
 
 :func:`load_campaign` reads, expands and validates a campaign; every problem raises
 :class:`CampaignError` whose message names the key or the case (by its sweep coordinates) and
@@ -236,6 +237,8 @@ class CampaignCase:
         :meth:`solver.Case.cost_estimate` (relative units).
     memory : int
         :meth:`solver.Case.memory_estimate` (bytes).
+    warnings : tuple of str
+        :attr:`solver.Case.warnings`: what the case is built with but should be read with care.
     """
 
     number: int
@@ -245,6 +248,7 @@ class CampaignCase:
     case_id: str
     cost: float
     memory: int
+    warnings: tuple[str, ...] = ()
 
     @property
     def label(self) -> str:
@@ -356,6 +360,7 @@ class Campaign:
                     "case_id": case.case_id,
                     "cost": case.cost,
                     "memory": case.memory,
+                    "warnings": list(case.warnings),
                     "spec": case.spec,
                 }
                 for case in self.cases
@@ -386,6 +391,7 @@ class Campaign:
                 case_id=c["case_id"],
                 cost=c["cost"],
                 memory=c["memory"],
+                warnings=tuple(c.get("warnings", ())),
             )
             for c in data["cases"]
         )
@@ -1069,11 +1075,12 @@ def _copy_table(value: Any) -> Any:
 def _keep_volume_depth(base: dict, keys: set[str]) -> dict:
     """A base whose ``grid.n = [nx, ny, nz]`` is written ``n = [nx, ny], nz = nz``.
 
-    Applied when ``grid.n`` is swept (a swept value is one number, nx = ny), so that the
-    sweep keeps the base's volume grid instead of dropping nz (module docstring).
+    Applied when ``grid.n`` or ``grid.nz`` is swept (a swept ``grid.n`` is one number,
+    nx = ny), so that a ``grid.n`` sweep keeps the base's nz instead of dropping it and a
+    ``grid.nz`` sweep replaces it (module docstring).
     """
     grid = base.get("grid")
-    if "grid.n" not in keys or not isinstance(grid, dict) or "nz" in grid:
+    if not {"grid.n", "grid.nz"} & keys or not isinstance(grid, dict) or "nz" in grid:
         return base
     n = grid.get("n")
     if not (isinstance(n, list) and len(n) == 3):
@@ -1148,6 +1155,7 @@ def _expand_cases(
                 case_id=case_id,
                 cost=float(case.cost_estimate()),
                 memory=int(case.memory_estimate()),
+                warnings=case.warnings,
             )
         )
     if progress is not None:

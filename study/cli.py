@@ -338,9 +338,58 @@ def _validate(args: argparse.Namespace) -> int:
     campaign = load_campaign_file(args.campaign, progress=progress)
     progress.finish()
     print(describe_campaign(campaign, list_cases=args.list))
-    for line in memory_warnings(campaign, machine_memory(), os.cpu_count()):
+    lines = memory_warnings(campaign, machine_memory(), os.cpu_count())
+    lines += path_warnings(campaign) + case_warnings(campaign)
+    for line in lines:
         print(line, file=sys.stderr)
     return 0
+
+
+#: Load increments of a case past which ``validate`` warns (each is a contact solve, plastic
+#: cases several, and a row of every history).
+LONG_PATH = 10_000
+
+
+def path_warnings(campaign: Campaign, limit: int = LONG_PATH) -> list[str]:
+    """A warning (one line) when cases' load paths are longer than ``limit`` increments.
+
+    The accepted maximum is :data:`solver.case.MAX_INCREMENTS`; a long path is valid but costs
+    a solve per increment, so the line says how many cases, the longest and what to change.
+    """
+    from solver.case import path_steps
+
+    steps = [path_steps(c.spec["load"]["path"]) for c in campaign.cases]
+    long = [s for s in steps if s > limit]
+    if not long:
+        return []
+    longest = max(range(len(steps)), key=steps.__getitem__)
+    case = campaign.cases[longest]
+    return [
+        f"warning: {len(long)} of {len(steps)} cases have load paths of more than {limit:,} "
+        f"increments; the longest, {case.case_id} [{case.label}], has {steps[longest]:,} "
+        "(each increment is a contact solve, several for a plastic body, and a row of every "
+        "history): fewer steps per stage or fewer cycles give the same path coarser"
+    ]
+
+
+def case_warnings(campaign: Campaign, shown: int = 5) -> list[str]:
+    """One line per distinct case warning (:attr:`solver.Case.warnings`), the first ``shown``.
+
+    A line names the first case that has it and how many have it; a last line counts the
+    warnings not shown.
+    """
+    seen: dict[str, list] = {}
+    for case in campaign.cases:
+        for text in case.warnings:
+            seen.setdefault(text, []).append(case)
+    lines = [
+        f"warning: {len(cases)} of {len(campaign.cases)} case(s), e.g. {cases[0].case_id} "
+        f"[{cases[0].label}]: {text}"
+        for text, cases in list(seen.items())[:shown]
+    ]
+    if len(seen) > shown:
+        lines.append(f"warning: {len(seen) - shown} more case warnings like these")
+    return lines
 
 
 class ProgressLine:
@@ -506,15 +555,21 @@ def _status(args: argparse.Namespace) -> int:
     storage.remove_temporaries(out)  # of processes that are gone; live ones are left alone
     states = storage.case_states(out, campaign)
     corrupt = storage.corrupt_ids(out)
-    counts = {s: 0 for s in ("converged", "not_converged", "failed", "pending")}
+    from solver.result import SOLVE_STATUSES, STATUS_FLAGS
+
+    counts = dict.fromkeys(STATUS_FLAGS, 0)
     for state in states.values():
         state = "failed" if state == "corrupt" else state  # its data is lost until re-run
         counts[state] = counts.get(state, 0) + 1
     total = len(campaign.cases)
-    done = counts["converged"] + counts["not_converged"]
+    done = sum(counts[name] for name in SOLVE_STATUSES)
+    finished = ", ".join(  # "truncated" only when there are such cases
+        f"{counts[n]} {n.replace('_', ' ')}"
+        for n in SOLVE_STATUSES
+        if counts[n] or n != "truncated"
+    )
     print(
-        f"campaign {campaign.name} in {out}: {done}/{total} finished "
-        f"({counts['converged']} converged, {counts['not_converged']} not converged), "
+        f"campaign {campaign.name} in {out}: {done}/{total} finished ({finished}), "
         f"{counts['failed']} failed, {counts['pending']} pending"
     )
     for case in campaign.cases:

@@ -158,8 +158,9 @@ class RunSummary:
         Cases in the campaign.
     skipped : int
         Cases finished by earlier runs (not recomputed).
-    converged, not_converged, failed : int
-        Cases of this run by outcome.
+    converged, not_converged, truncated, failed : int
+        Cases of this run by outcome (``truncated``: converged, but the plastic zone reaches
+        a face of the volume box).
     pending : int
         Cases with neither a (complete) result nor a failure (recorded, or of this run) at
         the end.
@@ -183,6 +184,7 @@ class RunSummary:
     skipped: int = 0
     converged: int = 0
     not_converged: int = 0
+    truncated: int = 0
     failed: int = 0
     pending: int = 0
     failed_total: int = 0
@@ -203,10 +205,13 @@ class RunSummary:
     def describe(self) -> str:
         """One-paragraph summary for the log."""
         ranks = ", ".join(f"rank {r}: {n}" for r, n in sorted(self.per_rank.items()))
+        cut = (
+            f"{self.truncated} truncated (plastic zone cut by the box), " if self.truncated else ""
+        )
         text = (
             f"campaign {self.campaign}: {self.total} cases; this run {self.converged} converged, "
-            f"{self.not_converged} not converged, {self.failed} failed; {self.skipped} finished "
-            f"earlier; {self.pending} pending, {self.failed_total} failed in all; elapsed "
+            f"{self.not_converged} not converged, {cut}{self.failed} failed; {self.skipped} "
+            f"finished earlier; {self.pending} pending, {self.failed_total} failed in all; elapsed "
             f"{format_duration(self.elapsed)} ({ranks or 'no cases computed'}); overhead "
             f"{self.overhead:.3f} s per case; output {self.out}"
         )
@@ -300,8 +305,8 @@ def run_case(
     Returns
     -------
     dict
-        Report: number, case_id, label, status (converged, not_converged, failed), rank, host,
-        case_time and solve_time (s), error (one line, when failed).
+        Report: number, case_id, label, status (converged, not_converged, truncated, failed),
+        rank, host, case_time and solve_time (s), error (one line, when failed).
     """
     start = time.perf_counter()
     started = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
@@ -713,6 +718,7 @@ def _summarise(campaign: Campaign, out: Path, scheduler: _Scheduler, elapsed: fl
         skipped=len(campaign.cases) - scheduler.progress.total,
         converged=sum(r["status"] == "converged" for r in reports),
         not_converged=sum(r["status"] == "not_converged" for r in reports),
+        truncated=sum(r["status"] == "truncated" for r in reports),
         failed=sum(r["status"] == "failed" for r in reports),
         pending=len(ids - finished - failed),
         failed_total=len(ids & failed),

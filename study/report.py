@@ -27,6 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
+from solver.result import STATUS_FLAGS
+
 from . import analysis
 
 #: Most panels in one figure (further slices are named as not shown in its title and in
@@ -742,10 +744,7 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
             for d in analysis.axis_dims(dataset)
         )
     )
-    counts = ", ".join(
-        f"{flag} {dataset.attrs.get(f'cases_{flag}', '?')}"
-        for flag in ("converged", "not_converged", "failed", "pending")
-    )
+    counts = ", ".join(f"{flag} {dataset.attrs.get(f'cases_{flag}', '?')}" for flag in STATUS_FLAGS)
     lines.append(f"- cases: {dataset.attrs.get('cases_total', '?')} ({counts})")
     lines.append(f"- closed forms: {analysis.scene(dataset)}")
     lines.append(f"- mesh axes: {', '.join(mesh) or 'none'}")

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from solver.result import STATUS_FLAGS
 from solver.variables import CYCLE_QUANTITIES
 
 from . import analysis, report
@@ -59,7 +60,7 @@ def cycle_table(dataset):
     for labels, isel in _cases(dataset):
         case = dataset.isel(isel)
         count = int(np.count_nonzero(np.isfinite(case[_per_cycle(dataset)[0]].values)))
-        status = {1: "converged", 2: "not_converged"}.get(int(case["status"]), "?")
+        status = {v: k for k, v in STATUS_FLAGS.items()}.get(int(case["status"]), "?")
         row = {**labels, "status": status, "cycles": count}
 
         def pick(name, i, case=case):

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from solver.result import SLIP, STICK
+from solver.result import SLIP, STATUS_FLAGS, STICK
 
 from . import analysis, report
 
@@ -63,7 +63,7 @@ def plastic_table(dataset):
     """
     import pandas as pd
 
-    flags = {v: k for k, v in {"converged": 1, "not_converged": 2}.items()}
+    flags = {v: k for k, v in STATUS_FLAGS.items()}
     rows = []
     for labels, index in shown_cases(dataset):
         case = dataset.isel(index)

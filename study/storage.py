@@ -3,7 +3,7 @@
 Layout of an output folder ``OUT``::
 
     OUT/campaign.json                 the expanded campaign (axes, resolved case specs)
-    OUT/cases/<case_id>.nc            one finished case (converged or not_converged)
+    OUT/cases/<case_id>.nc            one finished case (converged, not_converged or truncated)
     OUT/cases/<case_id>.failed.json   one failed case (error, traceback, rank, host)
     OUT/<campaign name>.nc            the assembled dataset (:mod:`study.assemble`)
 
@@ -205,7 +205,10 @@ def describe_write_error(error: BaseException, folder: str | Path) -> str:
         return f"disk quota exceeded (in {folder})"
     free = free_bytes(folder)
     if free is not None and free < LOW_SPACE:
-        return f"no space left on device ({free} bytes free in {folder}; the writer said {text})"
+        return (
+            f"no space left on device ({free} bytes free in {folder}; the netCDF library "
+            f"reported it as {text!r})"
+        )
     return text
 
 
@@ -382,7 +385,7 @@ def read_failure(out: str | Path, case_id: str) -> dict:
 
 
 def case_states(out: str | Path, campaign: Campaign) -> dict[str, str]:
-    """State of every case: pending, converged, not_converged, failed or corrupt.
+    """State of every case: pending, converged, not_converged, truncated, failed or corrupt.
 
     Finished cases are opened to read their ``status`` attribute; ``corrupt`` is a case file
     that does not open or lacks its completion marker (:func:`corrupt_ids` says why).

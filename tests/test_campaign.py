@@ -187,13 +187,6 @@ BAD = {
         '[sweep]\n"grid.n" = [[32, 32]]\n' + NORMAL_BASE,
         'must be numbers, strings or booleans, got [32, 32]; sweep "grid.n" as one number',
     ),
-    "grid.nz with a 3-entry base n": (
-        '[sweep]\n"grid.nz" = [8, 16]\n'
-        + NORMAL_BASE.replace("n = 24,", "n = [24, 24, 16],").replace(
-            "grid = {", 'output = { fields = ["stress"] }\ngrid = {'
-        ),
-        "grid.nz: grid.n = [24, 24, 16] already gives nz",
-    ),
     "huge force": (
         '[sweep]\n"load.path.0.normal_force" = [100.0, 1e300]\n' + CATTANEO_BASE,
         "case 2 of 2 (load_path_0_normal_force=1e+300): load.path[0].normal_force: W = 1e+300 N",
@@ -400,6 +393,13 @@ def test_grid_nz_sweeps_and_zips_with_grid_n(tmp_path):
     text = '[zip.mesh]\n"grid.n" = [24, 32]\n"grid.nz" = [8, 12]\n' + VOLUME_BASE
     zipped = load_campaign(write(tmp_path, text))
     assert [c.spec["grid"]["n"] for c in zipped.cases] == [[24, 24, 8], [32, 32, 12]]
+
+
+def test_grid_nz_sweep_replaces_the_nz_of_a_three_entry_base_n(tmp_path):
+    """Was refused ("grid.n = [24, 24, 16] already gives nz") though the README offered it."""
+    swept = load_campaign(write(tmp_path, '[sweep]\n"grid.nz" = [8, 12]\n' + VOLUME_BASE))
+    assert [c.spec["grid"]["n"] for c in swept.cases] == [[24, 24, 8], [24, 24, 12]]
+    assert [c.case().volume_grid.nz for c in swept.cases] == [8, 12]
 
 
 # -- validate: memory warnings and progress ------------------------------------------------------

@@ -55,7 +55,7 @@ def test_cycle_block_repeats_its_stages():
     other = solver.Case.from_dict(fretting_table(16, cycles=5, steps=3))
     assert other.case_id != case.case_id
     # targets alternate between -Q* and +Q* at the end of every stage of the block
-    targets = np.array(case.step_targets())
+    targets = np.array(list(case.step_targets()))
     q = 0.5 * 0.3 * 1000.0
     assert targets[3 + 3 :: 3, 1].tolist() == [-q, q] * 4
     # relabelling flips Q_x inside the block too

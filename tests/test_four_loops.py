@@ -14,7 +14,7 @@ SWIFT = {"law": "swift", "B": 945e6, "C": 20, "n": 0.121}
 STEEL = {"E": 210e9, "nu": 0.3}
 
 
-def e_on_ep(mu, n=32, nz=8, **extra):
+def e_on_ep(mu, n=32, nz=10, **extra):
     table = {
         "body1": {"radius": 0.015, "behaviour": "elastic", **STEEL},
         "body2": {"radius": "inf", "behaviour": "elastic-plastic", **STEEL, "hardening": SWIFT},
@@ -207,7 +207,7 @@ def test_body_two_stress_with_a_plastic_body_one_is_refused():
         solver.Case.from_dict(table)
 
 
-def ep_ep(hardening1, n=24, nz=12, mu=0.0, **body1):
+def ep_ep(hardening1, n=24, nz=14, mu=0.0, **body1):
     """A Swift steel sphere (body 2) pressed by an elastic-plastic sphere (body 1)."""
     sphere = {"radius": 0.015, "behaviour": "elastic-plastic", **STEEL}
     return solver.Case.from_dict(

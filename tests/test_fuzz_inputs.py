@@ -1,7 +1,8 @@
 """Fuzzed bad inputs: every generated bad campaign file gets one clear message, exit status 2.
 
-Each input is a valid campaign (an elastic sphere on a steel half-space, two friction values)
-with one fault put in: a wrong type, NaN, an infinity, a huge or tiny number, an integer beyond
+Each input is a valid campaign (an elastic sphere on a steel half-space, two friction values;
+or a rigid sphere on the paper's elastic-plastic Swift steel, :data:`PLASTIC_GOOD`) with one
+fault put in: a wrong type, NaN, an infinity, a huge or tiny number, an integer beyond
 the float range, an unknown or a missing key, a table where a value belongs or the reverse, or a
 bad swept value.  ``python -m study validate FILE`` must exit with status 2 and print exactly one
 line, ``error: ...``, naming the field, on stderr (nothing on stdout, never a traceback), within
@@ -147,6 +148,111 @@ STRUCTURE = [
 ]
 
 
+#: A valid elastic-plastic campaign: a rigid sphere on the paper's Swift steel at 4 GPa.
+PLASTIC_GOOD = {
+    "campaign": {"name": "fuzz_plastic"},
+    "base": {
+        "body1": {"behaviour": "rigid", "radius": 0.015},
+        "body2": EP_BODY2 | {"hardening": {"law": "swift", "B": 945e6, "C": 20.0, "n": 0.121}},
+        "load": {"hertz_pressure": 4e9, "steps": 2},
+        "grid": {"n": [16, 16, 16]},
+    },
+    "sweep": {"friction.coefficient": [0.0, 0.3]},
+}
+SWIFT = PLASTIC_GOOD["base"]["body2"]["hardening"]
+PERFECT = {"law": "perfect", "yield_stress": 1e9}
+LINEAR = {"law": "linear", "yield_stress": 1e9, "modulus": 10e9}
+_LONG_STAGES = [{"tangential_force": 10.0, "steps": 100_000}, {"steps": 100_000}]
+#: Faults put into :data:`PLASTIC_GOOD`: the volume box, the hardening laws, kinematic
+#: hardening, cycle blocks, the path length and the plastic regime (where, value, message).
+PLASTIC_FAULTS = [
+    # the volume box (depth in units of a_H, cells that resolve the yield region)
+    ("base.grid.depth", 1e6, "grid.depth: must be in [0.05, 20]"),
+    ("base.grid.depth", 1e-9, "grid.depth: must be in [0.05, 20]"),
+    ("base.grid.depth", 10.0, "grid.depth: cells 0.625 a_H thick"),
+    ("base.grid.depth", 30.0, "grid.depth: must be in"),
+    ("base.grid.depth", 100, "grid.depth: must be in"),
+    ("base.grid.depth", 0.3, "grid.depth: the box ends at 0.3 a_H"),
+    ("base.grid.depth", -1.0, "grid.depth: must be > 0"),
+    ("base.grid.depth", "deep", "grid.depth: must be a number"),
+    ("base.grid.depth", math.inf, "grid.depth: must be finite"),
+    ("base.grid.depth_body1", 3.0, "grid.depth_body1: only two different"),
+    ("base.grid.depth_body1", 1e6, "grid.depth_body1: must be in"),
+    ("base.grid.n", [16, 16, 4], "grid.n: cells 0.416 a_H thick"),
+    ("sweep", {"grid.nz": [16, 4]}, "grid.n: cells"),
+    ("sweep", {"grid.depth": [1.5, 50.0]}, "grid.depth: must be in"),
+    # hardening laws: yield stresses and parameters bounded relative to E
+    ("base.body2.hardening", PERFECT | {"yield_stress": 5e-324}, "hardening.yield_stress: the"),
+    ("base.body2.hardening", PERFECT | {"yield_stress": 1e-300}, "hardening.yield_stress: the"),
+    ("base.body2.hardening", PERFECT | {"yield_stress": 1e12}, "hardening.yield_stress: the"),
+    ("base.body2.hardening", SWIFT | {"B": 5e-324}, "body2.hardening.B: the initial yield"),
+    ("base.body2.hardening", SWIFT | {"C": 1e-300}, "body2.hardening.C: Swift's offset"),
+    ("base.body2.hardening", SWIFT | {"C": 1e300}, "body2.hardening.C: Swift's offset"),
+    ("base.body2.hardening", SWIFT | {"n": 5.0}, "body2.hardening.n: Swift's exponent"),
+    ("base.body2.hardening", SWIFT | {"n": -0.1}, "body2.hardening.n: must be > 0"),
+    ("base.body2.hardening", SWIFT | {"n": math.nan}, "body2.hardening.n: must be finite"),
+    ("base.body2.hardening", LINEAR | {"modulus": 1e300}, "hardening.modulus: a hardening"),
+    ("base.body2.hardening", LINEAR | {"modulus": -1.0}, "hardening.modulus: must be >= 0"),
+    ("base.body2.hardening", {"law": "voce"}, "body2.hardening.law: must be one of"),
+    ("base.body2.hardening", DELETE, "body2.hardening: missing"),
+    # kinematic hardening
+    (
+        "base.body2.hardening",
+        PERFECT | {"kinematic": {"law": "prager", "C": 1e300}},
+        "body2.hardening.kinematic.C: a hardening modulus",
+    ),
+    (
+        "base.body2.hardening",
+        PERFECT | {"kinematic": {"law": "armstrong-frederick", "C": 200e9, "gamma": 1e300}},
+        "body2.hardening.kinematic.gamma: must be at most",
+    ),
+    (
+        "base.body2.hardening",
+        PERFECT | {"kinematic": {"law": "armstrong-frederick", "C": 200e9, "gamma": -1.0}},
+        "body2.hardening.kinematic.gamma: must be > 0",
+    ),
+    (
+        "base.body2.hardening",
+        PERFECT | {"kinematic": {"law": "chaboche", "C": 1e9}},
+        "body2.hardening.kinematic.law: must be one of",
+    ),
+    (
+        "base.body2.hardening",
+        PERFECT | {"kinematic": {"law": "prager"}},
+        "body2.hardening.kinematic.C: missing",
+    ),
+    # cycle blocks and the length of the path
+    (
+        "base.load",
+        {"path": [{"hertz_pressure": 4e9}, {"cycles": 10_000, "stages": _LONG_STAGES}]},
+        "load.path[1].cycles: the load path reaches",
+    ),
+    (
+        "base.load",
+        {"path": [{"hertz_pressure": 4e9, "steps": 100_000}] * 11},
+        "load.path[10].steps: the load path reaches",
+    ),
+    (
+        "base.load",
+        {"path": [{"hertz_pressure": 4e9}, {"cycles": 0, "stages": [{"normal_force": 0.0}]}]},
+        "load.path[1].cycles: must be between 1 and",
+    ),
+    (
+        "base.load",
+        {"path": [{"hertz_pressure": 4e9}, {"cycles": 2, "stages": [{"cycles": 2}]}]},
+        "load.path[1].stages[0].cycles: cycle blocks do not nest",
+    ),
+    (
+        "base.load",
+        {"path": [{"hertz_pressure": 4e9}, {"cycles": 2, "stages": [{"steps": 0}]}]},
+        "load.path[1].stages[0].steps: must be between 1 and",
+    ),
+    # past the small-strain theory: a fully plastic indentation
+    ("base.body2.hardening", PERFECT | {"yield_stress": 0.2e9}, "load: Johnson's index"),
+    ("sweep", {"load.hertz_pressure": [4e9, 80e9]}, "load: Johnson's index"),
+]
+
+
 #: Files no table can be written as: (id, TOML text, text the message must contain).
 _GOOD_SWEEP = '[sweep]\n"solver.slip_tolerance" = [1e-6, 1e-7]\n'
 RAW = [
@@ -177,6 +283,11 @@ def _inputs() -> list[tuple[str, str, str]]:
         table = copy.deepcopy(GOOD)
         set_path(table, where, value)
         name = f"{where}={'<deleted>' if value is DELETE else repr(value)[:20]}"
+        cases.append((name, to_toml(table), expected))
+    for where, value, expected in PLASTIC_FAULTS:
+        table = copy.deepcopy(PLASTIC_GOOD)
+        set_path(table, where, value)
+        name = f"plastic {where}={'<deleted>' if value is DELETE else repr(value)[:20]}"
         cases.append((name, to_toml(table), expected))
     base = to_toml({key: value for key, value in GOOD.items() if key != "sweep"})
     for name, text, expected in RAW:
@@ -229,6 +340,10 @@ def test_the_generator_makes_enough_distinct_bad_files_and_a_good_one(tmp_path, 
     good.write_text(to_toml(GOOD))
     assert main(["validate", str(good)]) == 0  # the unmutated campaign is valid
     assert capsys.readouterr().out.strip().endswith("valid")
+    good.write_text(to_toml(PLASTIC_GOOD))
+    assert main(["validate", str(good)]) == 0  # so is the elastic-plastic one, without a warning
+    assert capsys.readouterr().err == ""
+    assert len(PLASTIC_FAULTS) >= 30
 
 
 def _check(status: int, out: str, err: str, expected: str, name: str) -> None:
