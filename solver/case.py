@@ -726,14 +726,14 @@ class Case:
         for body, name in ((body2, "body 2"), (body1, "body 1")):
             if body.behaviour != "elastic-plastic" or (name == "body 1" and body1 == body2):
                 continue
-            own = name == "body 1" and two_fields
-            key = "depth_body1" if own else "depth"
-            given_depth = key in table["grid"] or (own and "depth" in table["grid"])
-            depth = grid.depth_body1 if own else grid.depth
+            own = name == "body 1" and two_fields  # body 1's own volume grid
+            keys = ("depth_body1", "depth") if own else ("depth",)  # what sets its depth
+            given_key = next((f"grid.{k}" for k in keys if k in table["grid"]), "grid.n")
             note = _plastic_regime(body, p_max, paths[peak], name)  # first: it may refuse
             if note:
                 warnings.append(note)
-            _check_volume(body, depth, grid.nz, p_max, f"grid.{key}" if given_depth else "grid.n")
+            depth = grid.depth_body1 if own else grid.depth
+            _check_volume(body, depth, grid.nz, p_max, given_key)
         solver = _parse_solver(table.get("solver", {}))
         output = _check_keys(table.get("output", {}), "output", {"fields"})
         fields = _plain(output.get("fields", []))

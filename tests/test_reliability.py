@@ -282,6 +282,9 @@ def test_full_disk_behind_an_hdf_error_reads_no_space(small_run, monkeypatch):
     for error in errors:
         assert error.startswith("CaseWriteError: result not written to cases/")
         assert "no space left on device (0 bytes free" in error
+        # the netCDF library's own word is quoted as its report, not as the cause
+        assert "the netCDF library reported it as 'PermissionError" in error
+        assert "the writer said" not in error
     # a real permission problem, with space left, stays a permission problem
     monkeypatch.setattr(storage, "free_bytes", lambda folder: 1 << 40)
     summary = run_campaign(campaign, out, options=RunOptions(max_initial_failures=1))
