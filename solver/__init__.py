@@ -11,7 +11,8 @@ No MPI, no file output: the study layer (``study``) does both.
 
 from .case import Case, SpecError
 from .loops import solve
+from .operators import memory_estimate
 from .result import Result
 
-__all__ = ["Case", "Result", "SpecError", "solve"]
+__all__ = ["Case", "Result", "SpecError", "memory_estimate", "solve"]
 __version__ = "0.1.0"

@@ -957,15 +957,6 @@ class Case:
         """The normalised case table (a deep copy); ``Case.from_dict(c.to_dict()) == c``."""
         return json.loads(json.dumps(self.spec))
 
-    def memory_estimate(self) -> int:
-        """Peak memory (bytes) the solve is expected to need, for the study scheduler.
-
-        From the case's operator bundle (:meth:`solver.operators.CaseOperators.memory_bytes`).
-        """
-        from .operators import CaseOperators
-
-        return CaseOperators.memory_bytes(self)
-
     def cost_estimate(self) -> float:
         """Relative cost (arbitrary units ~ FFT work) for ordering cases costliest first.
 

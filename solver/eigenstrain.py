@@ -162,7 +162,7 @@ class EigenstrainOperator:
     only if the direct displacement route is used, its 12 per-layer kernels.
     :meth:`memory_bytes` states the peak (within 3 % of the measured one, 32^3 to 128^3).
     Measured on one core: 64^3 cells, setup 5-7 s, stress 0.4-0.6 s, displacement 0.05-0.08 s,
-    peak 0.56 GB; 128^3, 40-60 s, 5-6 s, 0.8 s, 4.4 GB (``python -m study.bench_subsurface``).
+    peak 0.56 GB; 128^3, 40-60 s, 5-6 s, 0.8 s, 4.4 GB (``python -m study.bench.subsurface``).
     """
 
     def __init__(

@@ -156,3 +156,11 @@ PROCESS_BYTES = 64 * 2**20
 #: Six-component volume fields the plasticity loop holds at once (strain, increment, trial
 #: stress, returned increment, stress from tractions, residual stress, Anderson memory 2 x 5).
 PLASTIC_WORK_ARRAYS = 18
+
+
+def memory_estimate(case: Case) -> int:
+    """Peak memory (bytes) a case's solve is expected to need, for the study scheduler.
+
+    :meth:`CaseOperators.memory_bytes`: the bundle and the solver's work arrays.
+    """
+    return CaseOperators.memory_bytes(case)

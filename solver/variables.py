@@ -1,6 +1,6 @@
 """Every history and field a result can hold, declared once.
 
-:class:`~solver.result.Result`, its xarray view, the campaign assembly (``study.assemble``) and
+:class:`~solver.result.Result`, its xarray view, the campaign assembly (``study.run.assemble``) and
 the reserved names of campaign axes are all derived from these two tables.
 
 A history has one value per load step; its ``reduction`` says how a campaign turns it into a

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from .campaign import Campaign
-    from .driver import RunOptions
+    from .run.driver import RunOptions
 
 #: Environment variables that show the process was started by an MPI launcher.
 _LAUNCHER_VARIABLES = (
@@ -176,7 +176,7 @@ def _test_solve():
 
 def run_options(args: argparse.Namespace) -> RunOptions:
     """Driver options from parsed ``run`` arguments (shared with ``slurm/slices.py``)."""
-    from .driver import RunOptions
+    from .run.driver import RunOptions
 
     return RunOptions(
         fft_threads=args.fft_threads,
@@ -270,8 +270,8 @@ def _run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from .campaign import CampaignError
-    from .driver import broadcast_campaign, run_campaign
-    from .progress import configure_logging
+    from .run.driver import broadcast_campaign, run_campaign
+    from .run.progress import configure_logging
 
     comm = _communicator(args.mpi)
     rank = comm.Get_rank() if comm is not None else 0
@@ -301,8 +301,8 @@ def _run(args: argparse.Namespace) -> int:
 
 def _assemble_or_say_why(out, campaign, logger):
     """Assemble ``OUT/<name>.nc``; on a write or read error log one line and return None."""
-    from . import storage
-    from .assemble import assemble_to_file
+    from .run import storage
+    from .run.assemble import assemble_to_file
 
     try:
         return assemble_to_file(out, campaign)
@@ -323,7 +323,7 @@ def _check_options(args: argparse.Namespace) -> None:
     if args.time_limit is not None and args.time_limit <= 0:
         raise CampaignError(f"--time-limit must be > 0 seconds, got {args.time_limit}")
     if args.case_timeout is not None:
-        from .driver import check_case_timeout
+        from .run.driver import check_case_timeout
 
         check_case_timeout(args.case_timeout, "--case-timeout")
     if args.time_reserve < 0:
@@ -494,7 +494,7 @@ def memory_warnings(campaign: Campaign, total: int | None, cores: int | None) ->
 
 def describe_campaign(campaign: Campaign, list_cases: bool = False) -> str:
     """Text summary of a campaign: axes, case count, estimated cost and memory."""
-    from .campaign import _format_value
+    from .campaign import format_value
 
     cases = campaign.cases
     lines = [
@@ -506,7 +506,7 @@ def describe_campaign(campaign: Campaign, list_cases: bool = False) -> str:
         kind = "zip" if axis.zipped else "sweep"
         lines.append(f"  {axis.name} ({kind}, {axis.size} values)")
         for c in axis.coordinates:
-            values = ", ".join(_format_value(v) for v in c.values)
+            values = ", ".join(format_value(v) for v in c.values)
             units = f" [{c.units}]" if c.units else ""
             lines.append(f"    {c.name} = {c.key}{units}: {values}")
     costs = [c.cost for c in cases]
@@ -538,7 +538,7 @@ def _resolve(args: argparse.Namespace):
     """(campaign, out) from a campaign file or an output folder."""
     from pathlib import Path
 
-    from . import storage
+    from .run import storage
 
     target = Path(args.target)
     if target.is_dir():
@@ -549,7 +549,7 @@ def _resolve(args: argparse.Namespace):
 
 
 def _status(args: argparse.Namespace) -> int:
-    from . import storage
+    from .run import storage
 
     campaign, out = _resolve(args)
     storage.remove_temporaries(out)  # of processes that are gone; live ones are left alone
@@ -590,8 +590,8 @@ def _status(args: argparse.Namespace) -> int:
 
 
 def _assemble(args: argparse.Namespace) -> int:
-    from . import storage
-    from .progress import configure_logging
+    from .run import storage
+    from .run.progress import configure_logging
 
     logger = configure_logging()
     campaign, out = _resolve(args)
@@ -614,8 +614,8 @@ def _report(report_main):
     def handler(args: argparse.Namespace) -> int:
         from pathlib import Path
 
-        from . import storage
-        from .progress import configure_logging
+        from .run import storage
+        from .run.progress import configure_logging
 
         logger = configure_logging()
         out = Path(args.out)

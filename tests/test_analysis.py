@@ -8,9 +8,10 @@ import pytest
 import xarray as xr
 
 from study import analysis, report
-from study.assemble import _grid_cells, assemble_to_file
 from study.campaign import expand_campaign
-from study.driver import run_campaign
+from study.report import figures as report_figures
+from study.run.assemble import _grid_cells, assemble_to_file
+from study.run.driver import run_campaign
 
 H = np.array([0.2, 0.1, 0.05, 0.025, 0.0125])
 
@@ -354,12 +355,13 @@ def test_report_plots(campaign_out, monkeypatch):
     quantities = len(analysis.quantities(analysis.with_derived(dataset)))
     forces = dataset.sizes["tangential_force"]
     assert quantities >= 3 and forces == 2
-    title = report.TITLE_HEIGHT
+    title = report_figures.TITLE_HEIGHT
     columns = min(4, quantities)
     expected = {
         "convergence_grid_n": (4.2 * columns, 3.6 * -(-quantities // 4) + title, quantities),
         "speed_error": (10, 4.2, 2),
-        "profiles": (4.0 * forces, 3.0 + title + 2 * report.LEGEND_ROW, forces),  # 7 entries
+        # 7 entries
+        "profiles": (4.0 * forces, 3.0 + title + 2 * report_figures.LEGEND_ROW, forces),
         "stick_slip": (3.0 * forces + 1.0, 3.0 + title, forces),
     }
     for suffix, (width, height, panels) in expected.items():
@@ -406,7 +408,7 @@ def test_figures_wrap_into_four_columns_and_say_what_they_show(five_out, monkeyp
     # the closed forms apply to mu = 0 and to the full stick of beta = 0: all 5 cases drawn
     assert "all 5 finished cases" in speed._suptitle.get_text()
 
-    monkeypatch.setattr(report, "MAX_PANELS", 3)
+    monkeypatch.setattr(report_figures, "MAX_PANELS", 3)
     figures.clear()
     assert report.main([str(five_out)]) == 0
     text = (five_out / "report.md").read_text()

@@ -8,10 +8,10 @@ import pytest
 import xarray as xr
 from study_fixtures import pair_campaign, write
 
-from study import storage
+from study.analysis.fields import MISSING_FLAG, open_fields
 from study.campaign import load_campaign
-from study.driver import RunOptions, run_campaign
-from study.fields import MISSING_FLAG, open_fields
+from study.run import storage
+from study.run.driver import RunOptions, run_campaign
 
 LOADS = """
 [campaign]

@@ -17,12 +17,12 @@ import xarray as xr
 from study_fixtures import small_campaign, write
 
 import solver
-from study import storage
-from study.assemble import STATUS_FLAGS, assemble
 from study.campaign import CampaignError, load_campaign
 from study.cli import main
-from study.driver import RunOptions, run_campaign
-from study.progress import LOGGER_NAME
+from study.run import storage
+from study.run.assemble import STATUS_FLAGS, assemble
+from study.run.driver import RunOptions, run_campaign
+from study.run.progress import LOGGER_NAME
 
 
 @pytest.fixture(autouse=True)

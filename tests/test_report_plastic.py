@@ -7,10 +7,11 @@ import pytest
 import xarray as xr
 from study_fixtures import pair_campaign, write
 
-from study import analysis, report_plastic
+from study import analysis
 from study.campaign import load_campaign
-from study.driver import RunOptions, run_campaign
 from study.report import build_report
+from study.report import plastic as report_plastic
+from study.run.driver import RunOptions, run_campaign
 
 PAIRS = pair_campaign(
     "friction = { coefficient = 0.3 }\ngrid = { n = [16, 16, 16] }\n"
@@ -30,7 +31,7 @@ def pairs(tmp_path_factory):
 
 def test_plastic_report_table_and_figures(pairs, monkeypatch):
     pytest.importorskip("matplotlib")
-    monkeypatch.setattr("study.report.DPI", 40)
+    monkeypatch.setattr("study.report.figures.DPI", 40)
     report = build_report(pairs)
     text = report.read_text()
     assert "## Plastic response" in text

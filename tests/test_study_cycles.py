@@ -4,11 +4,11 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from study import storage
-from study.assemble import assemble
 from study.campaign import load_campaign
-from study.driver import RunOptions, run_campaign
 from study.report import build_report
+from study.run import storage
+from study.run.assemble import assemble
+from study.run.driver import RunOptions, run_campaign
 
 CAMPAIGN = "campaigns/fretting_cycles.toml"
 
@@ -50,7 +50,7 @@ def test_per_cycle_variables_are_assembled_from_the_case_files(cycles_out):
 
 def test_cycle_report_builds(cycles_out, monkeypatch):
     pytest.importorskip("matplotlib")
-    monkeypatch.setattr("study.report.DPI", 40)
+    monkeypatch.setattr("study.report.figures.DPI", 40)
     _, out = cycles_out
     text = build_report(out).read_text()
     assert "## Load cycles" in text
@@ -63,7 +63,7 @@ def test_normal_load_cycles_report(tmp_path, monkeypatch):
     """The shipped repeated-indentation campaign, coarsened (2 cycles): a cycle section without
     fretting loops (no tangential load) but with the plastic strain and residual stress panels."""
     pytest.importorskip("matplotlib")
-    monkeypatch.setattr("study.report.DPI", 40)
+    monkeypatch.setattr("study.report.figures.DPI", 40)
     text = open("campaigns/repeated_indentation.toml").read()
     text = text.replace("n = [28, 28, 28]", "n = [26, 26, 26]").replace("cycles = 5", "cycles = 2")
     path = tmp_path / "indent.toml"

@@ -6,9 +6,9 @@ import xarray as xr
 from study_fixtures import NORMAL_BASE, mixed_campaign, small_campaign, write
 
 import solver
-from study import storage
 from study.campaign import CampaignError, load_campaign
-from study.driver import RunOptions, broadcast_campaign, run_campaign
+from study.run import storage
+from study.run.driver import RunOptions, broadcast_campaign, run_campaign
 
 pytestmark = pytest.mark.mpi
 

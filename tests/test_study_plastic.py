@@ -7,9 +7,9 @@ from study_fixtures import write
 import solver
 from solver.reference import hertz_yield_depth
 from study.analysis import speed_error_table
-from study.assemble import Z_OVER_A, assemble
 from study.campaign import load_campaign
-from study.driver import RunOptions, run_campaign
+from study.run.assemble import Z_OVER_A, assemble
+from study.run.driver import RunOptions, run_campaign
 
 PLASTIC = """
 [campaign]

@@ -14,11 +14,11 @@ import xarray as xr
 from study_fixtures import CATTANEO_BASE, mixed_campaign, small_campaign, write
 
 import solver
-from study import storage
-from study.assemble import SCALARS, STATUS_FLAGS, assemble, assemble_to_file
 from study.campaign import RESERVED_NAMES, load_campaign
 from study.cli import main
-from study.driver import RunOptions, run_campaign
+from study.run import storage
+from study.run.assemble import SCALARS, STATUS_FLAGS, assemble, assemble_to_file
+from study.run.driver import RunOptions, run_campaign
 
 #: Variables that record timing or placement, not physics: they differ between runs.
 TIMING = ("wall_time", "case_time", "peak_rss", "mpi_rank")
@@ -310,7 +310,7 @@ def test_peak_memory_is_measured_per_case():
     """
     import numpy as np
 
-    from study import storage
+    from study.run import storage
 
     big = np.ones(128 * 2**20 // 8)
     big[::512] = 2.0

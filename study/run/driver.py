@@ -10,7 +10,7 @@ not idle on small runs; the dispatcher's MPI calls are the only ones while it ru
 (``MPI_THREAD_SERIALIZED`` suffices).
 
 Each case is solved, checked for NaN/inf, and written by the rank that computed it
-(:mod:`study.storage`).  An exception or a non-finite result makes the case *failed*: its
+(:mod:`study.run.storage`).  An exception or a non-finite result makes the case *failed*: its
 traceback, rank and host go to ``cases/<id>.failed.json`` and the campaign goes on;
 non-convergence is a result (status ``not_converged``).  When the first k cases of a run all
 fail (k = ``max_initial_failures``) no new case starts.  With a time limit (or Slurm's
@@ -42,8 +42,8 @@ import numpy as np
 
 import solver
 
+from ..campaign import MAX_CASE_TIMEOUT, Campaign, CampaignCase, CampaignError
 from . import storage
-from .campaign import MAX_CASE_TIMEOUT, Campaign, CampaignCase, CampaignError
 from .progress import LOGGER_NAME, Progress, format_duration
 
 _REQUEST, _TASK = 71, 72
@@ -127,7 +127,7 @@ class RunOptions:
         Rank 0 computes cases too (in its main thread, beside the dispatcher thread).
     replace : bool
         Run into an output folder that holds another campaign (another name), replacing its
-        ``campaign.json``; refused otherwise (:func:`study.storage.prepare_output`).
+        ``campaign.json``; refused otherwise (:func:`study.run.storage.prepare_output`).
     poll_interval : float
         Longest sleep (s) of the dispatcher between checks for requests.
     solve : callable, optional

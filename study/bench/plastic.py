@@ -3,11 +3,11 @@
 Tamaas' own elastic-plastic scene: a rigid sphere R = 15 mm on a half-space E = 210 GPa,
 nu = 0.3, von Mises with linear hardening sigma_Y0 = 1.3579 GPa, H = 152.3 GPa, frictionless,
 loaded to W = 4716 N (p_H = 6 GPa) in 6 equal steps, then unloaded in one.  Every row runs in
-a fresh child process (:func:`study.bench._isolated`); ``wall`` and ``cpu`` cover set-up and
+a fresh child process (:func:`study.bench.isolated`); ``wall`` and ``cpu`` cover set-up and
 solve (``setup_s`` apart: kernels and FFT plans, built once per grid and reused by every case of
 a campaign on it), ``cpu_per_it_s`` is the solve's CPU time per plasticity iteration, and
 ``peak_MB`` the growth of the resident set during set-up and solve.  With
-``--peers`` Tamaas runs the same scene in the same run (``study.peers_plastic``; periodic, so
+``--peers`` Tamaas runs the same scene in the same run (``study.bench.peers_plastic``; periodic, so
 it gets a larger cell, see its notes).
 """
 
@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from .bench import _isolated, format_table, peak_memory
+from .timing import format_table, isolated, peak_memory
 
 SCENE = {
     "radius": 0.015,
@@ -77,7 +77,7 @@ def _ours(n: int) -> dict:
         "cpu": cpu + setup_cpu,
         "solve_cpu": cpu,
         "memory": memory["peak_MB"],
-        "estimate_MB": (case.memory_estimate() - PROCESS_BYTES) / 2**20,
+        "estimate_MB": (solver.memory_estimate(case) - PROCESS_BYTES) / 2**20,
         "max_pressure": h["max_pressure"][loaded],
         "contact_radius": math.sqrt(h["contact_area"][loaded] / math.pi),
         "max_plastic_strain": h["max_plastic_strain"][loaded],
@@ -146,7 +146,7 @@ def run_plastic(sizes: list[int], peers: bool = False) -> int:
     for n in sizes:
         codes = [("slipstick", _ours)] + ([("tamaas", _tamaas)] if peers else [])
         for code, target in codes:
-            status, out = _isolated(target, n, timeout=3600.0)
+            status, out = isolated(target, n, timeout=3600.0)
             if status != "ok":
                 failures += code == "slipstick"
                 print(f"{code} n={n}: {out}")

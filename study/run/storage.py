@@ -5,7 +5,7 @@ Layout of an output folder ``OUT``::
     OUT/campaign.json                 the expanded campaign (axes, resolved case specs)
     OUT/cases/<case_id>.nc            one finished case (converged, not_converged or truncated)
     OUT/cases/<case_id>.failed.json   one failed case (error, traceback, rank, host)
-    OUT/<campaign name>.nc            the assembled dataset (:mod:`study.assemble`)
+    OUT/<campaign name>.nc            the assembled dataset (:mod:`study.run.assemble`)
 
 Every file has one writer and is written atomically: to a temporary name in the same folder
 (``*.tmp<pid>``), flushed to disk, then renamed over the final name with :func:`os.replace`, so
@@ -43,7 +43,7 @@ import numpy as np
 import solver
 from solver.result import STICK
 
-from .campaign import Campaign, CampaignCase, CampaignError
+from ..campaign import Campaign, CampaignCase, CampaignError
 
 if TYPE_CHECKING:  # xarray loads lazily: validate and status do not need it
     import xarray as xr

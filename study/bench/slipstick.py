@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from .bench import _isolated, format_table, timed_solve
+from .timing import format_table, isolated, timed_solve
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
 RADIUS, FORCE = 0.015, 1000.0
@@ -114,7 +114,7 @@ def run_slipstick(sizes: list[int]) -> int:
 
     def record(scene, n, steps, table, errors):
         nonlocal failures
-        status, out = _isolated(_solve, table)
+        status, out = isolated(_solve, table)
         if status != "ok":
             failures += 1
             print(f"{scene} n={n}: {out}")

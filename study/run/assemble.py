@@ -42,8 +42,8 @@ from solver.loops import axis_value
 from solver.result import HISTORY_META, STATUS_FLAGS
 from solver.variables import CYCLE_QUANTITIES, HISTORIES, reduced_scalars
 
+from ..campaign import Axis, Campaign
 from . import storage
-from .campaign import Axis, Campaign
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -346,7 +346,7 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
         "git_hash": storage.git_hash(),
         "history": (
             f"{time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())}: assembled from {len(finished)}"
-            f" case files ({storage.command_line() or 'study.assemble'})"
+            f" case files ({storage.command_line() or 'study.run.assemble'})"
         ),
         "campaign": campaign.name,
         "campaign_source": campaign.source,

@@ -20,7 +20,8 @@ import numpy as np
 from solver.result import STATUS_FLAGS
 from solver.variables import CYCLE_QUANTITIES
 
-from . import analysis, report
+from .. import analysis
+from . import figures
 
 #: Per-cycle quantities drawn against the cycle, in this order, when the campaign has them:
 #: name -> (scale, axis label, panel title, log axis).
@@ -37,11 +38,11 @@ def _per_cycle(dataset) -> list[str]:
 
 
 def _cases(dataset) -> list[tuple[dict, dict]]:
-    usable = analysis._usable(dataset)
+    usable = analysis.finished_mask(dataset)
     first = _per_cycle(dataset)[0]
     return [
         (labels, isel)
-        for labels, isel in analysis._slices(dataset, [])
+        for labels, isel in analysis.sweep_slices(dataset, [])
         if bool(usable.isel(isel)) and np.isfinite(dataset[first].isel(isel)).any()
     ]
 
@@ -81,14 +82,14 @@ def cycle_table(dataset):
 
 def plot_loops(dataset, path: str | Path) -> Path | None:
     """Q_x against Delta_x, every cycle in its own colour, one panel per case."""
-    plt = report._pyplot()
+    plt = figures.pyplot()
     needed = ("tangential_force_x_history", "tangential_shift_x_history", "step_cycle_history")
     if plt is None or not all(name in dataset for name in needed):
         return None
-    cases = _cases(dataset)[: report.MAX_PANELS]
+    cases = _cases(dataset)[: figures.MAX_PANELS]
     if not cases:
         return None
-    fig, axes, columns = report._panel_grid(plt, len(cases), 3.8, 3.2, extra=1.0)
+    fig, axes, columns = figures.panel_grid(plt, len(cases), 3.8, 3.2, extra=1.0)
     count = dataset.sizes["cycle"]
     cmap = plt.get_cmap("viridis")
     for k, (ax, (labels, isel)) in enumerate(zip(axes, cases, strict=True)):
@@ -102,7 +103,7 @@ def plot_loops(dataset, path: str | Path) -> Path | None:
                 continue
             steps = np.concatenate([[steps[0] - 1], steps]) if steps[0] > 0 else steps
             ax.plot(d[steps], q[steps], "-", color=cmap((c - 1) / max(count - 1, 1)), lw=1.2)
-        ax.set_title(report._title(labels), fontsize=8)
+        ax.set_title(figures.title(labels), fontsize=8)
         ax.set_xlabel("tangential shift Delta_x (um)")
         if k % columns == 0:
             ax.set_ylabel("tangential force Q_x (N)")
@@ -110,21 +111,21 @@ def plot_loops(dataset, path: str | Path) -> Path | None:
     mappable = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(1, max(count, 2)))
     rows = math.ceil(len(axes) / columns)
     fig.colorbar(mappable, ax=axes, shrink=min(0.9, 1.8 / rows), label="cycle")
-    report._suptitle(fig, f"{dataset.attrs.get('campaign', '')}: fretting loops Q_x - Delta_x")
-    report._save(plt, fig, path)
+    figures.suptitle(fig, f"{dataset.attrs.get('campaign', '')}: fretting loops Q_x - Delta_x")
+    figures.save(plt, fig, path)
     return Path(path)
 
 
 def plot_cycles(dataset, path: str | Path) -> Path | None:
     """The per-cycle quantities (:data:`PANELS`) against the cycle, one line per case."""
-    plt = report._pyplot()
-    cases = _cases(dataset)[: report.MAX_LINES]
+    plt = figures.pyplot()
+    cases = _cases(dataset)[: figures.MAX_LINES]
     names = [name for name in PANELS if name in dataset]
     if plt is None or not cases or not names:
         return None
     from matplotlib.ticker import MaxNLocator
 
-    fig, axes, _ = report._panel_grid(plt, len(names), 4.4, 3.4)
+    fig, axes, _ = figures.panel_grid(plt, len(names), 4.4, 3.4)
     cycle = dataset["cycle"].values
     for k, (labels, isel) in enumerate(cases):
         case = dataset.isel(isel)
@@ -133,7 +134,7 @@ def plot_cycles(dataset, path: str | Path) -> Path | None:
             scale, _, _, log = PANELS[name]
             values = case[name].values * scale
             plot = ax.semilogy if log else ax.plot
-            label = report._label(labels) if ax is axes[0] else None
+            label = figures.labels_text(labels) if ax is axes[0] else None
             plot(cycle, np.clip(values, 1e-12, None) if log else values, "o-", ms=3,
                  color=colour, label=label)  # fmt: skip
             if name == "loop_energy" and "cycle_friction_work" in case:
@@ -147,13 +148,13 @@ def plot_cycles(dataset, path: str | Path) -> Path | None:
         ax.grid(True, which="both", alpha=0.3)
     note = "o loop area, x friction work" if "loop_energy" in names else None
     axes[0].legend(fontsize=7, title=note, title_fontsize=7)
-    report._suptitle(fig, f"{dataset.attrs.get('campaign', '')}: per cycle")
-    report._save(plt, fig, path)
+    figures.suptitle(fig, f"{dataset.attrs.get('campaign', '')}: per cycle")
+    figures.save(plt, fig, path)
     return Path(path)
 
 
-def section(dataset, out: Path, name: str, plt, figures: list) -> list[str]:
-    """Markdown lines of the cyclic part of the report (figures appended to ``figures``)."""
+def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
+    """Markdown lines of the cyclic part of the report (figures appended to ``shown``)."""
     lines = ["## Load cycles", ""]
     lines += [
         "`E_*`: area of the Q_x - Delta_x loop of the first and the last cycle;",
@@ -163,7 +164,7 @@ def section(dataset, out: Path, name: str, plt, figures: list) -> list[str]:
         "the first and the last cycle (largest over the volume); `res_MPa`: largest von Mises",
         "residual stress at the end of the last cycle.",
         "",
-        report.markdown_table(cycle_table(dataset)),
+        figures.markdown_table(cycle_table(dataset)),
     ]
     if plt is None:
         return lines
@@ -172,6 +173,6 @@ def section(dataset, out: Path, name: str, plt, figures: list) -> list[str]:
         ("Per cycle", plot_cycles(dataset, out / f"{name}_cycles.png")),
     ):
         if png:
-            figures.append((title, png, "every finished case with cycles"))
+            shown.append((title, png, "every finished case with cycles"))
             lines += [f"### {title}", "", f"![{title}]({png.name})", ""]
     return lines

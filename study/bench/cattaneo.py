@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-from .bench import _isolated, format_table, peak_memory
+from .timing import format_table, isolated, peak_memory
 
 E_STAR = 210e9 / (1 - 0.3**2)  # steel's contact modulus
 NU = 0.5
@@ -140,7 +140,7 @@ def run_cattaneo(sizes: list[int], peers: bool = False, repeat: int = 3) -> int:
         print("peers:", ", ".join(f"{k} {found[k]}" for k in names) or "none installed")
     rows, failures = [], 0
     for n in sizes:
-        status, out = _isolated(_ours, n, repeat)
+        status, out = isolated(_ours, n, repeat)
         if status == "ok":
             rows.append(_row("slipstick", n, out))
         else:
@@ -150,7 +150,7 @@ def run_cattaneo(sizes: list[int], peers: bool = False, repeat: int = 3) -> int:
             if name == "tamaas" and n > TAMAAS_MAX_N:
                 print(f"tamaas n={n}: skipped (periodic cell of {2 * n}^2, many minutes)")
                 continue
-            status, out = _isolated(_peer, name, n, 1 if name == "tamaas" else repeat)
+            status, out = isolated(_peer, name, n, 1 if name == "tamaas" else repeat)
             if status == "ok":
                 rows.append(_row(name, n, out))
             else:

@@ -13,7 +13,7 @@ Two scenes, each row in a fresh process (:mod:`study.bench`):
   n^3 grid; the cost per cycle, the energy and the plastic strain gained per cycle.
 
 ``python -m study bench cycles [--sizes N ...]`` (sizes: the elastic grids; the plastic scene
-runs at 64^3, 10 cycles: ``python -m study.bench_cycles --plastic N --cycles C``).
+runs at 64^3, 10 cycles: ``python -m study.bench.cycles --plastic N --cycles C``).
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ import argparse
 
 import numpy as np
 
-from .bench import _isolated, format_table, timed_solve
+from .timing import format_table, isolated, timed_solve
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
 SWIFT = {"law": "swift", "B": 945e6, "C": 20.0, "n": 0.121}
@@ -93,7 +93,7 @@ def run_cycles(sizes: list[int], steps_list=(10, 20, 40), cycles: int = 3) -> in
     amplitude = FRACTION * MU * ELASTIC_FORCE
     for n in sizes:
         for steps in steps_list:
-            status, out = _isolated(_solve, fretting_table(n, steps, cycles, ELASTIC_FORCE, MU))
+            status, out = isolated(_solve, fretting_table(n, steps, cycles, ELASTIC_FORCE, MU))
             if status != "ok":
                 failures += 1
                 print(f"n={n} steps={steps}: {out}")
@@ -130,7 +130,7 @@ def run_cycles(sizes: list[int], steps_list=(10, 20, 40), cycles: int = 3) -> in
 
 def run_plastic_cycles(n: int, cycles: int, steps: int = 16) -> int:
     """The elastic-plastic fretting scene: cost and outputs per cycle."""
-    status, out = _isolated(
+    status, out = isolated(
         _solve, fretting_table(n, steps, cycles, PLASTIC_FORCE, PLASTIC_MU, True), timeout=14400.0
     )
     if status != "ok":
@@ -158,7 +158,7 @@ def run_plastic_cycles(n: int, cycles: int, steps: int = 16) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Command line of the module (``python -m study.bench_cycles``)."""
+    """Command line of the module (``python -m study.bench.cycles``)."""
     parser = argparse.ArgumentParser(description="load-cycle benchmarks")
     parser.add_argument("--sizes", type=int, nargs="+", default=[32, 64, 128])
     parser.add_argument("--steps", type=int, nargs="+", default=[10, 20, 40])

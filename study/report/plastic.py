@@ -24,7 +24,8 @@ import numpy as np
 
 from solver.result import SLIP, STATUS_FLAGS, STICK
 
-from . import analysis, report
+from .. import analysis
+from . import figures
 
 #: Keys of a swept load (the load curves' abscissa is the case's Hertz pressure).
 LOAD_KEYS = ("hertz_pressure", "normal_force")
@@ -43,9 +44,9 @@ _SCALE = {"ep_max_%": 100.0, "dent_um": 1e6}
 
 def shown_cases(dataset) -> list[tuple[dict, dict]]:
     """(labels, isel) of the finished cases on the finest refinement of every slice."""
-    usable = analysis._usable(dataset)
+    usable = analysis.finished_mask(dataset)
     cases = []
-    for labels, isel in analysis._slices(dataset, analysis.mesh_axes(dataset)):
+    for labels, isel in analysis.sweep_slices(dataset, analysis.mesh_axes(dataset)):
         index = analysis.finest_index(dataset, isel)
         if bool(usable.isel(index)):
             cases.append((labels, index))
@@ -143,16 +144,16 @@ def plot_profiles(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
     per case along y = 0: thick where the contact sticks, thin where it slips (from the
     case's ``contact_state`` field).
     """
-    plt = report._pyplot()
+    plt = figures.pyplot()
     if plt is None or "pressure_profile" not in dataset:
         return None
     overlay = overlay_dim(dataset)
     exclude = [*analysis.mesh_axes(dataset), *([overlay] if overlay else [])]
-    usable = analysis._usable(dataset)
+    usable = analysis.finished_mask(dataset)
     panels = []
-    for labels, isel in analysis._slices(dataset, exclude):
+    for labels, isel in analysis.sweep_slices(dataset, exclude):
         lines = []
-        for line_labels, line_isel in analysis._slices(
+        for line_labels, line_isel in analysis.sweep_slices(
             dataset.isel(isel), analysis.mesh_axes(dataset)
         ):
             index = analysis.finest_index(dataset, {**isel, **line_isel})
@@ -160,25 +161,25 @@ def plot_profiles(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
                 lines.append((line_labels, index))
         if lines:
             panels.append((labels, lines))
-    panels = panels[: report.MAX_PANELS]
+    panels = panels[: figures.MAX_PANELS]
     if not panels:
         return None
     from matplotlib.lines import Line2D
 
     r = dataset["r_over_a"].values
     count = max(len(lines) for _, lines in panels)
-    legend_rows = math.ceil((4 + min(count, report.MAX_LINES)) / 3)
-    fig, axes, columns = report._panel_grid(
-        plt, len(panels), 4.6, 3.6, below=report.LEGEND_ROW * legend_rows + 0.1
+    legend_rows = math.ceil((4 + min(count, figures.MAX_LINES)) / 3)
+    fig, axes, columns = figures.panel_grid(
+        plt, len(panels), 4.6, 3.6, below=figures.LEGEND_ROW * legend_rows + 0.1
     )
     names = {}
     for k, (ax, (labels, lines)) in enumerate(zip(axes, panels, strict=True)):
         top = 0.0
-        for j, (line_labels, index) in enumerate(lines[: report.MAX_LINES]):
+        for j, (line_labels, index) in enumerate(lines[: figures.MAX_LINES]):
             case = dataset.isel(index)
             p_h = float(case["hertz_pressure"])
             colour = f"C{j % 10}"
-            label = report._label({d: v for d, v in line_labels.items() if d not in labels})
+            label = figures.labels_text({d: v for d, v in line_labels.items() if d not in labels})
             names[label] = colour
             pressure = case["pressure_profile"].values / p_h
             ax.plot(r, pressure, "-", color=colour)
@@ -195,8 +196,8 @@ def plot_profiles(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
                     )
         ax.axhline(0.0, color="0.5", lw=0.6)
         ax.set_xlim(0.0, float(r[-1]))
-        ax.set_ylim(-0.06 * (min(count, report.MAX_LINES) + 1), max(1.05, 1.05 * top))
-        ax.set_title(report._title(labels) if labels else "", fontsize=8)
+        ax.set_ylim(-0.06 * (min(count, figures.MAX_LINES) + 1), max(1.05, 1.05 * top))
+        ax.set_title(figures.title(labels) if labels else "", fontsize=8)
         ax.set_xlabel("r / a (1)")
         if k % columns == 0:
             ax.set_ylabel("traction / p_H (1)")
@@ -209,13 +210,13 @@ def plot_profiles(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
     ]
     handles += [Line2D([], [], color=c, label=n) for n, c in names.items() if n]
     fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=8)
-    report._suptitle(
+    figures.suptitle(
         fig,
         f"{dataset.attrs.get('campaign', '')}: tractions along y = 0 over the Hertz solution"
         + (f", {overlay} overlaid" if overlay else ""),
         "finest mesh and most load steps of each slice",
     )
-    report._save(plt, fig, path)
+    figures.save(plt, fig, path)
     return Path(path)
 
 
@@ -225,21 +226,21 @@ def plot_load_curves(dataset, path: str | Path) -> Path | None:
     Drawn when an axis sweeps the load; one line per slice of the other non-refinement axes
     (finest refinement).  The elastic (Hertz) maximum p_max = p_H is the grey line.
     """
-    plt = report._pyplot()
+    plt = figures.pyplot()
     loads = [d for d in analysis.axis_dims(dataset) if _is_load(dataset, d)]
     if plt is None or not loads or "max_plastic_strain" not in dataset:
         return None
     load = loads[0]
     exclude = [*analysis.mesh_axes(dataset), load]
-    usable = analysis._usable(dataset)
+    usable = analysis.finished_mask(dataset)
     panels = (
         ("max_pressure", 1e-9, "max pressure p_max (GPa)"),
         ("max_plastic_strain", 100.0, "max plastic strain (%)"),
         ("max_plastic_strain_depth", None, "depth of the max plastic strain / a_H (1)"),
     )
-    fig, axes, _ = report._panel_grid(plt, len(panels), 4.2, 3.4)
+    fig, axes, _ = figures.panel_grid(plt, len(panels), 4.2, 3.4)
     drawn = False
-    for labels, isel in list(analysis._slices(dataset, exclude))[: report.MAX_LINES]:
+    for labels, isel in list(analysis.sweep_slices(dataset, exclude))[: figures.MAX_LINES]:
         xs, ys = [], {name: [] for name, _, _ in panels}
         for i in range(dataset.sizes[load]):
             index = analysis.finest_index(dataset, {**isel, load: i})
@@ -256,7 +257,7 @@ def plot_load_curves(dataset, path: str | Path) -> Path | None:
             continue
         drawn = True
         for ax, (name, _, _) in zip(axes, panels, strict=True):
-            ax.plot(xs, ys[name], "o-", label=report._label(labels) if labels else None)
+            ax.plot(xs, ys[name], "o-", label=figures.labels_text(labels) if labels else None)
     if not drawn:
         plt.close(fig)
         return None
@@ -270,12 +271,12 @@ def plot_load_curves(dataset, path: str | Path) -> Path | None:
         ax.set_xlim(left=0.0)
         ax.set_ylim(bottom=0.0)
     axes[0].legend(fontsize=7)
-    report._suptitle(
+    figures.suptitle(
         fig,
         f"{dataset.attrs.get('campaign', '')}: growth with the load (paper figs. 3-4)",
         "finest mesh and most load steps of each slice",
     )
-    report._save(plt, fig, path)
+    figures.save(plt, fig, path)
     return Path(path)
 
 
@@ -283,9 +284,9 @@ def plot_sections(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
     """Equivalent plastic strain in the x-z plane through the contact axis, one scale.
 
     One panel per case of :func:`shown_cases` whose file holds ``plastic_strain`` (at most
-    :data:`report.MAX_PANELS`); the maximum of each section is marked and labelled.
+    :data:`figures.MAX_PANELS`); the maximum of each section is marked and labelled.
     """
-    plt = report._pyplot()
+    plt = figures.pyplot()
     if plt is None:
         return None
     import xarray as xr
@@ -302,14 +303,14 @@ def plot_sections(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
             y = case["y"].values
             plane = case["plastic_strain"].isel(y=int(np.argmin(np.abs(y)))).values
             sections.append((labels, case["x"].values / a, case["z"].values / a, plane))
-        if len(sections) == report.MAX_PANELS:
+        if len(sections) == figures.MAX_PANELS:
             break
     if not sections:
         return None
     top = max(float(np.max(s[3])) for s in sections) * 100.0
     if top <= 0:
         return None
-    fig, axes, columns = report._panel_grid(plt, len(sections), 3.8, 2.8, extra=1.0)
+    fig, axes, columns = figures.panel_grid(plt, len(sections), 3.8, 2.8, extra=1.0)
     for k, (ax, (labels, x, z, plane)) in enumerate(zip(axes, sections, strict=True)):
         dx, dz = x[1] - x[0], z[1] - z[0]
         image = ax.imshow(
@@ -334,25 +335,25 @@ def plot_sections(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
             bbox={"facecolor": "white", "edgecolor": "0.7", "alpha": 0.9, "pad": 2},
         )
         ax.set_xlim(x[0] - dx / 2, x[-1] + dx / 2)  # the whole box: nothing of the zone cut
-        ax.set_title(report._title(labels) if labels else "", fontsize=8)
+        ax.set_title(figures.title(labels) if labels else "", fontsize=8)
         ax.set_xlabel("x / a_H (1)")
         if k % columns == 0:
             ax.set_ylabel("depth z / a_H (1)")
     rows = math.ceil(len(axes) / columns)
     bar = fig.colorbar(image, ax=axes, shrink=min(0.9, 1.8 / rows))
     bar.set_label("equivalent plastic strain (%)")
-    report._suptitle(
+    figures.suptitle(
         fig,
         f"{dataset.attrs.get('campaign', '')}: plastic strain in the plane y = 0 "
         "(paper fig. 6), one colour scale, x: the maximum",
         f"{len(sections)} case(s), finest mesh and most load steps of each slice",
     )
-    report._save(plt, fig, path)
+    figures.save(plt, fig, path)
     return Path(path)
 
 
-def section(dataset, out: Path, name: str, plt, figures: list) -> list[str]:
-    """Markdown lines of the plastic part of the report (figures appended to ``figures``)."""
+def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
+    """Markdown lines of the plastic part of the report (figures appended to ``shown``)."""
     lines = ["## Plastic response", ""]
     lines += [
         "Finest mesh and most load steps of each slice; lengths over the Hertz radius a_H,",
@@ -360,10 +361,10 @@ def section(dataset, out: Path, name: str, plt, figures: list) -> list[str]:
         "",
     ]
     lines += [f"- `{column}`: {text}" for column, (_, _, text) in COLUMNS.items()]
-    lines += ["", report.markdown_table(plastic_table(dataset))]
+    lines += ["", figures.markdown_table(plastic_table(dataset))]
     if plt is None:
         return lines
-    from . import storage
+    from ..run import storage
 
     cases = storage.cases_dir(out)
     for title, png in (
@@ -378,6 +379,6 @@ def section(dataset, out: Path, name: str, plt, figures: list) -> list[str]:
         ),
     ):
         if png:
-            figures.append((title, png, "finest mesh and most steps of each slice"))
+            shown.append((title, png, "finest mesh and most steps of each slice"))
             lines += [f"### {title}", "", f"![{title}]({png.name})", ""]
     return lines

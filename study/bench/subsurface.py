@@ -1,9 +1,9 @@
 """Benchmark of the residual-field operators of issue 4 on n^3 grids.
 
 Cost of eigenstrain -> residual stress and eigenstrain -> surface residual displacement:
-``python -m study.bench_subsurface [--sizes 32 64 96 128] [--repeat 3] [--threads 1]``.
+``python -m study.bench.subsurface [--sizes 32 64 96 128] [--repeat 3] [--threads 1]``.
 
-Each grid size runs in a fresh child process (:func:`study.bench._isolated`).  Times are
+Each grid size runs in a fresh child process (:func:`study.bench.isolated`).  Times are
 wall-clock seconds, best of ``repeat``; ``setup`` (kernels and FFTW plans, built once per grid
 and material and reused by every later call) is reported apart.  Memory: ``peak_MB`` is the
 high-water mark of the process's resident set over setup plus one residual-stress and one
@@ -26,7 +26,7 @@ import tracemalloc
 
 import numpy as np
 
-from .bench import _isolated, format_table, peak_memory
+from .timing import format_table, isolated, peak_memory
 
 DEFAULT_SIZES = [32, 64, 96, 128]
 
@@ -93,14 +93,14 @@ def growth_exponents(sizes: list[int], times: list[float]) -> tuple[float, float
 
 def main(argv: list[str] | None = None) -> int:
     """Run the benchmark and print its table; return an exit status."""
-    parser = argparse.ArgumentParser(prog="python -m study.bench_subsurface", description=__doc__)
+    parser = argparse.ArgumentParser(prog="python -m study.bench.subsurface", description=__doc__)
     parser.add_argument("--sizes", type=int, nargs="+", default=DEFAULT_SIZES)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--threads", type=int, default=1)
     args = parser.parse_args(argv)
     rows, failures = [], 0
     for n in args.sizes:
-        status, out = _isolated(_run, n, args.repeat, args.threads, timeout=3600.0)
+        status, out = isolated(_run, n, args.repeat, args.threads, timeout=3600.0)
         if status == "ok":
             rows.append(out)
             print(f"n = {n}: stress {out['stress_s']:.3g} s, displacement {out['disp_s']:.3g} s")

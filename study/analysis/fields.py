@@ -1,12 +1,12 @@
 """The per-case fields of a campaign as one lazy (dask-backed) xarray dataset.
 
-The assembled dataset (:mod:`study.assemble`) holds scalars, histories and profiles; the 2-D
+The assembled dataset (:mod:`study.run.assemble`) holds scalars, histories and profiles; the 2-D
 surface fields and the 3-D volume fields (plastic strain, residual stress, ...) stay in the
 per-case files.  :func:`open_fields` opens those files lazily and lays their fields out over the
 campaign's sweep axes, so that a campaign whose fields do not fit in memory can be reduced, sliced
 or plotted one case (one dask chunk) at a time::
 
-    from study.fields import open_fields
+    from study.analysis.fields import open_fields
 
     fields = open_fields("out/fretting_ii")                 # nothing is read yet
     peak = fields.plastic_strain.max(("x_over_a", "y_over_a", "z_over_a")).compute()
@@ -29,8 +29,8 @@ import numpy as np
 
 from solver.variables import FIELDS
 
-from . import storage
-from .assemble import _coordinates
+from ..run import storage
+from ..run.assemble import _coordinates
 
 if TYPE_CHECKING:
     import xarray as xr

@@ -13,12 +13,11 @@ Our rows: ``slipstick`` plans its FFTs by timing (``solver.fft_planner = "measur
 from __future__ import annotations
 
 import math
-import multiprocessing
-import threading
 import time
-from contextlib import contextmanager
 
 import numpy as np
+
+from .timing import format_table, isolated, peak_memory
 
 HERTZ_TABLE = {
     "body1": {"radius": 0.015, "behaviour": "rigid"},
@@ -27,45 +26,6 @@ HERTZ_TABLE = {
     "friction": {"coefficient": 0.0},
     "grid": {"n": 128, "half_width": 1.6},
 }
-
-DEFAULT_SIZES = {
-    "hertz": [64, 128, 256, 512],
-    "cattaneo": [64, 128, 256],
-    "plastic": [32, 64],
-    "slipstick": [64, 128],
-    "cycles": [32, 64, 128],
-}
-
-
-def _current_rss_mb() -> float:
-    with open("/proc/self/statm") as handle:
-        pages = int(handle.read().split()[1])
-    return pages * 4096 / 2**20
-
-
-@contextmanager
-def peak_memory():
-    """Sample the resident set every 2 ms; yields a dict whose ``"peak_MB"`` is the growth.
-
-    Works for Python and C++ allocations alike (peers), unlike ``tracemalloc``.
-    """
-    record = {"peak_MB": 0.0}
-    baseline = _current_rss_mb()
-    stop = threading.Event()
-
-    def sample():
-        while not stop.is_set():
-            record["peak_MB"] = max(record["peak_MB"], _current_rss_mb() - baseline)
-            stop.wait(0.002)
-
-    thread = threading.Thread(target=sample, daemon=True)
-    thread.start()
-    try:
-        yield record
-    finally:
-        stop.set()
-        thread.join()
-        record["peak_MB"] = max(record["peak_MB"], _current_rss_mb() - baseline)
 
 
 def _ours_hertz(n: int, repeat: int, planner: str = "measure") -> dict:
@@ -131,40 +91,6 @@ def _peer_hertz(name: str, n: int, repeat: int, parameters: dict) -> dict:
     return best
 
 
-def _child(target, args, queue) -> None:
-    try:
-        queue.put(("ok", target(*args)))
-    except Exception as error:  # reported as a row, the benchmark goes on
-        queue.put(("error", f"{type(error).__name__}: {error}"))
-
-
-def timed_solve(table: dict):
-    """Solve a case table: ``(case, result, wall s, CPU s, resident-memory growth MB)``."""
-    import solver
-
-    case = solver.Case.from_dict(table)
-    with peak_memory() as memory:
-        c0, t0 = time.process_time(), time.perf_counter()
-        result = solver.solve(case)
-        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-    return case, result, wall, cpu, memory["peak_MB"]
-
-
-def _isolated(target, *args, timeout: float = 1800.0):
-    context = multiprocessing.get_context("spawn")
-    queue = context.Queue()
-    process = context.Process(target=_child, args=(target, args, queue))
-    process.start()
-    try:
-        status, payload = queue.get(timeout=timeout)
-    except Exception:
-        status, payload = "error", f"no answer within {timeout:.0f} s"
-    process.join(5)
-    if process.is_alive():
-        process.kill()
-    return status, payload
-
-
 def _hertz_row(code: str, n: int, out: dict) -> dict:
     from solver import Case
 
@@ -190,45 +116,8 @@ def _hertz_row(code: str, n: int, out: dict) -> dict:
     }
 
 
-def format_table(rows: list[dict]) -> str:
-    """Render benchmark rows as a Markdown table."""
-    if not rows:
-        return "(no rows)"
-    columns = list(rows[0])
-    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
-    for row in rows:
-        cells = []
-        for column in columns:
-            value = row.get(column)
-            if isinstance(value, float):
-                cells.append("nan" if math.isnan(value) else f"{value:.4g}")
-            else:
-                cells.append("-" if value is None else str(value))
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
-
-
-def run_benchmark(
-    scene: str, sizes: list[int] | None = None, peers: bool = False, repeat: int = 3
-) -> int:
-    """Run a benchmark scene, print its table, and return an exit status."""
-    sizes = sizes or DEFAULT_SIZES[scene]
-    if scene == "plastic":
-        from .bench_plastic import run_plastic
-
-        return run_plastic(sizes, peers=peers)
-    if scene == "slipstick":
-        from .bench_slipstick import run_slipstick
-
-        return run_slipstick(sizes)
-    if scene == "cycles":
-        from .bench_cycles import run_cycles
-
-        return run_cycles(sizes)
-    if scene == "cattaneo":
-        from .bench_cattaneo import run_cattaneo
-
-        return run_cattaneo(sizes, peers=peers, repeat=repeat)
+def run_hertz(sizes: list[int], peers: bool = False, repeat: int = 3) -> int:
+    """Run the Hertz scene over ``sizes``, print its table, and return an exit status."""
     peer_names = []
     if peers:
         from .peers import available_peers
@@ -240,14 +129,14 @@ def run_benchmark(
     for n in sizes:
         for planner in ("measure", "estimate"):
             code = "slipstick" if planner == "measure" else "slipstick (estimate)"
-            status, out = _isolated(_ours_hertz, n, repeat, planner)
+            status, out = isolated(_ours_hertz, n, repeat, planner)
             if status == "ok":
                 rows.append(_hertz_row(code, n, out))
             else:
                 failures += 1
                 print(f"{code} n={n}: {out}")
         for name in peer_names:
-            status, out = _isolated(_peer_hertz, name, n, repeat, _hertz_parameters(n))
+            status, out = isolated(_peer_hertz, name, n, repeat, _hertz_parameters(n))
             if status == "ok":
                 rows.append(_hertz_row(name, n, out))
             else:

@@ -1,0 +1,73 @@
+"""Sensitivity of the results to the sweep axes that do not refine the mesh."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .dataset import (
+    axis_dims,
+    finest_index,
+    finished_mask,
+    mesh_axes,
+    numeric_coordinate,
+    sweep_slices,
+    with_derived,
+)
+
+
+def sensitivity_table(dataset, quantity: str, axis: str):
+    """Finite-difference sensitivity of a quantity to a (non-mesh) axis, on the finest meshes.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        Campaign dataset.
+    quantity : str
+        Variable name.
+    axis : str
+        A numeric sweep dimension (e.g. friction coefficient, beta, load).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case (mesh axes at their finest value): the other axes' values, the axis
+        value, ``value``, ``derivative`` (central differences, one-sided at the ends, on the
+        possibly uneven axis values; units of the quantity per unit of the axis) and
+        ``elasticity`` (``x / q dq/dx``, dimensionless; NaN where q or x is 0).
+    """
+    import pandas as pd
+
+    dataset = with_derived(dataset)
+    sub = dataset.isel(finest_index(dataset, skip=[axis]))
+    x_coord = numeric_coordinate(sub, axis)
+    if x_coord is None or sub.sizes[axis] < 2:
+        return pd.DataFrame()
+    x = x_coord.values.astype(float)
+    values = sub[quantity].where(finished_mask(sub))
+    rows = []
+    for labels, isel in sweep_slices(sub, [axis]):
+        v = values.isel(isel).values.astype(float)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            derivative = np.gradient(v, x) if len(x) > 1 else np.full_like(v, np.nan)
+            elasticity = np.where((v != 0) & (x != 0), x / v * derivative, np.nan)
+        for i in range(len(x)):
+            rows.append(
+                {
+                    **labels,
+                    x_coord.name: x[i],
+                    "value": v[i],
+                    "derivative": derivative[i],
+                    "elasticity": elasticity[i],
+                }
+            )
+    return pd.DataFrame(rows)
+
+
+def sensitivity_axes(dataset) -> list[str]:
+    """Numeric sweep dimensions that are not mesh axes and have at least two values."""
+    mesh = set(mesh_axes(dataset))
+    return [
+        d
+        for d in axis_dims(dataset)
+        if d not in mesh and dataset.sizes[d] > 1 and numeric_coordinate(dataset, d) is not None
+    ]

@@ -1,0 +1,36 @@
+"""The benchmark scenes by name: ``python -m study bench SCENE`` dispatches here.
+
+The top of :mod:`study.bench`: :data:`SCENES` names each scene's runner (a module of its own
+below, on the helpers of :mod:`.timing`), imported only when it runs.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+#: Scene -> (module, runner, the options it takes of ``peers`` and ``repeat``).
+SCENES = {
+    "hertz": ("hertz", "run_hertz", ("peers", "repeat")),
+    "cattaneo": ("cattaneo", "run_cattaneo", ("peers", "repeat")),
+    "plastic": ("plastic", "run_plastic", ("peers",)),
+    "slipstick": ("slipstick", "run_slipstick", ()),
+    "cycles": ("cycles", "run_cycles", ()),
+}
+
+DEFAULT_SIZES = {
+    "hertz": [64, 128, 256, 512],
+    "cattaneo": [64, 128, 256],
+    "plastic": [32, 64],
+    "slipstick": [64, 128],
+    "cycles": [32, 64, 128],
+}
+
+
+def run_benchmark(
+    scene: str, sizes: list[int] | None = None, peers: bool = False, repeat: int = 3
+) -> int:
+    """Run a benchmark scene, print its table, and return an exit status."""
+    module, runner, takes = SCENES[scene]
+    run = getattr(importlib.import_module(f"{__package__}.{module}"), runner)
+    options = {"peers": peers, "repeat": repeat}
+    return run(sizes or DEFAULT_SIZES[scene], **{k: options[k] for k in takes})

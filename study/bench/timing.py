@@ -1,0 +1,101 @@
+"""Timing and table helpers of the benchmarks: isolated child processes, peak memory, tables.
+
+Every benchmark row runs in a fresh child process (:func:`isolated`); its memory figure is the
+growth of that process's resident set, sampled every 2 ms (:func:`peak_memory`), so codes in
+C++ and in Python are measured alike.
+"""
+
+from __future__ import annotations
+
+import math
+import multiprocessing
+import threading
+import time
+from contextlib import contextmanager
+
+
+def _current_rss_mb() -> float:
+    with open("/proc/self/statm") as handle:
+        pages = int(handle.read().split()[1])
+    return pages * 4096 / 2**20
+
+
+@contextmanager
+def peak_memory():
+    """Sample the resident set every 2 ms; yields a dict whose ``"peak_MB"`` is the growth.
+
+    Works for Python and C++ allocations alike (peers), unlike ``tracemalloc``.
+    """
+    record = {"peak_MB": 0.0}
+    baseline = _current_rss_mb()
+    stop = threading.Event()
+
+    def sample():
+        while not stop.is_set():
+            record["peak_MB"] = max(record["peak_MB"], _current_rss_mb() - baseline)
+            stop.wait(0.002)
+
+    thread = threading.Thread(target=sample, daemon=True)
+    thread.start()
+    try:
+        yield record
+    finally:
+        stop.set()
+        thread.join()
+        record["peak_MB"] = max(record["peak_MB"], _current_rss_mb() - baseline)
+
+
+def _child(target, args, queue) -> None:
+    try:
+        queue.put(("ok", target(*args)))
+    except Exception as error:  # reported as a row, the benchmark goes on
+        queue.put(("error", f"{type(error).__name__}: {error}"))
+
+
+def timed_solve(table: dict):
+    """Solve a case table: ``(case, result, wall s, CPU s, resident-memory growth MB)``."""
+    import solver
+
+    case = solver.Case.from_dict(table)
+    with peak_memory() as memory:
+        c0, t0 = time.process_time(), time.perf_counter()
+        result = solver.solve(case)
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    return case, result, wall, cpu, memory["peak_MB"]
+
+
+def isolated(target, *args, timeout: float = 1800.0):
+    """Run ``target(*args)`` in a fresh (spawned) process: ``("ok", result)`` or ``("error", why)``.
+
+    A child that raises, dies or outlives ``timeout`` seconds is an error row, not a crash.
+    """
+    context = multiprocessing.get_context("spawn")
+    queue = context.Queue()
+    process = context.Process(target=_child, args=(target, args, queue))
+    process.start()
+    try:
+        status, payload = queue.get(timeout=timeout)
+    except Exception:
+        status, payload = "error", f"no answer within {timeout:.0f} s"
+    process.join(5)
+    if process.is_alive():
+        process.kill()
+    return status, payload
+
+
+def format_table(rows: list[dict]) -> str:
+    """Render benchmark rows as a Markdown table."""
+    if not rows:
+        return "(no rows)"
+    columns = list(rows[0])
+    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
+    for row in rows:
+        cells = []
+        for column in columns:
+            value = row.get(column)
+            if isinstance(value, float):
+                cells.append("nan" if math.isnan(value) else f"{value:.4g}")
+            else:
+                cells.append("-" if value is None else str(value))
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)

@@ -1,0 +1,285 @@
+"""Expanding ``[sweep]``, ``[zip]`` and ``[alias]`` into axes, and the axes into cases.
+
+Every case table is built from the base with its coordinates set (:func:`assign`) and
+validated by :meth:`solver.Case.from_dict`; a failure names the case by its coordinates.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import solver
+
+from .model import (
+    BETA_KEY,
+    CASE_TABLES,
+    PROGRESS_EVERY,
+    Axis,
+    CampaignCase,
+    CampaignError,
+    Coordinate,
+    Progress,
+)
+from .naming import _NAME, RESERVED_NAMES, _is_inf, _meta, default_name, format_value
+from .validate import (
+    _apply_beta,
+    _check_values,
+    _copy_table,
+    _explain,
+    _value,
+    assign,
+    normalise_key,
+)
+
+
+# -- axes ----------------------------------------------------------------------------------------
+@dataclass
+class _Entry:
+    """A parsed axis before naming: its keys (with values) and an explicit group name."""
+
+    members: list[tuple[str, str, list]]  # (normalised key, key as written, values)
+    group: str | None  # "[sweep]", "[zip]" or the zip sub-table name
+    zipped: bool
+
+
+def _all_keys(entries: list[_Entry]):
+    for entry in entries:
+        for key, written, _ in entry.members:
+            yield key, written
+
+
+def _parse_axes(sweep: Any, zipped: Any) -> list[_Entry]:
+    if sweep is None and zipped is None:
+        raise CampaignError(
+            "nothing to sweep: add a [sweep] table (or [zip]); for a single case sweep one "
+            'value, e.g. "friction.coefficient" = [0.1]'
+        )
+    entries: list[_Entry] = []
+    if sweep is not None:
+        if not isinstance(sweep, Mapping):
+            raise CampaignError("[sweep]: must be a table of dotted keys = [values]")
+        if not sweep and zipped is None:
+            raise CampaignError('[sweep]: empty; give at least one key, e.g. "grid.n" = [32, 64]')
+        for written, values in _flatten_keys(sweep, "[sweep]"):
+            key = normalise_key(written, "[sweep]")
+            values = _check_values(values, f'[sweep] "{written}"', key)
+            entries.append(_Entry([(key, written, values)], None, False))
+    if zipped is not None:
+        if not isinstance(zipped, Mapping) or not zipped:
+            raise CampaignError(
+                "[zip]: must be a non-empty table of dotted keys = [values] "
+                "(or sub-tables [zip.NAME])"
+            )
+        # [zip.NAME] sub-tables are groups; unquoted dotted keys (grid.n = [...]) arrive as
+        # nested tables named after a case table and belong to the flat group.
+        groups = {
+            k: v
+            for k, v in zipped.items()
+            if isinstance(v, Mapping) and "." not in k and k not in CASE_TABLES
+        }
+        flat = {k: v for k, v in zipped.items() if k not in groups}
+        if flat:
+            entries.append(_zip_entry(flat, None, "[zip]"))
+        for group, members in groups.items():
+            if not _NAME.match(group):
+                raise CampaignError(
+                    f"[zip.{group}]: the group name is a dimension name and must be an "
+                    "identifier (letters, digits, _)"
+                )
+            entries.append(_zip_entry(members, group, f"[zip.{group}]"))
+    seen: dict[str, str] = {}
+    for key, written in _all_keys(entries):
+        if key in seen:
+            raise CampaignError(
+                f'duplicate axis: "{written}" and "{seen[key]}" both set {key}; sweep a key once'
+            )
+        seen[key] = written
+    keys = sorted(seen)
+    for a, b in itertools.pairwise(keys):
+        if b.startswith(a + "."):
+            raise CampaignError(
+                f'overlapping axes: "{seen[a]}" contains "{seen[b]}"; sweep one or the other'
+            )
+    return entries
+
+
+def _flatten_keys(table: Mapping, where: str):
+    """Yield (dotted key, value); TOML splits unquoted dotted keys into nested tables."""
+    for key, value in table.items():
+        if isinstance(value, Mapping):
+            for sub, inner in _flatten_keys(value, where):
+                yield f"{key}.{sub}", inner
+        else:
+            yield key, value
+
+
+def _zip_entry(members: Mapping, group: str | None, where: str) -> _Entry:
+    flat = list(_flatten_keys(members, where))
+    if not flat:
+        raise CampaignError(f"{where}: empty; give two or more dotted keys = [values]")
+    out = []
+    for written, values in flat:
+        key = normalise_key(written, where)
+        out.append((key, written, _check_values(values, f'{where} "{written}"', key, False)))
+    lengths = {written: len(values) for _, written, values in out}
+    if len(set(lengths.values())) > 1:
+        detail = ", ".join(f'"{k}" has {n}' for k, n in lengths.items())
+        raise CampaignError(f"{where}: zipped lists must have the same length, but {detail} values")
+    seen = []
+    for point in zip(*(values for _, _, values in out), strict=True):
+        normal = tuple(float(v) if _is_inf(v) else v for v in point)
+        if normal in seen:
+            raise CampaignError(
+                f"{where}: the values {list(point)!r} appear twice; zipped points must differ"
+            )
+        seen.append(normal)
+    return _Entry(out, group, True)
+
+
+def _parse_aliases(raw: Any, keys: list[str]) -> dict[str, str]:
+    if not isinstance(raw, Mapping):
+        raise CampaignError("[alias]: must be a table of dotted key = name")
+    out = {}
+    for written, name in _flatten_keys(raw, "[alias]"):
+        key = normalise_key(written, "[alias]")
+        if key not in keys:
+            raise CampaignError(
+                f'[alias] "{written}": not a swept key; swept keys are {", ".join(keys)}'
+            )
+        if not isinstance(name, str) or not _NAME.match(name):
+            raise CampaignError(
+                f'[alias] "{written}": the name must be an identifier (letters, digits, _), '
+                f"got {name!r}"
+            )
+        out[key] = name
+    return out
+
+
+def _build_axes(entries: list[_Entry], aliases: dict[str, str]) -> tuple[Axis, ...]:
+    axes = []
+    for entry in entries:
+        coordinates = []
+        for key, _, values in entry.members:
+            units, long_name = _meta(key)
+            name = aliases.get(key, default_name(key))
+            coordinates.append(Coordinate(key, name, tuple(values), units, long_name))
+        if entry.group is not None:
+            name = entry.group
+        else:
+            name = "__".join(c.name for c in coordinates)
+        axes.append(Axis(name, tuple(coordinates), entry.zipped))
+    owner: dict[str, str] = {}
+    for axis in axes:
+        labels = {axis.name: axis.name if axis.zipped else axis.coordinates[0].key}
+        for c in axis.coordinates:
+            labels.setdefault(c.name, c.key)
+        for label, source in labels.items():
+            if label in RESERVED_NAMES or label.endswith(("_history", "_profile")):
+                raise CampaignError(
+                    f'axis name "{label}" ({source}) is reserved by the campaign dataset; '
+                    "choose another in [alias]"
+                )
+            if label in owner:
+                raise CampaignError(
+                    f'duplicate axis name "{label}" ({owner[label]} and {source}); '
+                    "give distinct names in [alias] or [zip.NAME]"
+                )
+            owner[label] = source
+    return tuple(axes)
+
+
+def _keep_volume_depth(base: dict, keys: set[str]) -> dict:
+    """A base whose ``grid.n = [nx, ny, nz]`` is written ``n = [nx, ny], nz = nz``.
+
+    Applied when ``grid.n`` or ``grid.nz`` is swept (a swept ``grid.n`` is one number,
+    nx = ny), so that a ``grid.n`` sweep keeps the base's nz instead of dropping it and a
+    ``grid.nz`` sweep replaces it (module docstring).
+    """
+    grid = base.get("grid")
+    if not {"grid.n", "grid.nz"} & keys or not isinstance(grid, dict) or "nz" in grid:
+        return base
+    n = grid.get("n")
+    if not (isinstance(n, list) and len(n) == 3):
+        return base
+    return {**base, "grid": {**grid, "n": n[:2], "nz": n[2]}}
+
+
+def _expand_cases(
+    base: dict,
+    axes: tuple[Axis, ...],
+    progress: Progress | None = None,
+    defined: dict[str, dict] | None = None,
+) -> tuple[CampaignCase, ...]:
+    cases: list[CampaignCase] = []
+    failures: list[tuple[str, str]] = []
+    total = math.prod(axis.size for axis in axes)
+    seen: dict[str, int] = {}
+    keys = {c.key for axis in axes for c in axis.coordinates}
+    if BETA_KEY in keys and keys & {"body1.E", "body1.nu"}:
+        raise CampaignError(f"{BETA_KEY} sets body1.E and body1.nu; do not sweep them as well")
+    base = _keep_volume_depth(base, keys)
+
+    def where(number: int, coords: dict) -> str:
+        label = ", ".join(f"{k}={format_value(v)}" for k, v in coords.items())
+        return f"case {number + 1} of {total} ({label})"
+
+    coords_of: dict[int, dict] = {}
+    for number, index in enumerate(itertools.product(*(range(axis.size) for axis in axes))):
+        if progress is not None and number and number % PROGRESS_EVERY == 0:
+            progress(number, total)
+        table = _copy_table(base)
+        coords: dict[str, Any] = {}
+        beta = None
+        for axis, i in zip(axes, index, strict=True):
+            for coordinate in axis.coordinates:
+                value = coordinate.values[i]
+                coords[coordinate.name] = value
+                if coordinate.key == BETA_KEY:
+                    beta = float(value)
+                else:
+                    assign(table, coordinate.key, _value(coordinate.key, value, defined or {}))
+        try:
+            if beta is not None:
+                _apply_beta(table, beta)
+            case = solver.Case.from_dict(table)
+        except (solver.SpecError, CampaignError) as error:
+            failures.append((where(number, coords), _explain(str(error), axes)))
+            continue
+        except Exception as error:  # a validation bug must still name the case
+            failures.append((where(number, coords), f"{type(error).__name__}: {error}"))
+            continue
+        case_id = case.case_id
+        if case_id in seen:
+            first = seen[case_id]
+            raise CampaignError(
+                f"{where(number, coords)} is the same case as {where(first, coords_of[first])} "
+                f"(case id {case_id}); an axis has no effect there, remove the duplicate values"
+            )
+        seen[case_id] = number
+        coords_of[number] = coords
+        cases.append(
+            CampaignCase(
+                number=number,
+                index=tuple(index),
+                coords=coords,
+                spec=case.spec,  # built for this case alone by from_dict: no copy needed
+                case_id=case_id,
+                cost=float(case.cost_estimate()),
+                memory=int(solver.memory_estimate(case)),
+                warnings=case.warnings,
+            )
+        )
+    if progress is not None:
+        progress(total, total)
+    if failures:
+        where, message = failures[0]
+        field_path = message.split(":", 1)[0]
+        if "unknown key" in message and field_path in keys:
+            raise CampaignError(f'swept key "{field_path}": {message.split(" [set by")[0]}')
+        more = f" (and {len(failures) - 1} more of {total} cases)" if len(failures) > 1 else ""
+        raise CampaignError(f"{where}{more}: {message}")
+    return tuple(cases)

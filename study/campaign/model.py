@@ -1,0 +1,295 @@
+"""The campaign's data: settings, axes, coordinates and cases (frozen, serialisable)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+
+import solver
+
+from .naming import _is_inf, _is_number, format_value
+
+#: Top-level tables of a campaign file.
+TOP_LEVEL = ("campaign", "base", "sweep", "zip", "alias", "define")
+#: First segments of a swept key.
+CASE_TABLES = ("body1", "body2", "load", "friction", "grid", "solver", "output", "materials")
+#: The pseudo-key that sweeps Dundurs' beta.
+BETA_KEY = "materials.dundurs_beta"
+#: 2-D surface fields a case file may keep (``[campaign] fields``).
+SURFACE_FIELDS = ("pressure", "shear_x", "shear_y", "contact_state")
+#: Largest case timeout (s, about 116 days): ``signal.setitimer`` overflows on huge values, and
+#: ``inf`` is refused rather than read as "none" (leave the setting out for no timeout).
+MAX_CASE_TIMEOUT = 1e7
+
+
+#: A progress callback: ``progress(done, total)`` (cases expanded so far, all cases).
+Progress = Callable[[int, int], None]
+#: Cases between two calls of a progress callback.
+PROGRESS_EVERY = 2000
+
+
+class CampaignError(ValueError):
+    """A bad campaign file: the message names the key or case, the field, and what to change."""
+
+
+# -- data ----------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Coordinate:
+    """One swept key and its values.
+
+    Attributes
+    ----------
+    key : str
+        Normalised dotted key (``"load.path.1.tangential_force"``).
+    name : str
+        Coordinate name in the dataset (alias, or the key with dots replaced by ``_``).
+    values : tuple
+        Swept values as written in the file (numbers, strings or booleans).
+    units : str or None
+        CF units when known.
+    long_name : str
+        Readable description.
+    """
+
+    key: str
+    name: str
+    values: tuple
+    units: str | None
+    long_name: str
+
+    def array_values(self) -> list:
+        """Values as stored in the dataset: numbers (``"inf"`` -> inf) or strings."""
+        if all(_is_number(v) or _is_inf(v) for v in self.values):
+            if all(isinstance(v, int) and not isinstance(v, bool) for v in self.values):
+                return list(self.values)
+            return [float(v) for v in self.values]
+        return list(self.values)
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One dimension of the campaign: a swept key, or several keys zipped together.
+
+    Attributes
+    ----------
+    name : str
+        Dimension name.
+    coordinates : tuple of Coordinate
+        One coordinate for a ``[sweep]`` axis, one per key for a ``[zip]`` group.
+    zipped : bool
+        True for a ``[zip]`` group.
+    """
+
+    name: str
+    coordinates: tuple[Coordinate, ...]
+    zipped: bool = False
+
+    @property
+    def size(self) -> int:
+        """Number of values along the axis."""
+        return len(self.coordinates[0].values)
+
+    @property
+    def index_coordinate(self) -> Coordinate | None:
+        """The coordinate that indexes the dimension (same name), if any."""
+        for coordinate in self.coordinates:
+            if coordinate.name == self.name:
+                return coordinate
+        return None
+
+
+@dataclass(frozen=True)
+class CampaignCase:
+    """One point of the sweep: its position, coordinates and validated case table.
+
+    Attributes
+    ----------
+    number : int
+        Position in the expansion order (C order over the axes), from 0.
+    index : tuple of int
+        Index along every axis.
+    coords : dict
+        Coordinate name -> swept value.
+    spec : dict
+        Normalised case table (:meth:`solver.Case.to_dict`).
+    case_id : str
+        :attr:`solver.Case.case_id`.
+    cost : float
+        :meth:`solver.Case.cost_estimate` (relative units).
+    memory : int
+        :meth:`solver.Case.memory_estimate` (bytes).
+    warnings : tuple of str
+        :attr:`solver.Case.warnings`: what the case is built with but should be read with care.
+    """
+
+    number: int
+    index: tuple[int, ...]
+    coords: dict
+    spec: dict
+    case_id: str
+    cost: float
+    memory: int
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def label(self) -> str:
+        """``name=value, ...`` of the sweep coordinates (for messages)."""
+        return ", ".join(f"{k}={format_value(v)}" for k, v in self.coords.items()) or "(base)"
+
+    def case(self) -> solver.Case:
+        """The validated :class:`solver.Case`."""
+        return solver.Case.from_dict(self.spec)
+
+
+@dataclass(frozen=True)
+class Settings:
+    """``[campaign]`` settings (see the module docstring)."""
+
+    name: str
+    output: str
+    fft_threads: int | None = None
+    fields: tuple[str, ...] = SURFACE_FIELDS
+    max_initial_failures: int = 5
+    profile_extent: float = 1.5
+    profile_points: int = 151
+    description: str = ""
+    case_timeout: float | None = None
+
+
+@dataclass(frozen=True)
+class Campaign:
+    """An expanded, validated campaign.
+
+    Attributes
+    ----------
+    settings : Settings
+        ``[campaign]`` settings.
+    axes : tuple of Axis
+        Dimensions, ``[sweep]`` keys first (file order), then ``[zip]`` groups.
+    cases : tuple of CampaignCase
+        Every case, in C order over the axes.
+    source : str
+        The campaign file it was read from ("" for a table).
+    """
+
+    settings: Settings
+    axes: tuple[Axis, ...]
+    cases: tuple[CampaignCase, ...]
+    source: str = ""
+    base: dict = field(default_factory=dict, compare=False)
+
+    @property
+    def name(self) -> str:
+        """Campaign name."""
+        return self.settings.name
+
+    @property
+    def dims(self) -> tuple[str, ...]:
+        """Dimension names."""
+        return tuple(axis.name for axis in self.axes)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Dimension sizes."""
+        return tuple(axis.size for axis in self.axes)
+
+    def by_id(self) -> dict[str, CampaignCase]:
+        """Cases by case id."""
+        return {case.case_id: case for case in self.cases}
+
+    def to_dict(self) -> dict:
+        """JSON-able form (what ``OUT/campaign.json`` holds)."""
+        return {
+            "format": "slipstick-campaign/1",
+            "slipstick_version": solver.__version__,
+            "name": self.name,
+            "source": self.source,
+            "settings": {
+                "name": self.settings.name,
+                "output": self.settings.output,
+                "fft_threads": self.settings.fft_threads,
+                "fields": list(self.settings.fields),
+                "max_initial_failures": self.settings.max_initial_failures,
+                "profile_extent": self.settings.profile_extent,
+                "profile_points": self.settings.profile_points,
+                "description": self.settings.description,
+                "case_timeout": self.settings.case_timeout,
+            },
+            "base": self.base,
+            "axes": [
+                {
+                    "name": axis.name,
+                    "zipped": axis.zipped,
+                    "coordinates": [
+                        {
+                            "key": c.key,
+                            "name": c.name,
+                            "values": list(c.values),
+                            "units": c.units,
+                            "long_name": c.long_name,
+                        }
+                        for c in axis.coordinates
+                    ],
+                }
+                for axis in self.axes
+            ],
+            "cases": [
+                {
+                    "number": case.number,
+                    "index": list(case.index),
+                    "coords": case.coords,
+                    "case_id": case.case_id,
+                    "cost": case.cost,
+                    "memory": case.memory,
+                    "warnings": list(case.warnings),
+                    "spec": case.spec,
+                }
+                for case in self.cases
+            ],
+        }
+
+    @classmethod
+    def from_dict(cls, data: Mapping) -> Campaign:
+        """Rebuild a campaign from :meth:`to_dict` output (no re-validation)."""
+        settings = data["settings"]
+        axes = tuple(
+            Axis(
+                name=axis["name"],
+                zipped=axis["zipped"],
+                coordinates=tuple(
+                    Coordinate(c["key"], c["name"], tuple(c["values"]), c["units"], c["long_name"])
+                    for c in axis["coordinates"]
+                ),
+            )
+            for axis in data["axes"]
+        )
+        cases = tuple(
+            CampaignCase(
+                number=c["number"],
+                index=tuple(c["index"]),
+                coords=dict(c["coords"]),
+                spec=c["spec"],
+                case_id=c["case_id"],
+                cost=c["cost"],
+                memory=c["memory"],
+                warnings=tuple(c.get("warnings", ())),
+            )
+            for c in data["cases"]
+        )
+        return cls(
+            settings=Settings(
+                name=settings["name"],
+                output=settings["output"],
+                fft_threads=settings["fft_threads"],
+                fields=tuple(settings["fields"]),
+                max_initial_failures=settings["max_initial_failures"],
+                profile_extent=settings["profile_extent"],
+                profile_points=settings["profile_points"],
+                description=settings.get("description", ""),
+                case_timeout=settings.get("case_timeout"),
+            ),
+            axes=axes,
+            cases=cases,
+            source=data.get("source", ""),
+            base=data.get("base", {}),
+        )

@@ -1,0 +1,252 @@
+"""The report builder: ``python -m study report OUT`` writes ``OUT/report.md`` and its figures.
+
+The top of :mod:`study.report`: it assembles the dataset if needed, writes the summary, the
+convergence and speed-error tables and figures (:mod:`.elastic`), and the plastic
+(:mod:`.plastic`) and cyclic (:mod:`.cycles`) sections when the campaign has them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import hashlib
+import os
+import platform
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from solver.result import STATUS_FLAGS
+
+from .. import analysis
+from . import cycles, plastic
+from .elastic import (
+    _convergence_note,
+    plot_convergence,
+    plot_profiles,
+    plot_speed_error,
+    plot_stick_slip,
+    profile_panels,
+    speed_error_note,
+    stick_slip_panels,
+)
+from .figures import fmt, markdown_table, pyplot, units_of
+
+
+def _sha256(path: Path) -> str:
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError:
+        return ""
+
+
+def _locate(out: str | Path) -> tuple[Path, Path]:
+    """(output folder, dataset path); assembles the dataset when it is missing."""
+    from ..run import storage
+
+    out = Path(out)
+    if out.is_file() and out.suffix == ".nc":
+        return out.parent, out
+    campaign = storage.read_campaign(out)
+    path = storage.dataset_path(out, campaign.name)
+    if not path.exists():
+        from ..run.assemble import assemble_to_file
+
+        path = assemble_to_file(out, campaign)
+    return out, path
+
+
+# -- report --------------------------------------------------------------------------------------
+def provenance(dataset, out: Path) -> dict:
+    """Provenance of the report: versions, campaign hashes, date, machine."""
+    import solver
+
+    source = Path(dataset.attrs.get("campaign_source", "") or "")
+    return {
+        "slipstick version": solver.__version__,
+        "dataset version": dataset.attrs.get("slipstick_version", ""),
+        "git commit": dataset.attrs.get("git_hash", "") or "(unknown)",
+        "campaign file": str(source) if str(source) else "(table)",
+        "campaign file sha256": (_sha256(source) if source.is_file() else "") or "(file not found)",
+        "campaign.json sha256": _sha256(out / "campaign.json") or "(missing)",
+        "dataset history": dataset.attrs.get("history", ""),
+        "report date (UTC)": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        "machine": f"{platform.node()} ({platform.platform()}, {os.cpu_count()} CPUs)",
+        "python": f"{sys.version.split()[0]}, numpy {np.__version__}",
+    }
+
+
+def build_report(out: str | Path, plots: bool = True) -> Path:
+    """Write ``OUT/report.md`` (and the figures) for a campaign output folder.
+
+    Parameters
+    ----------
+    out : str or Path
+        Campaign output folder (or the assembled ``.nc`` dataset inside it).
+    plots : bool
+        Draw the PNG figures (needs matplotlib; skipped with a note when it is missing).
+
+    Returns
+    -------
+    Path
+        The Markdown report.
+    """
+    import xarray as xr
+
+    from ..run import storage
+
+    out, path = _locate(out)
+    with xr.open_dataset(path, engine=storage.ENGINE) as raw:
+        dataset = analysis.with_derived(raw.load())
+    name = str(dataset.attrs.get("campaign", path.stem))
+    mesh = analysis.mesh_axes(dataset)
+    names = analysis.quantities(dataset)
+    refs = analysis.closed_forms(dataset)
+    lines = [f"# Campaign report: {name}", ""]
+    if dataset.attrs.get("summary"):
+        lines += [f"{dataset.attrs['summary']}", ""]
+    lines += ["## Provenance", ""]
+    lines += [f"- **{k}**: {v}" for k, v in provenance(dataset, out).items()]
+    lines += ["", "## Campaign", ""]
+    lines.append(f"- dataset: `{path.name}`")
+    lines.append(
+        "- axes: "
+        + ", ".join(
+            f"`{d}` ({dataset.sizes[d]}: {_values(dataset, d)})"
+            for d in analysis.axis_dims(dataset)
+        )
+    )
+    counts = ", ".join(f"{flag} {dataset.attrs.get(f'cases_{flag}', '?')}" for flag in STATUS_FLAGS)
+    lines.append(f"- cases: {dataset.attrs.get('cases_total', '?')} ({counts})")
+    lines.append(f"- closed forms: {analysis.scene(dataset)}")
+    lines.append(f"- mesh axes: {', '.join(mesh) or 'none'}")
+    lines.append("- quantities: " + ", ".join(f"{q} ({units_of(dataset, q)})" for q in names))
+    lines.append("")
+
+    figures: list[tuple[str, Path, str]] = []
+    plt = pyplot() if plots else None
+    if plots and plt is None:
+        lines += ["_matplotlib is not installed: no figures (pip install slipstick[plot])._", ""]
+
+    for dim in mesh:
+        noun, meaning = analysis.mesh_meaning(dataset, dim)
+        lines += [f"## Convergence along `{dim}` ({noun})", ""]
+        lines += [
+            f"{meaning}; `n` is the count.  `order_fit`: fit of",
+            "v = v* + C h^p over all meshes; `extrapolated`: Richardson from the two finest meshes",
+            "with that order (order 2 when the fit hits its bounds, `fit_at_bound`), converged",
+            "value `extrapolated` +- `error_bar` (= |extrapolated - finest|);",
+            "`order_finest`: log-log fit of |v - v_finest| vs h; `order_reference`: log-log fit",
+            "of |v - closed form| vs h.  Relative errors are signed.",
+            "",
+        ]
+        for q in names:
+            units = units_of(dataset, q)
+            lines += [f"### {analysis.QUANTITIES.get(q, ('', q))[1]} (`{q}`, {units})", ""]
+            lines += ["Summary per slice:", ""]
+            lines.append(markdown_table(analysis.convergence_summary(dataset, q, dim)))
+            lines += ["Per mesh:", ""]
+            table = analysis.convergence_table(dataset, q, dim)
+            keep = [c for c in table.columns if c not in ("extrapolated",)]
+            lines.append(markdown_table(table[keep]))
+        if plt is not None:
+            png = plot_convergence(dataset, dim, out / f"{name}_convergence_{dim}.png")
+            if png:
+                note = _convergence_note(dataset, dim)
+                figures.append((f"Convergence along {dim}", png, note))
+                lines += [f"![convergence along {dim}]({png.name})", ""]
+
+    sensitivity = analysis.sensitivity_axes(dataset)
+    if sensitivity:
+        lines += ["## Sensitivities", ""]
+        lines += [
+            "Finite differences on the finest mesh (central inside, one-sided at the ends);",
+            "`elasticity` = x / q dq/dx.",
+            "",
+        ]
+        for axis in sensitivity:
+            for q in names:
+                table = analysis.sensitivity_table(dataset, q, axis)
+                lines += [
+                    f"### d `{q}` / d `{axis}` ({units_of(dataset, q)} per unit of {axis})",
+                    "",
+                ]
+                lines.append(markdown_table(table))
+
+    lines += ["## Speed versus error", ""]
+    speed = analysis.speed_error_table(dataset)
+    basis = "closed forms" if refs else "Richardson-extrapolated values"
+    lines += [
+        f"Errors relative to the {basis} (`err_*`, signed); `error` is the largest absolute one;",
+        "`pareto` marks the cases no other case beats in both wall time and error.  Wall time is",
+        "the solve time of the case (it includes FFTW planning for the first case of a size on a",
+        "rank); peak memory is the process's peak resident set during the case (Linux).",
+        "",
+    ]
+    lines.append(markdown_table(speed))
+    if plt is not None:
+        png = plot_speed_error(speed, name, out / f"{name}_speed_error.png")
+        if png:
+            note = speed_error_note(speed)
+            figures.append(("Speed versus error", png, note))
+            lines += [f"![speed versus error]({png.name})", "", f"Shown: {note}.", ""]
+        png = plot_profiles(dataset, out / f"{name}_profiles.png")
+        if png:
+            note = profile_panels(dataset)[1]
+            figures.append(("Traction profiles", png, note))
+            lines += ["## Profiles", "", f"![profiles]({png.name})", "", f"Shown: {note}.", ""]
+        cases = storage.cases_dir(out)
+        png = plot_stick_slip(dataset, cases, out / f"{name}_stick_slip.png")
+        if png:
+            note = stick_slip_panels(dataset, cases)[1]
+            figures.append(("Stick/slip maps", png, note))
+            lines += ["## Stick and slip", "", f"![stick and slip]({png.name})", ""]
+            lines += [f"Shown: {note}.", ""]
+    if analysis.is_plastic(dataset):
+        lines += plastic.section(dataset, out, name, plt, figures)
+    if "cycle" in dataset.dims:
+        lines += cycles.section(dataset, out, name, plt, figures)
+    if figures:
+        lines += ["## Figures", ""]
+        lines += [f"- {title}: `{png.name}` ({note})" for title, png, note in figures]
+        lines.append("")
+    report = out / "report.md"
+    storage.atomic_write_text(report, "\n".join(lines))
+    return report
+
+
+def _values(dataset, dim: str) -> str:
+    values = dataset[dim].values if dim in dataset.coords else range(dataset.sizes[dim])
+    return ", ".join(fmt(v.item() if hasattr(v, "item") else v) for v in values)
+
+
+# -- command line --------------------------------------------------------------------------------
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Add the ``report`` subcommand to an :mod:`argparse` subparsers object."""
+    parser = subparsers.add_parser(
+        "report",
+        help="convergence, sensitivity and speed-versus-error report of a campaign",
+        description="Write OUT/report.md with convergence, sensitivity and speed-versus-error "
+        "tables, and PNG figures next to the dataset (matplotlib, the 'plot' extra).",
+    )
+    parser.add_argument("out", metavar="OUT", help="campaign output folder (or its .nc dataset)")
+    parser.add_argument("--no-plots", action="store_true", help="write the tables only")
+    return parser
+
+
+def main(args: argparse.Namespace | list[str] | None = None) -> int:
+    """Run the ``report`` subcommand; returns the exit status.
+
+    Parameters
+    ----------
+    args : argparse.Namespace or list of str, optional
+        Parsed arguments (``out``, ``no_plots``), or a command line after ``report``.
+    """
+    if not isinstance(args, argparse.Namespace):
+        parser = argparse.ArgumentParser(prog="python -m study")
+        add_parser(parser.add_subparsers(dest="command", required=True))
+        args = parser.parse_args(["report", *(args or [])])
+    report = build_report(args.out, plots=not args.no_plots)
+    print(f"report {report}")
+    return 0
