@@ -23,6 +23,35 @@ from typing import Any
 import numpy as np
 
 from .grid import SurfaceGrid, VolumeGrid
+from .keys import (
+    DEFAULT_DEPTH,
+    DEPTH_RANGE,
+    HARDENING_KEYS,
+    KINEMATIC_KEYS,
+    MAX_ANDERSON_MEMORY,
+    MAX_CELL_DEPTH,
+    MAX_CELLS,
+    MAX_CYCLES,
+    MAX_FFT_THREADS,
+    MAX_FRICTION,
+    MAX_HARDENING_RATIO,
+    MAX_INCREMENTS,
+    MAX_ITERATIONS,
+    MAX_RECALL,
+    MAX_STAGE_STEPS,
+    MAX_TOLERANCE,
+    MIN_CELLS_ACROSS,
+    MIN_YIELD_CELLS,
+    MODULUS_RANGE,
+    PRESSURE_RATIO_RANGE,
+    RADIUS_RANGE,
+    SOLVER_DEFAULTS,
+    SWIFT_OFFSET_RANGE,
+    YIELD_DEPTH_MARGIN,
+    YIELD_STRAIN_RANGE,
+    required_keys,
+    table_keys,
+)
 from .materials import Body, Hardening, Pair
 from .reference import (
     HertzContact,
@@ -34,30 +63,6 @@ from .reference import (
 )
 from .variables import OPTIONAL_FIELDS
 
-#: Smallest number of cells the contact diameter may span.
-MIN_CELLS_ACROSS = 10
-#: Largest grid side (cells) accepted.
-MAX_CELLS = 8192
-#: Young's moduli accepted (Pa): from soft gels to beyond diamond.
-MODULUS_RANGE = (1e3, 1e15)
-#: Finite radii of curvature accepted (m); "inf" (flat) is accepted as well.
-RADIUS_RANGE = (1e-9, 1e6)
-#: Hertz peak pressure over the composite modulus, p_H / E*, accepted for every non-zero load.
-#: It is the contact's strain scale (a / R = pi/2 p_H / E* for a sphere): below 1e-9 the
-#: contact is a rounding error, above 1 the small-strain theory the solver rests on is void.
-PRESSURE_RATIO_RANGE = (1e-9, 1.0)
-#: Initial yield strain sigma_Y0 / E accepted for an elastic-plastic body: from the softest
-#: annealed metals (indium, lead: ~1e-4) to metallic glasses (~0.02), with a decade of slack.
-YIELD_STRAIN_RANGE = (1e-5, 0.1)
-#: Swift's offset C (micro-strain) accepted: its initial slope B n 1e6 C^(n-1) is finite.
-SWIFT_OFFSET_RANGE = (1e-3, 1e7)
-#: Largest hardening modulus (linear H, kinematic C) over Young's modulus.
-MAX_HARDENING_RATIO = 10.0
-#: Largest Armstrong-Frederick recall gamma (dimensionless; measured values are 10-1000).
-MAX_RECALL = 1e6
-#: Largest number of load increments of a path (cycle blocks repeated): every increment is a
-#: contact solve and a row of every history.
-MAX_INCREMENTS = 1_000_000
 #: Equivalent plastic strain up to which the small-strain theory is trusted (the reference
 #: paper stops at 2 %); also the strain of the reference flow stress of :func:`plastic_index`.
 SMALL_STRAIN_LIMIT = 0.02
@@ -72,6 +77,11 @@ UNCONTAINED_PLASTIC_INDEX = 10.0
 
 class SpecError(ValueError):
     """An invalid case specification; the message names the field and what to change."""
+
+
+#: Tables of :data:`solver.keys.CASE_KEYS` the parser names more than once.
+HARDENING, KINEMATIC = "bodyN.hardening", "bodyN.hardening.kinematic"
+STAGE, CYCLE_BLOCK = "load.path[i]", "load.path[i] (cycle block)"
 
 
 def _fail(path: str, message: str) -> None:
@@ -138,19 +148,8 @@ def _integer(value: Any, path: str, low: int, high: int) -> int:
     return value
 
 
-HARDENING_KEYS = {
-    "swift": {"B", "C", "n"},
-    "linear": {"yield_stress", "modulus"},
-    "perfect": {"yield_stress"},
-}
-
-
-#: Kinematic hardening laws (``hardening.kinematic.law``) and their keys.
-KINEMATIC_KEYS = {"prager": {"C"}, "armstrong-frederick": {"C", "gamma"}}
-
-
 def _parse_kinematic(table: Any, path: str) -> dict:
-    _check_keys(table, path, {"law", "C", "gamma"}, {"law"})
+    _check_keys(table, path, table_keys(KINEMATIC), required_keys(KINEMATIC))
     law = _plain(table["law"])
     if law not in KINEMATIC_KEYS:
         _fail(f"{path}.law", f"must be one of {', '.join(KINEMATIC_KEYS)}, got {law!r}")
@@ -161,8 +160,7 @@ def _parse_kinematic(table: Any, path: str) -> dict:
 
 
 def _parse_hardening(table: Any, path: str) -> Hardening:
-    keys = {"law", "B", "C", "n", "yield_stress", "modulus", "kinematic"}
-    _check_keys(table, path, keys, {"law"})
+    _check_keys(table, path, table_keys(HARDENING), required_keys(HARDENING))
     law = _plain(table["law"])
     if law not in HARDENING_KEYS:
         _fail(f"{path}.law", f"must be one of {', '.join(HARDENING_KEYS)}, got {law!r}")
@@ -188,8 +186,7 @@ def _parse_hardening(table: Any, path: str) -> Hardening:
 
 
 def _parse_body(table: Any, path: str) -> Body:
-    allowed = {"behaviour", "radius", "radius_x", "radius_y", "E", "nu", "hardening"}
-    _check_keys(table, path, allowed, {"behaviour"})
+    _check_keys(table, path, table_keys("bodyN"), required_keys("bodyN"))
     behaviour = _plain(table["behaviour"])
     if behaviour not in ("rigid", "elastic", "elastic-plastic"):
         _fail(f"{path}.behaviour", f"must be rigid, elastic or elastic-plastic, got {behaviour!r}")
@@ -294,10 +291,6 @@ class LoadStage:
     cycle: int = 0
 
 
-#: Largest number of cycles of a cycle block.
-MAX_CYCLES = 10_000
-
-
 def _parse_path(raw_stages: list, pair: Pair) -> tuple[list[LoadStage], list[str], list[dict]]:
     """Stages of a load path with its cycle blocks repeated, their paths, the normalised path.
 
@@ -322,7 +315,7 @@ def _parse_path(raw_stages: list, pair: Pair) -> tuple[list[LoadStage], list[str
     for i, raw in enumerate(raw_stages):
         path = f"load.path[{i}]"
         if isinstance(raw, dict) and "cycles" in raw:
-            _check_keys(raw, path, {"cycles", "stages"}, {"cycles", "stages"})
+            _check_keys(raw, path, table_keys(CYCLE_BLOCK), required_keys(CYCLE_BLOCK))
             cycles = _integer(raw["cycles"], f"{path}.cycles", 1, MAX_CYCLES)
             inner = raw["stages"]
             if not isinstance(inner, list) or not inner:
@@ -436,8 +429,7 @@ def _check_force(force: float, pair: Pair, path: str) -> None:
 
 
 def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool) -> tuple:
-    allowed = {"hertz_pressure", "normal_force", "tangential_force", "steps"}
-    _check_keys(table, path, allowed)
+    _check_keys(table, path, table_keys(STAGE))
     if "hertz_pressure" in table and "normal_force" in table:
         _fail(f"{path}.hertz_pressure", "give either hertz_pressure or normal_force, not both")
     given = {}
@@ -464,7 +456,7 @@ def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool
         given["tangential_force"] = list(q)
     else:
         q = previous[1]
-    steps = _integer(table.get("steps", 1), f"{path}.steps", 1, 100000)
+    steps = _integer(table.get("steps", 1), f"{path}.steps", 1, MAX_STAGE_STEPS)
     given["steps"] = steps
     return LoadStage(force, q, steps), given
 
@@ -472,6 +464,8 @@ def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool
 @dataclass(frozen=True)
 class SolverOptions:
     """Tolerances and caps of the iterative loops (all dimensionless), and FFT settings.
+
+    Defaults: :data:`solver.keys.SOLVER_DEFAULTS`.
 
     ``plastic_tolerance`` bounds the last change of a step's plastic strain increment relative
     to the yield strain sigma_Y0/E; ``anderson_memory`` is the number of past iterates the
@@ -483,19 +477,19 @@ class SolverOptions:
     path-dependent coupled friction cases can amplify to ~1e-4.
     """
 
-    normal_tolerance: float = 1e-8
-    normal_max_iterations: int = 2000
-    slip_tolerance: float = 1e-6
-    slip_max_iterations: int = 5000
-    coupling_tolerance: float = 1e-6
-    coupling_max_iterations: int = 100
-    goodman: bool = False
-    max_load_ratio: float = 1.25
-    plastic_tolerance: float = 1e-5
-    plastic_max_iterations: int = 100
-    anderson_memory: int = 5
-    fft_threads: int = 1
-    fft_planner: str = "estimate"
+    normal_tolerance: float = SOLVER_DEFAULTS["normal_tolerance"]
+    normal_max_iterations: int = SOLVER_DEFAULTS["normal_max_iterations"]
+    slip_tolerance: float = SOLVER_DEFAULTS["slip_tolerance"]
+    slip_max_iterations: int = SOLVER_DEFAULTS["slip_max_iterations"]
+    coupling_tolerance: float = SOLVER_DEFAULTS["coupling_tolerance"]
+    coupling_max_iterations: int = SOLVER_DEFAULTS["coupling_max_iterations"]
+    goodman: bool = SOLVER_DEFAULTS["goodman"]
+    max_load_ratio: float = SOLVER_DEFAULTS["max_load_ratio"]
+    plastic_tolerance: float = SOLVER_DEFAULTS["plastic_tolerance"]
+    plastic_max_iterations: int = SOLVER_DEFAULTS["plastic_max_iterations"]
+    anderson_memory: int = SOLVER_DEFAULTS["anderson_memory"]
+    fft_threads: int = SOLVER_DEFAULTS["fft_threads"]
+    fft_planner: str = SOLVER_DEFAULTS["fft_planner"]
 
 
 _SOLVER_RULES = {
@@ -516,17 +510,17 @@ _SOLVER_RULES = {
 
 
 def _parse_solver(table: Any) -> SolverOptions:
-    _check_keys(table, "solver", set(_SOLVER_RULES))
+    _check_keys(table, "solver", table_keys("solver"))
     values = {}
     for key, value in table.items():
         rule = _SOLVER_RULES[key][0]
         path = f"solver.{key}"
         if rule == "tol":
             values[key] = _number(value, path, positive=True)
-            if values[key] >= 0.1:
-                _fail(path, f"tolerance must be < 0.1, got {value}")
+            if values[key] >= MAX_TOLERANCE:
+                _fail(path, f"tolerance must be < {MAX_TOLERANCE:g}, got {value}")
         elif rule == "int":
-            values[key] = _integer(value, path, 1, 10_000_000)
+            values[key] = _integer(value, path, 1, MAX_ITERATIONS)
         elif rule == "ratio":
             values[key] = _number(value, path, positive=True, allow_inf=True)
             if values[key] <= 1.0:
@@ -536,9 +530,9 @@ def _parse_solver(table: Any) -> SolverOptions:
                 _fail(path, f'must be "estimate" (reproducible) or "measure", got {value!r}')
             values[key] = value
         elif rule == "threads":
-            values[key] = _integer(value, path, 1, 256)
+            values[key] = _integer(value, path, 1, MAX_FFT_THREADS)
         elif rule == "memory":
-            values[key] = _integer(value, path, 0, 50)
+            values[key] = _integer(value, path, 0, MAX_ANDERSON_MEMORY)
         elif not isinstance(value := _plain(value), bool):
             _fail(path, f"must be true or false, got {value!r}")
         else:
@@ -566,21 +560,9 @@ class GridSpec:
 
 #: Field outputs a case may request.
 FIELD_OUTPUTS = OPTIONAL_FIELDS
-#: Largest friction coefficient accepted (dimensionless).
-MAX_FRICTION = 100.0
 #: Version of the physical model: part of every case id, so that files computed by an older
 #: model (version 1: elastic-plastic bodies solved as elastic) are never reused.
 MODEL_VERSION = 2
-#: Volume depth (units of the largest Hertz semi-axis) when none is given for elastic cases.
-DEFAULT_DEPTH = 1.2
-#: Margin on the elastic yield depth that sizes an elastic-plastic case's volume grid.
-YIELD_DEPTH_MARGIN = 1.2
-#: Volume depths accepted (``grid.depth``, ``grid.depth_body1``; units of the Hertz radius).
-DEPTH_RANGE = (0.05, 20.0)
-#: Fewest volume cells across the elastic yield region in depth (:func:`_check_volume`).
-MIN_YIELD_CELLS = 2
-#: Thickest volume cell (units of a_H) of an elastic-plastic body (:func:`_check_volume`).
-MAX_CELL_DEPTH = 0.25
 
 
 def auto_depth(max_pressure: float, yield_stress: float, nu: float) -> float:
@@ -650,8 +632,7 @@ class Case:
         Numpy scalars (``np.int64``, ``np.float32``, ``np.bool_``, ...) are taken as the Python
         values they hold, and numpy arrays where a list is expected; a boolean is never a number.
         """
-        allowed = {"body1", "body2", "load", "friction", "grid", "solver", "output", "model"}
-        _check_keys(table, "", allowed, {"body1", "body2", "load", "grid"})
+        _check_keys(table, "", table_keys(""), required_keys(""))
         if table.get("model", MODEL_VERSION) != MODEL_VERSION:
             _fail(
                 "model",
@@ -682,7 +663,7 @@ class Case:
             stage, spec = _parse_stage(load, "load", (0.0, (0.0, 0.0)), pair, True)
             stages, paths, given = [stage], ["load"], [spec]
 
-        friction = _check_keys(table.get("friction", {}), "friction", {"coefficient"})
+        friction = _check_keys(table.get("friction", {}), "friction", table_keys("friction"))
         mu = _number(friction.get("coefficient", 0.0), "friction.coefficient")
         if not 0 <= mu <= MAX_FRICTION:
             _fail(
@@ -735,7 +716,7 @@ class Case:
             depth = grid.depth_body1 if own else grid.depth
             _check_volume(body, depth, grid.nz, p_max, given_key)
         solver = _parse_solver(table.get("solver", {}))
-        output = _check_keys(table.get("output", {}), "output", {"fields"})
+        output = _check_keys(table.get("output", {}), "output", table_keys("output"))
         fields = _plain(output.get("fields", []))
         if isinstance(fields, list):
             fields = [_plain(name) for name in fields]
@@ -1017,7 +998,7 @@ def _parse_grid(table: Any) -> GridSpec:
     ``nz`` (the volume grid's cells in depth) may be given apart from a 1- or 2-entry ``n``,
     not as well as a 3-entry one.
     """
-    _check_keys(table, "grid", {"n", "nz", "half_width", "depth", "depth_body1"}, {"n"})
+    _check_keys(table, "grid", table_keys("grid"), required_keys("grid"))
     n = _plain(table["n"])
     if isinstance(n, list):
         if len(n) not in (2, 3):

@@ -67,6 +67,7 @@ from solver.dundurs import beta_range, body1_for_beta
 
 from .model import (
     BETA_KEY,
+    CAMPAIGN_KEYS,
     CASE_TABLES,
     MAX_CASE_TIMEOUT,
     PROGRESS_EVERY,
@@ -86,6 +87,7 @@ from .validate import assign, normalise_key
 
 __all__ = [
     "BETA_KEY",
+    "CAMPAIGN_KEYS",
     "CASE_TABLES",
     "MAX_CASE_TIMEOUT",
     "PROGRESS_EVERY",

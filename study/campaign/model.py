@@ -6,6 +6,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import solver
+from solver.keys import Key
 
 from .naming import _is_inf, _is_number, format_value
 
@@ -20,6 +21,45 @@ SURFACE_FIELDS = ("pressure", "shear_x", "shear_y", "contact_state")
 #: Largest case timeout (s, about 116 days): ``signal.setitimer`` overflows on huge values, and
 #: ``inf`` is refused rather than read as "none" (leave the setting out for no timeout).
 MAX_CASE_TIMEOUT = 1e7
+
+
+#: Every key of a campaign file outside ``[base]`` (whose keys are :data:`solver.keys.CASE_KEYS`),
+#: declared once: ``read`` takes the accepted ``[campaign]`` settings from here, the guide's
+#: reference page is written from it.
+CAMPAIGN_KEYS: tuple[Key, ...] = (
+    Key("", "campaign", "table", "", "optional", "the settings below", "every campaign",
+        "Name, output folder and run settings."),
+    Key("", "base", "table", "", "required", "a case table (the case keys)", "every campaign",
+        "The case every point of the sweep starts from."),
+    Key("", "sweep", "table", "", "one of sweep / zip", '"dotted.key" = [values]',
+        "every campaign", "One axis per key; the cases are the product of the axes."),
+    Key("", "zip", "table", "", "one of sweep / zip", '[zip.NAME] "key" = [values], ...',
+        "campaigns that vary keys together", "One axis per group, its keys stepping together."),
+    Key("", "alias", "table", "", "optional", '"dotted.key" = "name"', "every campaign",
+        "Names of the dataset coordinates (default: the key with _ for .)."),
+    Key("", "define", "table", "", "optional", "[define.NAME] tables", "sweeps of whole tables",
+        'Named tables a sweep of "body1", "load", ... picks by name.'),
+    Key("[sweep]", BETA_KEY, "number", "1", "", "what body 1's constants can reach",
+        "two deforming bodies", "Dundurs' beta, set by body 1's E and nu at fixed E*."),
+    Key("campaign", "name", "string", "", "the file's name", "letters, digits, _ . -",
+        "every campaign", "Campaign name: the dataset is OUT/<name>.nc."),
+    Key("campaign", "output", "string", "", '"out/<name>"', "a folder path", "every campaign",
+        "Output folder."),
+    Key("campaign", "description", "string", "", '""', "any text", "every campaign",
+        "Summary attribute of the dataset."),
+    Key("campaign", "fft_threads", "integer", "1", "the cases' own", "[1, 256]",
+        "every campaign", "FFTW threads of every case (not part of the case ids)."),
+    Key("campaign", "fields", "array of strings", "", str(list(SURFACE_FIELDS)),
+        ", ".join(SURFACE_FIELDS), "every campaign", "Surface fields the case files keep."),
+    Key("campaign", "max_initial_failures", "integer", "1", "5", ">= 0 (0 never stops)",
+        "every campaign", "Stop early when the first cases all fail."),
+    Key("campaign", "profile_extent", "number", "a_H", "1.5", "(0, 100]", "every campaign",
+        "Extent of the radial profiles (r / a_H)."),
+    Key("campaign", "profile_points", "integer", "1", "151", "[2, 100000]", "every campaign",
+        "Points of the radial profiles."),
+    Key("campaign", "case_timeout", "number", "s", "none", f"(0, {MAX_CASE_TIMEOUT:g}]",
+        "every campaign", "Seconds after which a case is abandoned (failed)."),
+)  # fmt: skip
 
 
 #: A progress callback: ``progress(done, total)`` (cases expanded so far, all cases).

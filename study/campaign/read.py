@@ -14,6 +14,7 @@ from typing import Any
 
 from .expand import _all_keys, _build_axes, _Entry, _expand_cases, _parse_aliases, _parse_axes
 from .model import (
+    CAMPAIGN_KEYS,
     MAX_CASE_TIMEOUT,
     SURFACE_FIELDS,
     TOP_LEVEL,
@@ -155,17 +156,7 @@ def _parse_defined(raw: Any, entries: list[_Entry]) -> dict[str, dict]:
 def _parse_settings(raw: Any, default_name: str) -> Settings:
     if not isinstance(raw, Mapping):
         raise CampaignError("[campaign]: must be a table")
-    allowed = {
-        "name",
-        "output",
-        "fft_threads",
-        "fields",
-        "max_initial_failures",
-        "profile_extent",
-        "profile_points",
-        "description",
-        "case_timeout",
-    }
+    allowed = {key.name for key in CAMPAIGN_KEYS if key.table == "campaign"}
     unknown = sorted(set(raw) - allowed)
     if unknown:
         raise CampaignError(

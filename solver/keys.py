@@ -1,0 +1,307 @@
+"""Every key of a case table, declared once: type, unit, default, accepted range, who uses it.
+
+:mod:`solver.case` takes the keys each table accepts (:func:`table_keys`), the required ones,
+the limits it checks and the solver defaults from here, and the guide's reference page of case
+keys is written from :data:`CASE_KEYS` (``docs/generate.py``): the parser, its messages and the
+documentation cannot drift apart.
+
+A table is named by its place in the case file: ``""`` (the top level), ``"bodyN"`` (both
+``[body1]`` and ``[body2]``), ``"bodyN.hardening"``, ``"bodyN.hardening.kinematic"``,
+``"load"`` (a single stage, or ``path``), ``"load.path[i]"`` (a stage of a path),
+``"load.path[i] (cycle block)"``, ``"friction"``, ``"grid"``, ``"solver"``, ``"output"``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .variables import OPTIONAL_FIELDS
+
+# -- limits the validation checks (SI units unless said) ------------------------------------------
+#: Smallest number of cells the contact diameter may span.
+MIN_CELLS_ACROSS = 10
+#: Largest grid side (cells) accepted.
+MAX_CELLS = 8192
+#: Young's moduli accepted (Pa): from soft gels to beyond diamond.
+MODULUS_RANGE = (1e3, 1e15)
+#: Finite radii of curvature accepted (m); "inf" (flat) is accepted as well.
+RADIUS_RANGE = (1e-9, 1e6)
+#: Hertz peak pressure over the composite modulus, p_H / E*, accepted for every non-zero load.
+#: It is the contact's strain scale (a / R = pi/2 p_H / E* for a sphere): below 1e-9 the
+#: contact is a rounding error, above 1 the small-strain theory the solver rests on is void.
+PRESSURE_RATIO_RANGE = (1e-9, 1.0)
+#: Initial yield strain sigma_Y0 / E accepted for an elastic-plastic body: from the softest
+#: annealed metals (indium, lead: ~1e-4) to metallic glasses (~0.02), with a decade of slack.
+YIELD_STRAIN_RANGE = (1e-5, 0.1)
+#: Swift's offset C (micro-strain) accepted: its initial slope B n 1e6 C^(n-1) is finite.
+SWIFT_OFFSET_RANGE = (1e-3, 1e7)
+#: Largest hardening modulus (linear H, kinematic C) over Young's modulus.
+MAX_HARDENING_RATIO = 10.0
+#: Largest Armstrong-Frederick recall gamma (dimensionless; measured values are 10-1000).
+MAX_RECALL = 1e6
+#: Largest number of increments of one load stage.
+MAX_STAGE_STEPS = 100_000
+#: Largest number of cycles of a cycle block.
+MAX_CYCLES = 10_000
+#: Largest number of load increments of a path (cycle blocks repeated): every increment is a
+#: contact solve and a row of every history.
+MAX_INCREMENTS = 1_000_000
+#: Largest friction coefficient accepted (dimensionless).
+MAX_FRICTION = 100.0
+#: Volume depths accepted (``grid.depth``, ``grid.depth_body1``; units of the Hertz radius).
+DEPTH_RANGE = (0.05, 20.0)
+#: Fewest volume cells across the elastic yield region in depth (``solver.case``).
+MIN_YIELD_CELLS = 2
+#: Thickest volume cell (units of a_H) of an elastic-plastic body (``solver.case``).
+MAX_CELL_DEPTH = 0.25
+#: Volume depth (units of the largest Hertz semi-axis) when none is given for elastic cases.
+DEFAULT_DEPTH = 1.2
+#: Margin on the elastic yield depth that sizes an elastic-plastic case's volume grid.
+YIELD_DEPTH_MARGIN = 1.2
+#: Loop tolerances must be below this (dimensionless).
+MAX_TOLERANCE = 0.1
+#: Largest iteration cap of a loop.
+MAX_ITERATIONS = 10_000_000
+#: Largest number of FFTW threads.
+MAX_FFT_THREADS = 256
+#: Largest Anderson memory.
+MAX_ANDERSON_MEMORY = 50
+
+#: Hardening laws (``hardening.law``) and their keys.
+HARDENING_KEYS = {
+    "swift": {"B", "C", "n"},
+    "linear": {"yield_stress", "modulus"},
+    "perfect": {"yield_stress"},
+}
+#: Kinematic hardening laws (``hardening.kinematic.law``) and their keys.
+KINEMATIC_KEYS = {"prager": {"C"}, "armstrong-frederick": {"C", "gamma"}}
+
+#: Defaults of ``[solver]`` (:class:`solver.case.SolverOptions` takes them from here).
+SOLVER_DEFAULTS = {
+    "normal_tolerance": 1e-8,
+    "normal_max_iterations": 2000,
+    "slip_tolerance": 1e-6,
+    "slip_max_iterations": 5000,
+    "coupling_tolerance": 1e-6,
+    "coupling_max_iterations": 100,
+    "goodman": False,
+    "max_load_ratio": 1.25,
+    "plastic_tolerance": 1e-5,
+    "plastic_max_iterations": 100,
+    "anderson_memory": 5,
+    "fft_threads": 1,
+    "fft_planner": "estimate",
+}
+
+
+@dataclass(frozen=True)
+class Key:
+    """One key of a case table.
+
+    Attributes
+    ----------
+    table : str
+        The table it sits in (module docstring).
+    name : str
+        The key.
+    kind : str
+        TOML type(s): ``number``, ``integer``, ``string``, ``boolean``, ``table``, ``array``.
+    unit : str
+        SI unit, ``1`` for dimensionless, ``a_H`` for units of the Hertz radius, ``""`` for none.
+    default : str
+        Its default, or ``required`` / ``optional`` (no default: absent means not used).
+    accepted : str
+        What the validation accepts.
+    used_by : str
+        The scenes (bodies, loads, grids) that read it.
+    doc : str
+        What it sets.
+    """
+
+    table: str
+    name: str
+    kind: str
+    unit: str
+    default: str
+    accepted: str
+    used_by: str
+    doc: str
+
+    @property
+    def path(self) -> str:
+        """``table.name`` (``name`` at the top level)."""
+        return f"{self.table}.{self.name}" if self.table else self.name
+
+    @property
+    def required(self) -> bool:
+        """True when the table must give it."""
+        return self.default == "required"
+
+
+def _range(low: float, high: float, unit: str = "") -> str:
+    return f"[{low:g}, {high:g}]" + (f" {unit}" if unit else "")
+
+
+_EP = "elastic-plastic bodies"
+_SWIFT = "Swift hardening"
+_LOADS = "every case (a load stage)"
+#: Every key of a case table, in the order of the case file.
+CASE_KEYS: tuple[Key, ...] = (
+    Key("", "body1", "table", "", "required", "a body table", "every case",
+        "The upper body (the indenter)."),
+    Key("", "body2", "table", "", "required", "a body table", "every case",
+        "The lower body; z points into it."),
+    Key("", "load", "table", "", "required", "a load table", "every case",
+        "The load: one stage, or a path of stages."),
+    Key("", "friction", "table", "", "optional", "a friction table", "every case",
+        "Coulomb friction."),
+    Key("", "grid", "table", "", "required", "a grid table", "every case", "The discretisation."),
+    Key("", "solver", "table", "", "optional", "a solver table", "every case",
+        "Tolerances, iteration caps and FFT settings of the loops."),
+    Key("", "output", "table", "", "optional", "an output table", "every case",
+        "Optional field outputs."),
+    Key("", "model", "integer", "", "the current model", "the current model version only",
+        "every case", "The model version a normalised case was written by (part of the case id)."),
+    # bodies
+    Key("bodyN", "behaviour", "string", "", "required", "rigid, elastic or elastic-plastic",
+        "every body", "Constitutive behaviour (at least one body deforms)."),
+    Key("bodyN", "radius", "number or \"inf\"", "m", "\"inf\" (flat)",
+        _range(*RADIUS_RANGE, "m") + ' or "inf"', "every body",
+        "Radius of curvature (a sphere); not with radius_x / radius_y."),
+    Key("bodyN", "radius_x", "number or \"inf\"", "m", "\"inf\"",
+        _range(*RADIUS_RANGE, "m") + ' or "inf"', "every body",
+        "Radius of curvature in the x-z plane (an ellipsoid; R_x/R_y within 1:100)."),
+    Key("bodyN", "radius_y", "number or \"inf\"", "m", "\"inf\"",
+        _range(*RADIUS_RANGE, "m") + ' or "inf"', "every body",
+        "Radius of curvature in the y-z plane."),
+    Key("bodyN", "E", "number", "Pa", "required (not for rigid)", _range(*MODULUS_RANGE, "Pa"),
+        "elastic and elastic-plastic bodies", "Young's modulus."),
+    Key("bodyN", "nu", "number", "1", "required (not for rigid)", "(-1, 0.5]",
+        "elastic and elastic-plastic bodies", "Poisson's ratio."),
+    Key("bodyN", "hardening", "table", "", "required for elastic-plastic", "a hardening table",
+        _EP, "The hardening law."),
+    Key("bodyN.hardening", "law", "string", "", "required", "swift, linear or perfect", _EP,
+        "swift: sigma_Y = B (C + 1e6 e_p)^n; linear: sigma_Y0 + H e_p; perfect: sigma_Y0."),
+    Key("bodyN.hardening", "B", "number", "Pa", "required by its law",
+        "> 0; B C^n in the yield_stress range", _SWIFT,
+        "Swift's coefficient (the paper's steel: 945e6)."),
+    Key("bodyN.hardening", "C", "number", "1 (micro-strain)", "required by its law",
+        _range(*SWIFT_OFFSET_RANGE), _SWIFT, "Swift's offset, a pre-strain in micro-strain "
+        "(the paper's 20)."),
+    Key("bodyN.hardening", "n", "number", "1", "required by its law", "(0, 1]", _SWIFT,
+        "Swift's exponent (the paper's 0.121)."),
+    Key("bodyN.hardening", "yield_stress", "number", "Pa", "required by its law",
+        f"{YIELD_STRAIN_RANGE[0]:g} E to {YIELD_STRAIN_RANGE[1]:g} E",
+        "linear and perfect hardening", "Initial yield stress sigma_Y0 (Swift's is B C^n, in the "
+        "same range)."),
+    Key("bodyN.hardening", "modulus", "number", "Pa", "required by its law",
+        f"[0, {MAX_HARDENING_RATIO:g} E]", "linear hardening", "Hardening modulus H."),
+    Key("bodyN.hardening", "kinematic", "table", "", "optional (isotropic only)",
+        "a kinematic table", _EP, "A back stress (kinematic hardening) beside the isotropic law."),
+    Key("bodyN.hardening.kinematic", "law", "string", "", "required",
+        "prager or armstrong-frederick", "kinematic hardening",
+        "d alpha = (2/3) C d eps_p - gamma alpha dp (gamma = 0: Prager-Ziegler)."),
+    Key("bodyN.hardening.kinematic", "C", "number", "Pa", "required by its law",
+        f"(0, {MAX_HARDENING_RATIO:g} E]", "kinematic hardening", "Kinematic modulus C_k."),
+    Key("bodyN.hardening.kinematic", "gamma", "number", "1", "required by its law",
+        f"(0, {MAX_RECALL:g}]", "Armstrong-Frederick", "Recall; the back stress saturates at "
+        "C_k / gamma."),
+    # load
+    Key("load", "hertz_pressure", "number", "Pa", "one of hertz_pressure / normal_force",
+        f"p_H / E* in {_range(*PRESSURE_RATIO_RANGE)}", _LOADS,
+        "Target load as the Hertz peak pressure of the pair (>= 0 after the first stage)."),
+    Key("load", "normal_force", "number", "N", "one of hertz_pressure / normal_force",
+        "its Hertz pressure in the same range; 0 unloads", _LOADS, "Target normal force W."),
+    Key("load", "tangential_force", "number or [Qx, Qy]", "N", "[0, 0] (then the previous)",
+        "|Q| < mu W (no gross sliding)", "friction", "Target tangential force on body 2."),
+    Key("load", "steps", "integer", "1", "1", f"[1, {MAX_STAGE_STEPS:,}]", _LOADS,
+        "Increments of the linear ramp from the previous stage."),
+    Key("load", "path", "array of tables", "", "optional (one stage)",
+        f"stages and cycle blocks, at most {MAX_INCREMENTS:,} increments in all",
+        "load paths", "The load path ([[load.path]]), instead of the keys above."),
+    Key("load.path[i]", "hertz_pressure", "number", "Pa", "the previous stage's load",
+        f"p_H / E* in {_range(*PRESSURE_RATIO_RANGE)}, or 0", "load paths",
+        "As load.hertz_pressure (required in the first stage)."),
+    Key("load.path[i]", "normal_force", "number", "N", "the previous stage's load",
+        ">= 0, its Hertz pressure in range", "load paths", "As load.normal_force."),
+    Key("load.path[i]", "tangential_force", "number or [Qx, Qy]", "N",
+        "the previous stage's", "|Q| < mu W", "load paths with friction",
+        "As load.tangential_force."),
+    Key("load.path[i]", "steps", "integer", "1", "1", f"[1, {MAX_STAGE_STEPS:,}]", "load paths",
+        "As load.steps."),
+    Key("load.path[i] (cycle block)", "cycles", "integer", "1", "required",
+        f"[1, {MAX_CYCLES:,}]", "cyclic paths", "Repeats the block's stages (blocks do not nest)."),
+    Key("load.path[i] (cycle block)", "stages", "array of tables", "", "required",
+        "non-empty, stages as in load.path[i]", "cyclic paths", "The stages of one cycle."),
+    # friction, grid
+    Key("friction", "coefficient", "number", "1", "0", f"[0, {MAX_FRICTION:g}]", "every case",
+        "Coulomb coefficient mu (0: frictionless)."),
+    Key("grid", "n", "integer or [nx, ny] or [nx, ny, nz]", "cells", "required",
+        f"each in [4, {MAX_CELLS}]; the contact spans >= {MIN_CELLS_ACROSS} cells",
+        "every case", "Cells per side of the surface grid, and nz cells in depth of the volume "
+        "grid (required by elastic-plastic bodies and the stress output)."),
+    Key("grid", "nz", "integer", "cells", "optional", f"[4, {MAX_CELLS}]; not with a 3-entry n",
+        "volume grids", "Volume cells in depth, apart from grid.n."),
+    Key("grid", "half_width", "number", "a_H", "1.5", "the contact fits (>= 1.1; 1.5 usual)",
+        "every case", "Half side of the surface domain in units of the largest Hertz semi-axis."),
+    Key("grid", "depth", "number", "a_H", f"1.2 x the Hertz yield depth (>= {DEFAULT_DEPTH:g}); "
+        f"{DEFAULT_DEPTH:g} for elastic bodies", f"{_range(*DEPTH_RANGE)}; plastic bodies: cells "
+        f"<= {MAX_CELL_DEPTH:g} a_H, the box reaches where yield starts, >= {MIN_YIELD_CELLS} "
+        "cells across the Hertz yield region", "volume grids",
+        "Depth of the volume grid (the plastic box)."),
+    Key("grid", "depth_body1", "number", "a_H", "depth if given, else body 1's yield depth",
+        "as grid.depth", "two different elastic-plastic bodies",
+        "Depth of body 1's own volume grid."),
+    # output
+    Key("output", "fields", "array of strings", "", "[]", ", ".join(OPTIONAL_FIELDS),
+        "volume grids (plastic outputs: elastic-plastic bodies)", "Optional field outputs."),
+    # solver
+    Key("solver", "normal_tolerance", "number", "1", f"{SOLVER_DEFAULTS['normal_tolerance']:g}",
+        f"(0, {MAX_TOLERANCE:g})", "every case", "Normal CG: complementarity relative to p_H."),
+    Key("solver", "normal_max_iterations", "integer", "1",
+        str(SOLVER_DEFAULTS["normal_max_iterations"]), f"[1, {MAX_ITERATIONS:,}]", "every case",
+        "Iteration cap of the normal CG."),
+    Key("solver", "slip_tolerance", "number", "1", f"{SOLVER_DEFAULTS['slip_tolerance']:g}",
+        f"(0, {MAX_TOLERANCE:g})", "friction", "Tangential active-set solve: KKT residual."),
+    Key("solver", "slip_max_iterations", "integer", "1",
+        str(SOLVER_DEFAULTS["slip_max_iterations"]), f"[1, {MAX_ITERATIONS:,}]", "friction",
+        "Iteration cap of the tangential solve."),
+    Key("solver", "coupling_tolerance", "number", "1",
+        f"{SOLVER_DEFAULTS['coupling_tolerance']:g}", f"(0, {MAX_TOLERANCE:g})",
+        "friction with beta != 0", "Normal-tangential coupling: pressure change."),
+    Key("solver", "coupling_max_iterations", "integer", "1",
+        str(SOLVER_DEFAULTS["coupling_max_iterations"]), f"[1, {MAX_ITERATIONS:,}]",
+        "friction with beta != 0", "Iteration cap of the coupling loop."),
+    Key("solver", "goodman", "boolean", "", "false", "true or false", "friction with beta != 0",
+        "Drop the shear-to-normal coupling (Goodman's approximation)."),
+    Key("solver", "max_load_ratio", "number or \"inf\"", "1",
+        f"{SOLVER_DEFAULTS['max_load_ratio']:g}", '> 1, or "inf" (no sub-steps)',
+        "friction with beta != 0", "Largest growth of W per sub-step of a coupled increment."),
+    Key("solver", "plastic_tolerance", "number", "1", f"{SOLVER_DEFAULTS['plastic_tolerance']:g}",
+        f"(0, {MAX_TOLERANCE:g})", _EP, "Plasticity loop: change of the increment over the "
+        "yield strain sigma_Y0 / E."),
+    Key("solver", "plastic_max_iterations", "integer", "1",
+        str(SOLVER_DEFAULTS["plastic_max_iterations"]), f"[1, {MAX_ITERATIONS:,}]", _EP,
+        "Iteration cap of the plasticity loop."),
+    Key("solver", "anderson_memory", "integer", "1", str(SOLVER_DEFAULTS["anderson_memory"]),
+        f"[0, {MAX_ANDERSON_MEMORY}]", "elastic-plastic bodies, coupled friction",
+        "Past iterates Anderson acceleration mixes (0: plain fixed point)."),
+    Key("solver", "fft_threads", "integer", "1", str(SOLVER_DEFAULTS["fft_threads"]),
+        f"[1, {MAX_FFT_THREADS}]", "every case", "FFTW threads (not part of the case id)."),
+    Key("solver", "fft_planner", "string", "", f'"{SOLVER_DEFAULTS["fft_planner"]}"',
+        '"estimate" (reproducible) or "measure"', "every case",
+        "FFTW planning (not part of the case id)."),
+)  # fmt: skip
+
+
+def table_keys(table: str) -> set[str]:
+    """The keys a table accepts (module docstring for the table names)."""
+    keys = {key.name for key in CASE_KEYS if key.table == table}
+    if not keys:
+        raise KeyError(f"no table {table!r} is declared")
+    return keys
+
+
+def required_keys(table: str) -> set[str]:
+    """The keys a table must give."""
+    return {key.name for key in CASE_KEYS if key.table == table and key.required}
