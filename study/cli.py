@@ -130,14 +130,18 @@ def build_parser() -> argparse.ArgumentParser:
     assemble.add_argument("--out", help="output folder (with a campaign file)")
 
     bench = sub.add_parser("bench", help="benchmarks against closed forms and peer codes")
-    bench.add_argument(
-        "scene",
-        choices=["hertz", "cattaneo", "plastic", "slipstick", "cycles"],
-        help="benchmark scene",
-    )
+    from .bench.registry import SCENES
+
+    bench.add_argument("scene", choices=list(SCENES), help="benchmark scene")
     bench.add_argument("--sizes", type=int, nargs="+", help="grid sizes n (cells per side)")
     bench.add_argument("--peers", action="store_true", help="also run installed peer codes")
     bench.add_argument("--repeat", type=int, default=3, help="timing repetitions (best of)")
+    bench.add_argument(
+        "--table",
+        metavar="FILE",
+        help="also write what the run prints to FILE (Markdown), headed by the command, the "
+        "date, the machine and the commit, for the guide's benchmark pages",
+    )
     from .report import add_parser as add_report_parser
 
     add_report_parser(sub)
@@ -196,8 +200,10 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     if args.command == "bench":
         from .bench import run_benchmark
+        from .bench.timing import recorded
 
-        return run_benchmark(args.scene, sizes=args.sizes, peers=args.peers, repeat=args.repeat)
+        with recorded(args.table, ["python -m study", *(argv or sys.argv[1:])]):
+            return run_benchmark(args.scene, args.sizes, args.peers, args.repeat)
 
     from .campaign import CampaignError
     from .report import main as report_main

@@ -64,6 +64,76 @@ def timed_solve(table: dict):
     return case, result, wall, cpu, memory["peak_MB"]
 
 
+def machine() -> str:
+    """The machine it runs on, in one line: CPU model, cores, memory, OS and Python."""
+    import os
+    import platform
+
+    model = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as handle:
+            model = next(line.split(":", 1)[1].strip() for line in handle if "model name" in line)
+    except (OSError, StopIteration):
+        pass
+    try:
+        memory = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
+    except (AttributeError, OSError, ValueError):
+        memory = math.nan
+    return (
+        f"{model}, {os.cpu_count()} cores, {memory:.0f} GiB, {platform.system()} "
+        f"{platform.release()}, Python {platform.python_version()}"
+    )
+
+
+@contextmanager
+def recorded(path: str | None, command: list[str]):
+    """Copy what the block prints to ``path`` (Markdown), headed by its provenance.
+
+    The header says the command, the date (UTC), the machine (:func:`machine`) and the commit,
+    so a table in the guide says where it came from and how to make it again.
+    """
+    if path is None:
+        yield
+        return
+    import contextlib
+    import datetime
+    import io
+    import sys
+
+    from ..run.storage import git_hash
+
+    class _Tee(io.TextIOBase):
+        def __init__(self, *streams):
+            self.streams = streams
+
+        def write(self, text):
+            for stream in self.streams:
+                stream.write(text)
+            return len(text)
+
+        def flush(self):
+            for stream in self.streams:
+                stream.flush()
+
+    captured = io.StringIO()
+    with contextlib.redirect_stdout(_Tee(sys.stdout, captured)):
+        yield
+    now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
+    header = [
+        f"Made by `{' '.join(command)}` on {now}, on {machine()}, at commit "
+        f"`{git_hash()[:12] or 'unknown'}`.",
+        "",
+    ]
+    lines, previous = [], ""
+    for line in captured.getvalue().splitlines():
+        if line.startswith("|") != previous.startswith("|"):
+            lines.append("")  # a Markdown table stands apart from the text around it
+        lines.append(line)
+        previous = line
+    with open(path, "w") as handle:
+        handle.write("\n".join(header + lines) + "\n")
+
+
 def isolated(target, *args, timeout: float = 1800.0):
     """Run ``target(*args)`` in a fresh (spawned) process: ``("ok", result)`` or ``("error", why)``.
 
