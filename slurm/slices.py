@@ -61,10 +61,11 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from study import cli, storage
+    from study import cli
     from study.campaign import CampaignError, load_campaign
-    from study.driver import broadcast_campaign, run_campaign
-    from study.progress import configure_logging
+    from study.run import storage
+    from study.run.driver import broadcast_campaign, run_campaign
+    from study.run.progress import configure_logging
 
     os.environ.setdefault("HDF5_USE_FILE_LOCKING", "FALSE")
     if not 0 <= args.index < args.count:
@@ -108,7 +109,7 @@ def _run(args: argparse.Namespace) -> int:
 
 def merge(campaign, out: str | Path) -> dict[str, int]:
     """Link the finished cases of every slice into ``out``; returns counts by state."""
-    from study import storage
+    from study.run import storage
 
     out = Path(out)
     storage.prepare_output(out, campaign)
@@ -144,8 +145,8 @@ def merge(campaign, out: str | Path) -> dict[str, int]:
 
 
 def _merge(args: argparse.Namespace) -> int:
-    from study.assemble import assemble_to_file
     from study.campaign import load_campaign
+    from study.run.assemble import assemble_to_file
 
     campaign = load_campaign(args.campaign)
     counts = merge(campaign, args.out)
