@@ -321,4 +321,8 @@ def test_peak_memory_is_measured_per_case():
     small = np.ones(48 * 2**20 // 8)
     small[::512] = 2.0
     grown = storage.peak_rss_bytes() - after
+    if grown < 0:
+        # Seen on one CI sandbox: a peak read just after the reset was higher than one read
+        # after a 48 MiB allocation, so its VmHWM does not count from the reset at all.
+        pytest.skip("this kernel's VmHWM is not a running peak after clear_refs")
     assert 40 * 2**20 < grown < 100 * 2**20
