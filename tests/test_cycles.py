@@ -84,7 +84,8 @@ def test_bad_cycle_blocks_are_refused_by_name(block, message):
         solver.Case.from_dict(table)
 
 
-def test_fretting_cycles_match_mindlin_deresiewicz_and_the_friction_work():
+@pytest.mark.validation
+def test_fretting_cycles_match_mindlin_deresiewicz_and_the_friction_work(validation):
     """Per cycle: loop area vs Johnson's eq. 7.64 (beta = 0), and vs the summed friction work."""
     mu, force, fraction = 0.3, 1000.0, 0.5
     amplitude = fraction * mu * force
@@ -114,9 +115,18 @@ def test_fretting_cycles_match_mindlin_deresiewicz_and_the_friction_work():
         cell = 3.0 / n
         np.testing.assert_allclose(stick, (1 - fraction) ** (1 / 3), atol=cell)
     assert errors[1] < errors[0] and errors[1] < 0.01, errors
+    validation(
+        "fretting cycles: a cycle block of 3 cycles (-Q*, +Q*), Q* = 0.5 mu W, 20 steps per "
+        "half cycle, two steel spheres (beta = 0), 32^2 / 64^2",
+        "Mindlin & Deresiewicz energy per cycle (Johnson eq. 7.64); friction work summed over "
+        "the surface; Cattaneo's smallest stick radius at the reversals",
+        f"{100 * errors[0]:.2f} % / {100 * errors[1]:.2f} % (magnitude); cycles equal to 1e-4, "
+        "loop area = friction work to 1e-4, stick radius within a cell (asserted)",
+    )
 
 
-def test_repeated_normal_loading_shakes_down_with_isotropic_hardening():
+@pytest.mark.validation
+def test_repeated_normal_loading_shakes_down_with_isotropic_hardening(validation):
     """Isotropic hardening: the first cycle hardens the body; later cycles add no plastic strain."""
     table = {
         "body1": {"behaviour": "rigid", "radius": 0.015},
@@ -147,6 +157,14 @@ def test_repeated_normal_loading_shakes_down_with_isotropic_hardening():
     first = float(result.history["max_plastic_strain"][3])
     assert gained[0] == pytest.approx(first, rel=1e-12)  # from a virgin body
     assert np.all(np.abs(gained[1:]) < case.solver.plastic_tolerance * first), gained
+    validation(
+        "repeated normal loading, rigid sphere on linear-hardening steel, p_H = 5 GPa, "
+        "3 cycles, 16^3",
+        "isotropic hardening: no plastic strain after the first cycle",
+        "plastic strain gained per cycle "
+        + ", ".join(f"{g:.1e}" for g in gained)
+        + f"; residual stress constant to {np.ptp(ds.max_residual_stress.values) / final:.0e}",
+    )
 
 
 def test_hard_cycles_report_status_and_stay_finite():

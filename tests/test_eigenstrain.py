@@ -224,7 +224,8 @@ def thin_layer():
     return grid, op, mask, 2 * grid.dz
 
 
-def test_uniform_layer_stress(thin_layer):
+@pytest.mark.validation
+def test_uniform_layer_stress(thin_layer, validation):
     grid, op, mask, h = thin_layer
     e = np.array([1.0, -0.4, 0.7, 0.3, 0.5, 0.2]) * 1e-3
     stress = op.stress(e[:, None, None, None] * mask)
@@ -237,6 +238,13 @@ def test_uniform_layer_stress(thin_layer):
     assert np.allclose(centre[5], sxy, rtol=0.01)
     # sigma_zz = sigma_xz = sigma_yz = 0 in and below the layer, away from the edges
     assert np.abs(stress[2:5, 20:28, 20:28, :]).max() < 1e-3 * abs(sxx)
+    worst = max(np.abs(centre[k] / value - 1).max() for k, value in ((0, sxx), (1, syy), (5, sxy)))
+    validation(
+        "eigenstrain in a thin surface layer (48^2 x 4)",
+        "the constrained layer's sigma_xx, sigma_yy, sigma_xy; sigma_iz = 0",
+        f"in-plane within {100 * worst:.2f} %, sigma_iz "
+        f"{np.abs(stress[2:5, 20:28, 20:28, :]).max() / abs(sxx):.1e} sigma_xx",
+    )
 
 
 def test_uniform_layer_surface_displacement(thin_layer):
@@ -262,7 +270,8 @@ def test_uniform_layer_surface_displacement(thin_layer):
     assert u[2][centre].mean() / unbounded > 1.8  # DESIGN §6's formula is the unbounded layer
 
 
-def test_centre_of_dilatation():
+@pytest.mark.validation
+def test_centre_of_dilatation(validation):
     """A cube of side 1 (2 x 2 x 2 cells) of dilatation e at depth c = 4 against Mindlin and
     Cheng's nucleus: u_z = -(1+nu) e V c/(pi (r^2+c^2)^1.5), u_r = (1+nu) e V r/(...)."""
     d, c, e = 0.5, 4.0, 1e-3
@@ -283,6 +292,12 @@ def test_centre_of_dilatation():
     u_r = (ux * x + uy * y) / np.maximum(r, 1e-300)
     assert np.abs(uz[far] / uz_ref[far] - 1).max() < 0.02
     assert np.abs(u_r[far] / ur_ref[far] - 1).max() < 0.02
+    validation(
+        "eigenstrain: a cube of dilatation at depth 4 sides, surface displacement at r >= 2",
+        "Mindlin & Cheng's centre of dilatation",
+        f"u_z {100 * np.abs(uz[far] / uz_ref[far] - 1).max():.2f} %, u_r "
+        f"{100 * np.abs(u_r[far] / ur_ref[far] - 1).max():.2f} %",
+    )
     # the direct route misses the correction pressure outside the grid (side 32 = 8 depths):
     # a slowly decaying error, within a few % of the peak displacement
     ux, uy, uz = op.surface_displacement(eps, method="direct")

@@ -156,7 +156,8 @@ def mirror_pair(plastic_first: bool, body_other: dict, q=(0.15, 0.1), mu=0.3, n=
     ],
     ids=["rigid", "aluminium"],
 )
-def test_relabelling_the_bodies_gives_the_mirrored_answer(other):
+@pytest.mark.validation
+def test_relabelling_the_bodies_gives_the_mirrored_answer(other, validation):
     """An elastic-plastic body 1 is the same contact as the plastic body 2 seen from the other
     body: its frame is (x, -y, -z), so tractions on the other body change sign, y components
     change sign again, and fields mirror in y (y-odd tensor components flip)."""
@@ -193,6 +194,13 @@ def test_relabelling_the_bodies_gives_the_mirrored_answer(other):
     dataset = b.to_xarray()
     assert dataset["z"].attrs["long_name"] == "depth into body 1"
     assert "relabelled" in dataset.attrs["notes"]
+    validation(
+        "an elastic-plastic body 1 against the same contact with the plastic body 2 "
+        "(rigid sphere; elliptic aluminium body, beta != 0), friction 0.3, oblique tangential "
+        "load, 24^2 x 12",
+        "the mirrored answer: p(x, -y), -q_x, q_y, -Q_x, y-odd tensor components flipped",
+        "bitwise equal (asserted)",
+    )
 
 
 def test_body_two_stress_with_a_plastic_body_one_is_refused():
@@ -222,7 +230,8 @@ def ep_ep(hardening1, n=24, nz=14, mu=0.0, **body1):
     )
 
 
-def test_two_plastic_bodies_agree_with_the_symmetric_pair():
+@pytest.mark.validation
+def test_two_plastic_bodies_agree_with_the_symmetric_pair(validation):
     """Two elastic-plastic spheres that differ by 1e-9 in B run with two plastic fields, body 1's
     mapped from its own frame; they must give the symmetric pair's answer (eq. 2: one field,
     doubled print) to the plasticity tolerance, and body 1's field is body 2's."""
@@ -245,6 +254,17 @@ def test_two_plastic_bodies_agree_with_the_symmetric_pair():
     tensor = symmetric.fields["plastic_strain_tensor"]
     np.testing.assert_allclose(
         general.fields["plastic_strain_tensor_body1"], tensor, atol=tolerance
+    )
+    validation(
+        "two elastic-plastic spheres differing by 1e-9 in B (two plastic fields) against the "
+        "symmetric pair (eq. 2, one field), p_H = 5 GPa, 24^2 x 14",
+        "the same contact",
+        f"p within {np.abs(general.pressure - symmetric.pressure).max() / 5e9:.1e} p_H; e_p in "
+        "body 1 and body 2 within "
+        + ", ".join(
+            f"{np.abs(general.fields[f] - symmetric.fields['plastic_strain']).max():.1e}"
+            for f in ("plastic_strain_body1", "plastic_strain")
+        ),
     )
 
 

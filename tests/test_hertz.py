@@ -28,7 +28,8 @@ def errors(table, n):
     }
 
 
-def test_rigid_sphere_on_steel_converges_to_hertz(hertz_table):
+@pytest.mark.validation
+def test_rigid_sphere_on_steel_converges_to_hertz(hertz_table, validation):
     coarse, e64 = errors(hertz_table, 64)
     fine, e128 = errors(hertz_table, 128)
     assert e128["pmax"] <= 1e-3
@@ -39,6 +40,13 @@ def test_rigid_sphere_on_steel_converges_to_hertz(hertz_table):
     assert e128["pmax"] < e64["pmax"] / 3
     assert e128["approach"] < e64["approach"] / 3
     assert e128["radius"] < e64["radius"]
+    validation(
+        "Hertz, rigid sphere on steel, p_H = 6 GPa, 64^2 / 128^2",
+        "Hertz: p_H, a_H, approach (`solver.reference.hertz`)",
+        f"p_max error {e64['pmax']:.1e} / {e128['pmax']:.1e}, contact radius "
+        f"{e64['radius'] / coarse.grid.dx:.2f} / {e128['radius'] / fine.grid.dx:.2f} cells, "
+        f"approach {e64['approach']:.1e} / {e128['approach']:.1e}",
+    )
 
 
 def test_hertz_pressure_profile_and_self_similar_steps(hertz_table):
@@ -61,7 +69,8 @@ def semi_axis(coordinate, pressure_row):
     return np.sqrt(-intercept / slope)
 
 
-def test_elliptic_contact(hertz_table):
+@pytest.mark.validation
+def test_elliptic_contact(hertz_table, validation):
     hertz_table["body1"] = {"radius_x": 0.015, "radius_y": 0.045, "behaviour": "rigid"}
     hertz_table["grid"]["half_width"] = 1.3
     errors = []
@@ -77,13 +86,19 @@ def test_elliptic_contact(hertz_table):
         assert err["pmax"] < 0.01
         assert err["approach"] < 0.01
     assert errors[1] < errors[0]
+    validation(
+        "elliptic Hertz (R_y = 3 R_x), 80^2 / 160^2",
+        "Johnson §4.2: semi-axes from a fit of p^2 on the axes",
+        f"largest semi-axis error {errors[0]:.1e} / {errors[1]:.1e}",
+    )
 
 
 def errors_at(table, n):
     return errors(copy.deepcopy(table), n)
 
 
-def test_two_elastic_bodies_use_the_composite_modulus(hertz_table):
+@pytest.mark.validation
+def test_two_elastic_bodies_use_the_composite_modulus(hertz_table, validation):
     hertz_table["body1"] = {"radius": 0.01, "behaviour": "elastic", "E": 210e9, "nu": 0.3}
     hertz_table["body2"] = {"radius": 0.02, "behaviour": "elastic", "E": 70e9, "nu": 0.33}
     hertz_table["load"] = {"normal_force": 500.0}
@@ -92,6 +107,12 @@ def test_two_elastic_bodies_use_the_composite_modulus(hertz_table):
     assert result.case.pair.composite_modulus == pytest.approx(expected_modulus, rel=1e-14)
     assert err["pmax"] < 1e-3 and err["approach"] < 5e-3
     assert err["radius"] <= result.grid.dx
+    validation(
+        "steel sphere on aluminium sphere, 128^2",
+        "Hertz with the composite modulus E*",
+        f"p_max {err['pmax']:.1e}, approach {err['approach']:.1e}, contact radius "
+        f"{err['radius'] / result.grid.dx:.2f} cells",
+    )
 
 
 def test_elliptic_reference_limits():
@@ -151,7 +172,8 @@ def test_dataset_layout(hertz_table):
     assert float(ds.x.mean()) == pytest.approx(0.0, abs=1e-18)
 
 
-def test_stress_output_matches_hertz_axis(hertz_table):
+@pytest.mark.validation
+def test_stress_output_matches_hertz_axis(hertz_table, validation):
     hertz_table["grid"] = {"n": [64, 64, 24], "half_width": 1.6, "depth": 1.5}
     hertz_table["output"] = {"fields": ["stress"]}
     ds = solver.solve(solver.Case.from_dict(hertz_table)).to_xarray()
@@ -164,6 +186,13 @@ def test_stress_output_matches_hertz_axis(hertz_table):
     peak = ds.von_mises.sel(x=0, y=0, method="nearest")
     assert float(peak.max()) / p0 == pytest.approx(0.620, rel=0.01)
     assert float(z[int(peak.argmax())]) / a == pytest.approx(0.481, abs=1.5 * 1.5 / 24)
+    validation(
+        "stress output on the Hertz axis, 64^2 x 24",
+        "Johnson eq. 3.45 sigma_z; largest von Mises 0.620 p_H at z = 0.481 a",
+        f"sigma_z within {float(abs(axis.sel(component='zz') - expected).max()) / p0:.1e} p_H; "
+        f"von Mises {float(peak.max()) / p0:.4f} p_H at z = "
+        f"{float(z[int(peak.argmax())]) / a:.3f} a",
+    )
 
 
 def test_stress_output_needs_a_volume_grid(hertz_table):

@@ -93,22 +93,30 @@ def cell_quadrature(pair, name, x0, y0, dx, dy):
     return total
 
 
+@pytest.mark.validation
 @pytest.mark.parametrize("pair_name", list(PAIRS))
 @pytest.mark.parametrize(
     "offset", [(0.0, 0.0), (1.0, 0.0), (0.0, -1.0), (1.0, 2.0), (-3.0, 1.0), (0.3, -0.2)]
 )
-def test_closed_forms_match_quadrature(pair_name, offset):
+def test_closed_forms_match_quadrature(pair_name, offset, validation):
     pair = PAIRS[pair_name]
     dx, dy = 1e-4, 0.7e-4
     x0, y0 = offset[0] * dx, offset[1] * dy
     kernels = surface_kernels(pair, np.array(x0), np.array(y0), dx, dy)
     scale = abs(float(kernels["zz"]))
+    worst = 0.0
     for name in COMPONENTS:
         if pair.dundurs_beta == 0 and name in ("xp", "yp"):
             assert float(kernels[name]) == 0.0
             continue
         reference = cell_quadrature(pair, name, x0, y0, dx, dy)
         assert float(kernels[name]) == pytest.approx(reference, rel=1e-7, abs=1e-9 * scale), name
+        worst = max(worst, abs(float(kernels[name]) - reference) / max(abs(reference), scale))
+    validation(
+        "surface influence coefficients, 6 blocks, 3 material pairs, 6 cell offsets",
+        "quadrature of each body's point-force solution over a cell",
+        worst,
+    )
 
 
 def test_symmetries_of_the_kernels():
@@ -132,8 +140,9 @@ def test_symmetries_of_the_kernels():
     assert pair.dundurs_beta < 0 and k["xp"][5, 4] < 0
 
 
+@pytest.mark.validation
 @pytest.mark.parametrize("pair_name", list(PAIRS))
-def test_assembled_operator_is_symmetric(pair_name):
+def test_assembled_operator_is_symmetric(pair_name, validation):
     """Betti reciprocity: the 3N x 3N map (q_x, q_y, p) -> (u_x, u_y, u_z) is symmetric."""
     grid = SurfaceGrid(5, 4, 1e-4, 0.8e-4)
     op = SurfaceOperator(grid, PAIRS[pair_name], planner="FFTW_ESTIMATE")
@@ -147,3 +156,9 @@ def test_assembled_operator_is_symmetric(pair_name):
     np.testing.assert_allclose(matrix, matrix.T, rtol=1e-10, atol=1e-12 * np.abs(matrix).max())
     eigenvalues = np.linalg.eigvalsh(0.5 * (matrix + matrix.T))
     assert eigenvalues.min() > 0  # positive definite: elastic energy
+    validation(
+        "assembled surface operator (q_x, q_y, p) -> (u_x, u_y, u_z), 5 x 4 cells, 3 pairs",
+        "Betti reciprocity: symmetric, positive definite",
+        f"{pair_name}: asymmetry {np.abs(matrix - matrix.T).max() / np.abs(matrix).max():.0e}, "
+        f"smallest eigenvalue {eigenvalues.min() / eigenvalues.max():.1e} of the largest",
+    )

@@ -70,7 +70,8 @@ def test_prager_bauschinger_reverse_yield_at_sigma_max_minus_two_sigma_y():
     assert reverse > -sigma_max + SIGMA_Y
 
 
-def test_armstrong_frederick_monotonic_back_stress_converges_to_its_closed_form():
+@pytest.mark.validation
+def test_armstrong_frederick_monotonic_back_stress_converges_to_its_closed_form(validation):
     c, gamma = 200e9, 400.0
     strain = 0.02
     errors = []
@@ -83,9 +84,15 @@ def test_armstrong_frederick_monotonic_back_stress_converges_to_its_closed_form(
     assert errors[0] > errors[1] > errors[2] and errors[2] < 2e-3
     order = np.log(errors[0] / errors[2]) / np.log(16)
     assert order == pytest.approx(1.0, abs=0.15)  # backward Euler
+    validation(
+        "Armstrong-Frederick back stress, uniaxial to 2 %, 10 / 40 / 160 steps",
+        "alpha = (C / gamma) (1 - exp(-gamma p))",
+        " / ".join(f"{e:.1e}" for e in errors) + f" (order {order:.2f}, backward Euler)",
+    )
 
 
-def test_armstrong_frederick_saturated_loop():
+@pytest.mark.validation
+def test_armstrong_frederick_saturated_loop(validation):
     """Symmetric strain cycles: sigma_max = sigma_Y + (C/gamma) tanh(gamma dEp / 2)."""
     c, gamma = 200e9, 400.0
     amplitude = 0.01
@@ -102,6 +109,11 @@ def test_armstrong_frederick_saturated_loop():
     expected = SIGMA_Y + c / gamma * np.tanh(gamma * strain_range / 2)
     assert sigma_max == pytest.approx(expected, rel=2e-3)
     assert -last[:, 0].min() == pytest.approx(sigma_max, rel=1e-3)  # symmetric loop
+    validation(
+        "Armstrong-Frederick saturated loop, strain amplitude 1 %",
+        "sigma_max = sigma_Y + (C / gamma) tanh(gamma dEp / 2)",
+        f"{100 * abs(sigma_max / expected - 1):.2f} %",
+    )
 
 
 # -- in the contact loops ----------------------------------------------------------------------
@@ -127,7 +139,8 @@ def indentation(hardening, cycles=1, steps=1, pressure=5e9, n=16, half_width=1.5
     return result
 
 
-def test_prager_equals_linear_isotropic_hardening_in_one_loading_step():
+@pytest.mark.validation
+def test_prager_equals_linear_isotropic_hardening_in_one_loading_step(validation):
     """From a virgin body in one increment both return mappings give dp = f / (3 G + H)."""
     modulus = 152.3e9
     isotropic = indentation({"law": "linear", "yield_stress": SIGMA_Y0, "modulus": modulus})
@@ -137,9 +150,16 @@ def test_prager_equals_linear_isotropic_hardening_in_one_loading_step():
     a, b = isotropic.fields["plastic_strain"], kinematic.fields["plastic_strain"]
     assert a.max() > 1e-3
     np.testing.assert_allclose(b, a, rtol=0, atol=1e-9 * a.max())
+    validation(
+        "kinematic hardening in the contact loops: Prager (C = H) against linear isotropic "
+        "hardening, one loading step, 16^3",
+        "the same return from a virgin state",
+        f"plastic strain fields equal to {np.abs(b - a).max() / a.max():.0e} of e_p,max",
+    )
 
 
-def test_repeated_indentation_reverse_yields_with_kinematic_hardening_only():
+@pytest.mark.validation
+def test_repeated_indentation_reverse_yields_with_kinematic_hardening_only(validation):
     """A soft steel (sigma_Y0 = 0.8 GPa, modulus 15 GPa) indented to 8 GPa and lifted off 3
     times, the plastic zone inside the box (half_width 2.5 a_H: no face note).  On unloading
     the stress range exceeds 2 sigma_Y: isotropic hardening has grown the surface and shakes
@@ -166,6 +186,18 @@ def test_repeated_indentation_reverse_yields_with_kinematic_hardening_only():
     assert np.all(gained["prager"][1:] > 0.1 * gained["prager"][0])
     change = np.abs(np.diff(dent["prager"]))
     assert change[1] < change[0] < 0.01 * dent["prager"][0]
+    validation(
+        "repeated indentation of a soft steel (sigma_Y0 = 0.8 GPa, modulus 15 GPa) to 8 GPa, "
+        "3 cycles of 6 + 2 steps, 28^3 in a 2.5 a_H domain",
+        "unloading stress range above 2 sigma_Y: isotropic hardening shakes down, Prager's "
+        "surface yields in reverse every cycle (Melan; Bauschinger)",
+        "gain per cycle: isotropic "
+        + ", ".join(f"{g:.1e}" for g in gained["isotropic"])
+        + "; Prager "
+        + ", ".join(f"{g:.2e}" for g in gained["prager"])
+        + "; dent change per cycle "
+        + ", ".join(f"{100 * c / dent['prager'][0]:.2f} %" for c in change),
+    )
 
 
 @pytest.mark.parametrize(

@@ -45,7 +45,8 @@ def sphere_pair(behaviours, mu, n=24, steps=4):
     return solver.Case.from_dict(table)
 
 
-def test_no_plastic_strain_below_first_yield():
+@pytest.mark.validation
+def test_no_plastic_strain_below_first_yield(validation):
     p_yield, _ = first_yield_pressure(SIGMA_Y0, 0.3)
     result = solver.solve(indentation(24, [{"hertz_pressure": 0.98 * p_yield, "steps": 2}]))
     assert result.converged, result.notes
@@ -55,9 +56,15 @@ def test_no_plastic_strain_below_first_yield():
     # the contact is Hertz's, the residual print zero
     assert result.history["max_pressure"][-1] == pytest.approx(result.case.hertz.max_pressure, 0.01)
     assert np.all(result.fields["residual_displacement_z"] == 0.0)
+    validation(
+        "rigid sphere on Swift steel just below first yield (0.98 x), 24^3",
+        "no plastic strain (Johnson: first yield at p_H = sigma_Y0 / 0.620)",
+        f"largest plastic strain {result.fields['plastic_strain'].max():.1e}",
+    )
 
 
-def test_first_yield_on_the_axis_at_the_johnson_depth():
+@pytest.mark.validation
+def test_first_yield_on_the_axis_at_the_johnson_depth(validation):
     p_yield, depth = first_yield_pressure(SIGMA_Y0, 0.3)
     assert depth == pytest.approx(0.481, abs=1e-3)  # Johnson (1985): 0.48 a
     case = indentation(32, [{"hertz_pressure": 1.03 * p_yield, "steps": 1}])
@@ -74,9 +81,17 @@ def test_first_yield_on_the_axis_at_the_johnson_depth():
     # only a small zone around that point yields
     plastic_depths = volume.z[np.any(strain > 0, axis=(0, 1))] / a
     assert plastic_depths.min() > 0.2 and plastic_depths.max() < 0.8
+    validation(
+        "just above first yield (1.03 x), 32^3",
+        "first yield on the axis at z = 0.481 a (Johnson)",
+        f"largest plastic strain at ({x[i] / a:.2f}, {y[j] / a:.2f}) a, z = "
+        f"{volume.z[k] / a:.3f} a (layers {volume.dz / a:.3f} a thick); plastic zone "
+        f"{plastic_depths.min():.2f}-{plastic_depths.max():.2f} a deep",
+    )
 
 
-def test_unloading_and_reloading_add_no_plastic_strain():
+@pytest.mark.validation
+def test_unloading_and_reloading_add_no_plastic_strain(validation):
     """Isotropic hardening: reloading to the same maximum load is elastic."""
     path = [
         {"hertz_pressure": 6e9, "steps": 4},
@@ -98,6 +113,12 @@ def test_unloading_and_reloading_add_no_plastic_strain():
     assert h["residual_depth"][unloaded] > 0
     # unloaded: the approach is where the dented surface first touches the sphere again
     assert h["approach"][unloaded] == pytest.approx(h["residual_depth"][unloaded], rel=0.05)
+    validation(
+        "load to 6 GPa, unload to zero, reload (Swift steel, isotropic hardening), 24^3",
+        "no new plastic strain on reloading; the same contact",
+        f"growth {abs(growth) / h['max_plastic_strain'][loaded]:.0e} of e_p,max; p_max "
+        f"{abs(h['max_pressure'][reloaded] / h['max_pressure'][loaded] - 1):.0e}",
+    )
 
 
 def test_plastic_pressure_is_flattened_and_print_is_permanent():
@@ -116,7 +137,8 @@ def test_plastic_pressure_is_flattened_and_print_is_permanent():
     assert ds.attrs["loops"] == "load_steps plasticity normal return_mapping"
 
 
-def test_symmetric_pair_ignores_friction_and_orders_like_the_paper():
+@pytest.mark.validation
+def test_symmetric_pair_ignores_friction_and_orders_like_the_paper(validation):
     """EP-EP (eq. 2): same answer for mu = 0 and 0.5; E-EP peaks higher; both below E-E."""
     ep0 = solver.solve(sphere_pair(("elastic-plastic", "elastic-plastic"), 0.0))
     ep5 = solver.solve(sphere_pair(("elastic-plastic", "elastic-plastic"), 0.5))
@@ -133,6 +155,13 @@ def test_symmetric_pair_ignores_friction_and_orders_like_the_paper():
     assert e_ep.history["max_plastic_strain"][-1] > ep0.history["max_plastic_strain"][-1]
     # the doubled print: each body of the symmetric pair carries half the relative dent
     assert ep0.history["residual_depth"][-1] > 0
+    validation(
+        "symmetric elastic-plastic pair, mu = 0 and 0.5",
+        "eq. 2 of the paper: friction changes nothing; p_max EP-EP < E-EP < E-E",
+        "pressure and plastic strain bitwise equal; p_max "
+        + " < ".join(f"{p[k] / 1e9:.3f}" for k in ("ep", "e_ep", "e_e"))
+        + " GPa",
+    )
 
 
 @pytest.mark.parametrize(
@@ -229,7 +258,8 @@ def test_hard_cases_finish_with_status(n, pressure, steps):
 
 
 @pytest.mark.slow
-def test_swift_sphere_8gpa_matches_the_finite_element_reference():
+@pytest.mark.validation
+def test_swift_sphere_8gpa_matches_the_finite_element_reference(validation):
     """32^3 and 48^3: within 3 % of the FE values (zone depth 5 %), settling with the mesh."""
     from solver.reference import FE_SWIFT_8GPA as fe
 
@@ -258,6 +288,12 @@ def test_swift_sphere_8gpa_matches_the_finite_element_reference():
     # refinement moves the contact radius and zone depth towards the reference
     for key in ("contact_radius_over_a", "plastic_zone_depth_over_a"):
         assert abs(rows[1][key] - fe[key]) < abs(rows[0][key] - fe[key]), key
+    validation(
+        "rigid sphere on Swift steel, p_H = 8 GPa, 8 steps + unloading, 32^3 / 48^3",
+        "independent axisymmetric FE (`solver.reference.FE_SWIFT_8GPA`): "
+        + ", ".join(f"{key} {value:.4g}" for key, value in fe.items()),
+        "; ".join(f"{key} " + " / ".join(f"{row[key]:.4g}" for row in rows) for key in fe),
+    )
 
 
 def test_a_rank_keeps_the_volume_operators_of_one_case_only():

@@ -97,10 +97,11 @@ def closed_form_plastic_strain(hardening, equivalent_total_strain):
     )
 
 
+@pytest.mark.validation
 @pytest.mark.parametrize("law", LAWS)
 @pytest.mark.parametrize("steps", [1, 7, 50])
 @pytest.mark.parametrize("path", ["uniaxial", "shear"])
-def test_proportional_paths_match_closed_forms(law, steps, path):
+def test_proportional_paths_match_closed_forms(law, steps, path, validation):
     """Isochoric uniaxial strain diag(e, -e/2, -e/2) and simple shear e_xz: closed forms."""
     hardening = LAWS[law]
     point = MaterialPoint(hardening)
@@ -118,6 +119,11 @@ def test_proportional_paths_match_closed_forms(law, steps, path):
     assert norm(deviator(point.stress)) == pytest.approx(np.sqrt(2 / 3) * sigma_y, rel=1e-10)
     np.testing.assert_allclose(point.plastic, expected * direction, rtol=1e-9, atol=1e-18)
     assert von_mises(point.stress) == pytest.approx(3 * G * (final - expected), rel=1e-9)
+    validation(
+        "return mapping, uniaxial and shear paths to 3 %, Swift / linear / perfect, 1-50 steps",
+        "sigma_Y(e_p) = 3 G (e_eq - e_p), solved in closed form or by bisection",
+        abs(point.equivalent / expected - 1),
+    )
 
 
 def test_elastic_unloading_and_reloading_add_no_plastic_strain():
@@ -144,8 +150,9 @@ def test_below_yield_is_elastic():
     np.testing.assert_array_equal(result.stress, trial)
 
 
+@pytest.mark.validation
 @pytest.mark.parametrize("law", LAWS)
-def test_non_proportional_path_converges_with_step_refinement(law):
+def test_non_proportional_path_converges_with_step_refinement(law, validation):
     """Uniaxial then shear (a 90 degree turn): consistency at every step, first-order in steps."""
     hardening = LAWS[law]
     uniaxial = np.array([1.0, -0.5, -0.5, 0, 0, 0]) * 0.012
@@ -168,10 +175,16 @@ def test_non_proportional_path_converges_with_step_refinement(law):
     ]
     assert errors[2] < errors[1] < errors[0]
     assert errors[0] / errors[2] > 8  # at least first order over a factor 16 in steps
+    validation(
+        "return mapping, a 90-degree non-proportional path (uniaxial, then shear)",
+        "the same path in 4096 steps",
+        f"{law}: error with 8 / 32 / 128 steps " + " / ".join(f"{e:.1e}" for e in errors),
+    )
     assert run(1).equivalent > 0  # large steps stay finite and on the yield surface
 
 
-def test_swift_newton_never_fails():
+@pytest.mark.validation
+def test_swift_newton_never_fails(validation):
     """Trial stresses from just above yield to 1000 sigma_Y, prior strains 0 to 0.5."""
     rng = np.random.default_rng(1)
     n = 20000
@@ -195,4 +208,10 @@ def test_swift_newton_never_fails():
     # the hydrostatic part is untouched
     np.testing.assert_allclose(
         result.stress[:3].sum(axis=0), trial[:3].sum(axis=0), rtol=1e-12, atol=1e-3
+    )
+    validation(
+        "Swift Newton return, 20,000 random trial states up to 1000 sigma_Y",
+        "consistency |s| = sqrt(2/3) sigma_Y(e_p)",
+        f"all converged in at most {int(np.max(result.iterations))} iterations; consistency "
+        f"{np.abs(von_mises(result.stress) / final - 1).max():.0e}",
     )

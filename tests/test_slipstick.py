@@ -67,8 +67,9 @@ def cattaneo_errors(result, fraction, mu=0.3):
     }
 
 
+@pytest.mark.validation
 @pytest.mark.parametrize("fraction", [0.25, 0.5, 0.75])
-def test_cattaneo_mindlin(fraction):
+def test_cattaneo_mindlin(fraction, validation):
     result = solver.solve(solver.Case.from_dict(cattaneo_table(128, fraction)))
     assert result.converged, result.notes
     assert "slip_stick" in result.loops
@@ -86,6 +87,14 @@ def test_cattaneo_mindlin(fraction):
     q = result.history["tangential_force_x"][-1]
     assert q == pytest.approx(fraction * 0.3 * 1000.0, rel=1e-10)
     assert result.history["tangential_force_y"][-1] == pytest.approx(0.0, abs=1e-9 * q)
+    validation(
+        "Cattaneo-Mindlin, two steel spheres, Q = 0.25 / 0.5 / 0.75 mu W, 128^2",
+        "c/a = (1 - Q/(mu W))^(1/3); tangential compliance (Johnson eq. 7.42); |q| = mu p in "
+        "the slip annulus",
+        f"Q = {fraction} mu W: c/a {e['c_over_a'] - e['c_ref']:+.4f}, compliance "
+        f"{100 * e['shift_error']:.2f} %, slip |q| - mu p within "
+        f"{np.abs(magnitude[slip] - bound[slip]).max() / bound.max():.0e} mu p_max",
+    )
 
 
 def test_cattaneo_stick_radius_converges_with_mesh():
@@ -96,7 +105,8 @@ def test_cattaneo_stick_radius_converges_with_mesh():
     assert errors[2] < errors[0]
 
 
-def test_beta_zero_normal_loading_gives_no_shear():
+@pytest.mark.validation
+def test_beta_zero_normal_loading_gives_no_shear(validation):
     case = solver.Case.from_dict(
         {**cattaneo_table(48, 0.5, mu=0.5), "load": {"normal_force": 1000.0, "steps": 4}}
     )
@@ -111,9 +121,16 @@ def test_beta_zero_normal_loading_gives_no_shear():
     scale = 0.5 * state.pressure.max()
     assert np.abs(state.shear_x).max() < 1e-10 * scale
     assert np.abs(state.shear_y).max() < 1e-10 * scale
+    validation(
+        "beta = 0, normal loading, mu = 0.5, 48^2, 4 steps",
+        "no shear traction (Johnson §7.1)",
+        f"largest |q| {max(np.abs(state.shear_x).max(), np.abs(state.shear_y).max()) / scale:.1e} "
+        "mu p_max",
+    )
 
 
-def test_spence_self_similar_stick_zone():
+@pytest.mark.validation
+def test_spence_self_similar_stick_zone(validation):
     result = solver.solve(solver.Case.from_dict(spence_table(64)))
     assert result.converged, result.notes
     assert abs(result.case.pair.dundurs_beta) == pytest.approx(0.5)
@@ -137,25 +154,41 @@ def test_spence_self_similar_stick_zone():
     assert hertz_centre == pytest.approx(result.case.hertz.pressure(x[centre], y[centre]))
     assert result.pressure[centre] / hertz_centre == pytest.approx(SPENCE_PEAK_RATIO, abs=0.03)
     assert not result.notes
+    validation(
+        "Spence: rigid sphere, nu = 0 (beta = -0.5), mu = 0.2986, 20 steps, 64^2",
+        "c/a = 0.5 at every step (self-similar), p_0 = 1.31 p_H (Spence 1975, his figure)",
+        f"c/a {ratio[-1]:.3f} (all steps {ratio.min():.3f}-{ratio.max():.3f}), p_0 "
+        f"{result.pressure[centre] / hertz_centre:.3f} p_H",
+    )
+
+
+MU_CURVE = (0.05, 0.1, 0.2, 0.3, 0.5, 0.8)
 
 
 @pytest.mark.slow
-def test_spence_fine_mesh_and_mu_curve(capsys):
+@pytest.mark.validation
+def test_spence_fine_mesh_and_mu_curve(capsys, validation):
     result = solver.solve(solver.Case.from_dict(spence_table(128)))
     h = result.history
     ratio = radius(h["stick_area"]) / radius(h["contact_area"])
     assert np.abs(ratio - 0.5).max() < 0.03
     curve = []
-    for mu in (0.05, 0.1, 0.2, 0.3, 0.5, 0.8):
+    for mu in MU_CURVE:
         r = solver.solve(solver.Case.from_dict(spence_table(64, mu=mu, nu=0.3)))
         h = r.history
         curve.append(float(radius(h["stick_area"][-1]) / radius(h["contact_area"][-1])))
     with capsys.disabled():
         print(
             "\nSpence nu=0.3, c/a over mu:",
-            dict(zip((0.05, 0.1, 0.2, 0.3, 0.5, 0.8), curve, strict=False)),
+            dict(zip(MU_CURVE, curve, strict=True)),
         )
     assert all(b >= a - 0.03 for a, b in zip(curve, curve[1:], strict=False))  # grows with mu
+    validation(
+        "Spence, beta = -0.5, 128^2; and nu = 0.3 (beta = -0.286) over mu, 64^2",
+        "c/a = 0.5; c/a grows with mu, 0 as mu -> 0",
+        f"c/a {ratio.min():.3f}-{ratio.max():.3f} over 20 steps; nu = 0.3: "
+        + ", ".join(f"mu {m}: {c:.2f}" for m, c in zip(MU_CURVE, curve, strict=True)),
+    )
 
 
 def test_single_step_spence_is_flagged():
@@ -273,7 +306,8 @@ def test_mindlin_deresiewicz_energy_is_the_loop_area():
     )
 
 
-def test_fretting_loop_energy_matches_mindlin_deresiewicz():
+@pytest.mark.validation
+def test_fretting_loop_energy_matches_mindlin_deresiewicz(validation):
     """Two identical spheres (beta = 0), Q: 0 -> +Q* -> -Q* -> +Q*: the last cycle's loop area."""
     mu, fraction, force, steps = 0.3, 0.5, 1000.0, 20
     amplitude = fraction * mu * force
@@ -295,6 +329,12 @@ def test_fretting_loop_energy_matches_mindlin_deresiewicz():
         errors.append(abs(area / expected - 1))
     assert errors[1] < errors[0]
     assert errors[1] < 0.01
+    validation(
+        "fretting loop, two steel spheres (beta = 0), Q: 0 -> +Q* -> -Q* -> +Q*, "
+        "Q* = 0.5 mu W, 20 steps per stage, 32^2 / 64^2",
+        "energy per cycle, Mindlin & Deresiewicz (Johnson eq. 7.64)",
+        f"{100 * errors[0]:.2f} % / {100 * errors[1]:.2f} % (magnitude)",
+    )
 
 
 def test_uncoupled_tangential_stage_reuses_the_normal_solution():

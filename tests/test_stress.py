@@ -206,7 +206,8 @@ def hertz_pressure(grid):
     return np.sqrt(np.clip(1 - (x - xc) ** 2 - (y - yc) ** 2, 0, None)), (xc, yc)
 
 
-def test_hertz_axis_and_max_von_mises():
+@pytest.mark.validation
+def test_hertz_axis_and_max_von_mises(validation):
     """Rigid sphere on steel (nu = 0.3), Hertz pressure sampled on 64^2: axis stresses
     (Johnson 3.45) and the maximum von Mises stress 0.620 p_H at z = 0.481 a_H, within 1 %."""
     nu = 0.3
@@ -235,6 +236,12 @@ def test_hertz_axis_and_max_von_mises():
     full = SubsurfaceStressOperator(coarse, nu, planner="FFTW_ESTIMATE").stress(p)
     i, j, _ = np.unravel_index(von_mises(full).argmax(), full.shape[1:])
     assert (i, j) == (c, c)
+    validation(
+        "subsurface stress of Hertz's pressure sampled on 64^2, 96 layers, nu = 0.3",
+        "Johnson eq. 3.45 on the axis; largest von Mises 0.620 p_H at z = 0.481 a",
+        f"axis within {max(np.abs(axis[2] - s_z).max(), np.abs(axis[0] - s_r).max()):.1e} p_H; "
+        f"von Mises {vm_max:.4f} p_H at z = {z_max:.4f} a, on the axis",
+    )
 
 
 def cell_averaged_hertz(grid, sub=16):
@@ -248,8 +255,9 @@ def cell_averaged_hertz(grid, sub=16):
     return p.reshape(s.nx, sub, s.ny, sub).mean(axis=(1, 3)), (xc, yc)
 
 
+@pytest.mark.validation
 @pytest.mark.parametrize("plane_offset", [0.0, 0.5])
-def test_hamilton_sliding_sphere(plane_offset):
+def test_hamilton_sliding_sphere(plane_offset, validation):
     """Hertz pressure plus q_x = 0.3 p on 64^2 (tractions averaged over the cells): all six
     components on a vertical plane within 2 % of p_H of the closed form (Hamilton 1983).
 
@@ -269,6 +277,11 @@ def test_hamilton_sliding_sphere(plane_offset):
     assert error.max() < 0.02, error
     deep = np.abs(plane - ref)[:, :, 3:].max()  # below z = 0.29 a
     assert deep < 0.005
+    validation(
+        "sliding sphere: Hertz pressure and q_x = 0.3 p on 64^2 x 24, planes y = 0 and 0.5 a",
+        "Hamilton (1983), all six stress components",
+        f"y = {plane_offset} a: largest error {error.max():.1e} p_H, {deep:.1e} p_H below 0.29 a",
+    )
 
 
 @pytest.mark.slow

@@ -85,6 +85,19 @@ def machine() -> str:
     )
 
 
+def provenance_line(command: list[str]) -> str:
+    """One Markdown sentence: the command that made a table, the date (UTC), machine, commit."""
+    import datetime
+
+    from ..run.storage import git_hash
+
+    now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
+    return (
+        f"Made by `{' '.join(command)}` on {now}, on {machine()}, at commit "
+        f"`{git_hash()[:12] or 'unknown'}`."
+    )
+
+
 @contextmanager
 def recorded(path: str | None, command: list[str]):
     """Copy what the block prints to ``path`` (Markdown), headed by its provenance.
@@ -96,11 +109,8 @@ def recorded(path: str | None, command: list[str]):
         yield
         return
     import contextlib
-    import datetime
     import io
     import sys
-
-    from ..run.storage import git_hash
 
     class _Tee(io.TextIOBase):
         def __init__(self, *streams):
@@ -118,12 +128,7 @@ def recorded(path: str | None, command: list[str]):
     captured = io.StringIO()
     with contextlib.redirect_stdout(_Tee(sys.stdout, captured)):
         yield
-    now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
-    header = [
-        f"Made by `{' '.join(command)}` on {now}, on {machine()}, at commit "
-        f"`{git_hash()[:12] or 'unknown'}`.",
-        "",
-    ]
+    header = [provenance_line(command), ""]
     lines, previous = [], ""
     for line in captured.getvalue().splitlines():
         if line.startswith("|") != previous.startswith("|"):
