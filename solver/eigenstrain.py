@@ -46,8 +46,8 @@ FFT normalisation as :mod:`solver.convolution`: forward transforms unnormalised,
 
 from __future__ import annotations
 
+import concurrent.futures
 import functools
-import itertools
 import math
 
 import numpy as np
@@ -559,34 +559,22 @@ class EigenstrainOperator:
             forward.execute()
         forward.update_arrays(buffer, plan_output)
         acc = backward.input_array
-        tmp = self._work
         out = np.zeros((6, nx, ny, nz))
-        # quadrants of the full spectrum and the mirrored rows/columns of the stored quarter
-        rows = (
-            (slice(0, nx + 1), slice(0, nx + 1), 0),
-            (slice(nx + 1, 2 * nx), slice(nx - 1, 0, -1), 1),
-        )
-        cols = (
-            (slice(0, ny + 1), slice(0, ny + 1), 0),
-            (slice(ny + 1, 2 * ny), slice(ny - 1, 0, -1), 1),
-        )
+        chunks = self._row_chunks()
         for ij in components:
-            for n, mn in enumerate(components):
-                if deviatoric:
-                    kernel = spectra[ij, mn]
-                else:
-                    kernel = spectra[(ij, mn) if ij <= mn else (mn, ij)]
-                px, py = _parity(STRESS_COMPONENTS[ij] + STRESS_COMPONENTS[mn])
-                for (xs, kxs, mirrored_x), (ys, kys, mirrored_y) in itertools.product(rows, cols):
-                    negative = (px and mirrored_x) != (py and mirrored_y)
-                    target = acc[xs, ys]
-                    if n == 0:
-                        np.multiply(kernel[kxs, kys], inputs[mn][xs, ys], out=target)
-                        if negative:
-                            np.negative(target, out=target)
-                    else:
-                        product = np.multiply(kernel[kxs, kys], inputs[mn][xs, ys], out=tmp[xs, ys])
-                        (np.subtract if negative else np.add)(target, product, out=target)
+            terms = [
+                (
+                    spectra[ij, mn] if deviatoric else spectra[min(ij, mn), max(ij, mn)],
+                    inputs[mn],
+                    _parity(STRESS_COMPONENTS[ij] + STRESS_COMPONENTS[mn]),
+                )
+                for mn in components
+            ]
+            if len(chunks) > 1:
+                work = functools.partial(self._accumulate, acc, terms)
+                list(_pool(len(chunks)).map(work, chunks))
+            else:
+                self._accumulate(acc, terms, chunks[0])
             backward.execute()
             out[ij] = backward.output_array[:nx, :ny, nz : 2 * nz]
             if not deviatoric:
@@ -606,6 +594,52 @@ class EigenstrainOperator:
         surface = self.surface_stress.stress_from_spectra(spectra)
         out += deviator(surface) if deviatoric else surface
         return out
+
+    def _row_chunks(self) -> list[list[tuple]]:
+        """Row blocks of the padded spectrum, dealt to :attr:`threads` workers.
+
+        Each block is ``(rows, kernel_rows, mirrored)``: spectrum rows ``kx`` and the rows of the
+        stored quarter kernel that hold them (``2nx - kx`` for the mirrored half).  Blocks of
+        about :data:`CHUNK_BYTES` of spectrum keep the accumulator and work slices in cache
+        while the five or six terms of a component are summed.
+        """
+        nx, ny, _ = self.grid.shape
+        spectrum_row = 16 * 2 * ny * (self.length_z // 2 + 1)
+        size = max(1, CHUNK_BYTES // spectrum_row)
+        blocks = []
+        for start in range(0, nx + 1, size):
+            stop = min(nx + 1, start + size)
+            blocks.append((slice(start, stop), slice(start, stop), False))
+        for start in range(nx + 1, 2 * nx, size):
+            stop = min(2 * nx, start + size)
+            # rows kx in [start, stop) hold kernel rows 2nx - kx, from 2nx - start down
+            blocks.append((slice(start, stop), slice(2 * nx - start, 2 * nx - stop, -1), True))
+        workers = max(1, min(self.threads, len(blocks)))
+        return [blocks[w::workers] for w in range(workers)]
+
+    def _accumulate(self, acc: np.ndarray, terms: list, blocks: list[tuple]) -> None:
+        """``acc = sum_terms kernel * input`` over the row ``blocks`` (full spectrum layout).
+
+        ``terms`` are ``(quarter kernel, input spectrum, (px, py))``: the kernel's parity in x
+        and y gives its sign in the mirrored quadrants.  Same operations in the same order per
+        element whatever the blocks: results do not depend on the number of threads.
+        """
+        nx, ny, _ = self.grid.shape
+        tmp = self._work
+        cols = ((slice(0, ny + 1), slice(0, ny + 1), False),
+                (slice(ny + 1, 2 * ny), slice(ny - 1, 0, -1), True))  # fmt: skip
+        for xs, kxs, mirrored_x in blocks:
+            for ys, kys, mirrored_y in cols:
+                target, work = acc[xs, ys], tmp[xs, ys]
+                for n, (kernel, values, (px, py)) in enumerate(terms):
+                    negative = (px and mirrored_x) != (py and mirrored_y)
+                    if n == 0:
+                        np.multiply(kernel[kxs, kys], values[xs, ys], out=target)
+                        if negative:
+                            np.negative(target, out=target)
+                    else:
+                        np.multiply(kernel[kxs, kys], values[xs, ys], out=work)
+                        (np.subtract if negative else np.add)(target, work, out=target)
 
     def _input_spectra(self) -> list[np.ndarray]:
         """Six aligned spectra of the padded eigenstrain components and a work array (kept)."""
@@ -673,6 +707,17 @@ class EigenstrainOperator:
         kept += (6 * tractions + 6) * layer + 8 * 4 * nx * ny * nz + 2 * layer
         evaluation = 7 * spec3 + 12 * layer + 8 * 6 * nx * ny * nz
         return kept + evaluation
+
+
+#: Bytes of spectrum per row block of the spectral products
+#: (:meth:`EigenstrainOperator._row_chunks`).
+CHUNK_BYTES = 2**18
+
+
+@functools.lru_cache(maxsize=4)
+def _pool(workers: int) -> concurrent.futures.ThreadPoolExecutor:
+    """Worker threads for the spectral products (numpy releases the GIL in its loops)."""
+    return concurrent.futures.ThreadPoolExecutor(workers, thread_name_prefix="eigenstrain")
 
 
 def _base_groups(names) -> list[list[str]]:

@@ -399,3 +399,24 @@ def test_deviatoric_path_equals_the_deviator_of_the_full_stress():
     assert np.abs(deviator(full) - fast).max() <= 1e-13 * np.abs(full).max()
     residual_only = op.stress_with_tractions(strain, layers, {})
     np.testing.assert_allclose(residual_only, op.stress(strain), rtol=0, atol=1e-9)
+
+
+def test_threads_split_the_spectral_products_without_changing_a_bit():
+    """Two threads share the row blocks of the spectral products (and FFTW's transforms): the
+    same operations per element, so the residual stress is bit-identical to one thread's."""
+    grid = VolumeGrid(SurfaceGrid(40, 36, 1e-5, 1e-5), 30, 1e-5)
+    rng = np.random.default_rng(3)
+    e = rng.normal(size=(6,) + grid.shape) * 1e-3
+    e[2] = -(e[0] + e[1])
+    p = np.zeros(grid.surface.shape)
+    p[15:25, 12:24] = 1e9
+    results = []
+    for threads in (1, 2):
+        op = EigenstrainOperator(grid, 210e9, NU, threads=threads)
+        assert len(op._row_chunks()) == threads  # one share of the row blocks per thread
+        layers = op.layer_spectra(e)
+        results.append(
+            (op.stress(e), op.deviatoric_stress_with_tractions(e, layers, {"pressure": p}))
+        )
+    for one, two in zip(*results, strict=True):
+        np.testing.assert_array_equal(one, two)
