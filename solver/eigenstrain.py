@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import concurrent.futures
 import functools
+import itertools
 import math
 
 import numpy as np
@@ -77,6 +78,8 @@ DEVIATORIC = (0, 1, 3, 4, 5)
 #: Sign of each eigenstrain component in the mirror image (xz and yz flip).
 IMAGE_SIGNS = np.array([1.0, 1.0, 1.0, -1.0, -1.0, 1.0])
 
+#: Names of the output components (the mean stress "mean" has the parity of a normal one).
+_OUTPUT_NAME = dict(enumerate(STRESS_COMPONENTS))
 _TRACTION_OF_DIRECTION = {"x": "shear_x", "y": "shear_y", "z": "pressure"}
 
 
@@ -188,8 +191,8 @@ class EigenstrainOperator:
             raise ValueError("surface_stress must be built on the same grid and Poisson's ratio")
         self.surface_stress = surface_stress
         self._volume: tuple | None = None
-        self._inputs: list | None = None
-        self._work: np.ndarray | None = None
+        self._inputs: dict[int, np.ndarray] = {}
+        self._work: list | None = None
         self._stress_spectra: dict | None = None
         self._deviatoric_spectra: dict | None = None
         self._surface_kernels: dict | None = None
@@ -202,14 +205,16 @@ class EigenstrainOperator:
         Parameters
         ----------
         stress : bool
-            Kernels of :meth:`stress` (3-D cuboid spectra, surface traction, pressure kernels).
+            Kernels of the stress of a trace-free (plastic) eigenstrain (3-D cuboid spectra,
+            surface traction, pressure kernels); an eigenstrain with a trace builds its own on
+            first use.
         displacement : bool
             Kernels of the reciprocal surface-displacement route (all traction kernels).
         direct : bool
             Kernels of the direct surface-displacement route.
         """
         if stress:
-            self._stress_kernels()
+            self._deviatoric_kernels()
             self._surface_layer_kernels()
             self.surface_stress.kernel_spectra("pressure")
         if displacement:
@@ -219,52 +224,54 @@ class EigenstrainOperator:
             self._surface_layer_kernels(displacement=True)
 
     def _volume_plans(self) -> tuple[pyfftw.FFTW, pyfftw.FFTW]:
+        """Forward and backward 3-D transforms of the padded volume (built once).
+
+        One real array is the forward input and the backward output (:meth:`_stress` zeroes it
+        before it lays out an eigenstrain); one spectrum is the backward input, and the forward
+        output until :meth:`_stress` points it at its input slots.
+        """
         if self._volume is None:
             nx, ny, _ = self.grid.shape
             shape = (2 * nx, 2 * ny, self.length_z)
             spec_shape = (2 * nx, 2 * ny, self.length_z // 2 + 1)
-            real_in = pyfftw.empty_aligned(shape, dtype="float64")
+            real = pyfftw.empty_aligned(shape, dtype="float64")
             spec = pyfftw.empty_aligned(spec_shape, dtype="complex128")
-            real_out = pyfftw.empty_aligned(shape, dtype="float64")
             flags = (self.planner,)
-            forward = pyfftw.FFTW(real_in, spec, axes=(0, 1, 2), flags=flags, threads=self.threads)
+            forward = pyfftw.FFTW(real, spec, axes=(0, 1, 2), flags=flags, threads=self.threads)
             backward = pyfftw.FFTW(
                 spec,
-                real_out,
+                real,
                 axes=(0, 1, 2),
                 direction="FFTW_BACKWARD",
                 flags=(*flags, "FFTW_DESTROY_INPUT"),
                 threads=self.threads,
             )
-            real_in[...] = 0.0
+            real[...] = 0.0
             self._volume = (forward, backward)
         return self._volume
 
-    def _stress_kernels(self) -> dict:
-        """Quarter spectra ``S[(ij, mn)] = w_ij D_ij,mn`` (symmetric), ij <= mn, normalised.
+    def _build_spectra(self, combinations: dict) -> dict:
+        """Quarter spectra of linear combinations of the cuboid kernels (normalised).
 
-        ``D_ij,mn`` is even or odd in x and in y (:func:`_parity` of ``ij + mn``), so its
-        spectrum is even or odd in kx and ky; only ``kx <= nx``, ``ky <= ny`` is stored, shape
-        ``(nx + 1, ny + 1, L/2 + 1)`` - a quarter of the full spectrum.
+        ``combinations`` maps a key to ``(coefficients, parity)``: the coefficients of the
+        :data:`~solver.cuboid.STRESS_BASE` functions followed by the one of the eigenstress
+        inside the source cell (a delta at offset 0: a flat spectrum), and the parity in x and
+        y of the kernel.  A kernel even or odd in x and in y has a spectrum even or odd in kx and
+        ky, so only ``kx <= nx``, ``ky <= ny`` is stored, shape ``(nx + 1, ny + 1, L/2 + 1)``:
+        a quarter of the full spectrum.  Each base function is transformed once and added to
+        every combination that uses it; nothing else is kept.
         """
-        if self._stress_spectra is not None:
-            return self._stress_spectra
         g = self.grid.surface
         nx, ny, nz = self.grid.shape
         length = self.length_z
         forward, _ = self._volume_plans()
-        coef, inside = stress_coefficients(self.shear_modulus, self.nu)
-        weighted = COMPONENT_WEIGHTS[:, None, None] * coef
         scale = 1.0 / (4 * nx * ny * length)
         quarter = (slice(0, nx + 1), slice(0, ny + 1))
-        shape = (nx + 1, ny + 1, forward.output_array.shape[2])
-        spectra = {}
-        for ij in range(6):
-            for mn in range(ij, 6):
-                # the eigenstress inside the source cell: a delta at offset 0 (flat spectrum)
-                spectra[ij, mn] = np.full(
-                    shape, -COMPONENT_WEIGHTS[ij] * inside[ij, mn] * scale, dtype=complex
-                )
+        shape = (nx + 1, ny + 1, length // 2 + 1)
+        spectra = {
+            key: np.full(shape, coefficients[-1] * scale, dtype=complex)
+            for key, (coefficients, _) in combinations.items()
+        }
         cx = (np.arange(-nx, nx) + 0.5) * g.dx
         cy = (np.arange(-ny, ny) + 0.5) * g.dy
         first = 2 * nz - length  # most negative z offset (in layers)
@@ -279,50 +286,79 @@ class EigenstrainOperator:
                 del kernel
                 forward.execute()
                 spectrum = forward.output_array[quarter]
-                for ij in range(6):
-                    for mn in range(ij, 6):
-                        c = weighted[ij, mn, b]
-                        if c == 0.0:
-                            continue
-                        if _parity(name[1:]) != _parity(
-                            STRESS_COMPONENTS[ij] + STRESS_COMPONENTS[mn]
-                        ):
-                            raise AssertionError(
-                                "cuboid kernel of mixed parity"
-                            )  # pragma: no cover
-                        np.multiply(spectrum, c * scale, out=work)
-                        spectra[ij, mn] += work
+                for key, (coefficients, parity) in combinations.items():
+                    c = coefficients[b]
+                    if abs(c) <= 1e-14 * np.abs(coefficients[:-1]).max():
+                        continue  # zero, or zero up to the round-off of a combination
+                    if _parity(name[1:]) != parity:
+                        raise AssertionError("cuboid kernel of mixed parity")  # pragma: no cover
+                    np.multiply(spectrum, c * scale, out=work)
+                    spectra[key] += work
         forward.input_array[...] = 0.0
-        self._stress_spectra = spectra
         return spectra
 
-    def _deviatoric_kernels(self) -> dict:
-        """Quarter spectra ``K[(a, b)]`` from deviatoric eigenstrain to deviatoric stress.
+    def _unit_stress_coefficients(self) -> np.ndarray:
+        """``D[ij, mn]``: stress ij of a unit eigenstrain mn, over the base functions and inside.
 
-        Inputs and outputs are the five independent components :data:`DEVIATORIC` of
-        deviatoric tensors (``zz = -(xx + yy)``): ``s_a = sum_b K[a, b] * e_b`` with
-        ``K = P_out D P_in`` built from the stored ``D_ij,mn``.  Each combination keeps the
-        parity of ``a + b`` (xx, yy and zz share theirs), so quarters suffice.  25 products and
-        10 volume transforms per evaluation instead of 36 and 12.
+        Shape ``(6, 6, len(STRESS_BASE) + 1)``; the last entry is the eigenstress inside the
+        source cell.  Taken from the symmetric weighted form ``w_ij D_ij,mn`` (ij <= mn).
         """
-        if self._deviatoric_spectra is not None:
-            return self._deviatoric_spectra
-        stored = self._stress_kernels()
+        coef, inside = stress_coefficients(self.shear_modulus, self.nu)
+        unit = np.empty((6, 6, len(STRESS_BASE) + 1))
+        for ij, mn in itertools.product(range(6), repeat=2):
+            lo, hi = min(ij, mn), max(ij, mn)
+            ratio = COMPONENT_WEIGHTS[lo] / COMPONENT_WEIGHTS[ij]
+            unit[ij, mn, :-1] = ratio * coef[lo, hi]
+            unit[ij, mn, -1] = -ratio * inside[lo, hi]
+        return unit
 
-        def d(ij, mn):  # D_ij,mn (unweighted) from the symmetric weighted storage
-            key = (ij, mn) if ij <= mn else (mn, ij)
-            return stored[key] / COMPONENT_WEIGHTS[ij]
+    def _stress_kernels(self) -> dict:
+        """Quarter spectra ``S[(ij, mn)] = w_ij D_ij,mn`` (symmetric), ij <= mn: any eigenstrain.
 
-        def d_in(ij, b):  # e_zz = -(e_xx + e_yy)
-            return d(ij, b) - d(ij, 2) if b in (0, 1) else d(ij, b)
+        Built on first use by :meth:`stress` of an eigenstrain with a trace; the plasticity
+        loop's trace-free eigenstrains use :meth:`_deviatoric_kernels` only.
+        """
+        if self._stress_spectra is None:
+            unit = self._unit_stress_coefficients()
+            self._stress_spectra = self._build_spectra(
+                {
+                    (ij, mn): (
+                        COMPONENT_WEIGHTS[ij] * unit[ij, mn],
+                        _parity(STRESS_COMPONENTS[ij] + STRESS_COMPONENTS[mn]),
+                    )
+                    for ij in range(6)
+                    for mn in range(ij, 6)
+                }
+            )
+        return self._stress_spectra
 
-        kernels = {}
-        for b in DEVIATORIC:
-            mean = (d_in(0, b) + d_in(1, b) + d_in(2, b)) / 3.0
-            for a in DEVIATORIC:
-                kernels[a, b] = d_in(a, b) - mean if a in (0, 1) else d_in(a, b)
-        self._deviatoric_spectra = kernels
-        return kernels
+    def _deviatoric_kernels(self) -> dict:
+        """Quarter spectra for a trace-free eigenstrain: deviatoric stress and mean stress.
+
+        Inputs are the five independent components :data:`DEVIATORIC` of a deviatoric tensor
+        (``zz = -(xx + yy)``).  ``K[(a, b)]`` gives the deviatoric stress,
+        ``s_a = sum_b K[a, b] * e_b`` (``K = P_out D P_in``); ``K[("mean", b)]`` the mean stress
+        ``tr(sigma)/3``, for the full stress.  Each combination keeps the parity of ``a + b``
+        (xx, yy and zz share theirs), so quarters suffice.  25 products and 10 volume
+        transforms per deviatoric evaluation instead of 36 and 12; 30 kernels kept instead of 21
+        + 25.
+        """
+        if self._deviatoric_spectra is None:
+            unit = self._unit_stress_coefficients()
+            # e_zz = -(e_xx + e_yy): a unit e_xx or e_yy comes with e_zz = -1
+            unit_in = unit.copy()
+            unit_in[:, :2] -= unit[:, 2:3]
+            mean = unit_in[:3].mean(axis=0)
+            combinations = {}
+            for b in DEVIATORIC:
+                parity = _parity(STRESS_COMPONENTS[b])
+                combinations["mean", b] = (mean[b], parity)
+                for a in DEVIATORIC:
+                    values = unit_in[a, b] - mean[b] if a in (0, 1) else unit_in[a, b]
+                    pair = _parity(STRESS_COMPONENTS[a] + STRESS_COMPONENTS[b])
+                    combinations[a, b] = (values, pair)
+            self._deviatoric_spectra = self._build_spectra(combinations)
+        return self._deviatoric_spectra
 
     def _surface_layer_kernels(self, displacement: bool = False) -> dict:
         """Per-layer 2-D spectra of the surface fields of source + image (normalised).
@@ -543,44 +579,63 @@ class EigenstrainOperator:
         tractions: dict | None = None,
         deviatoric: bool = False,
     ) -> np.ndarray:
+        """Residual stress (plus the stress of ``tractions``); its deviator with ``deviatoric``.
+
+        A trace-free eigenstrain (every plastic strain) goes through the five deviatoric
+        components and the :meth:`_deviatoric_kernels`; one with a trace through all six and
+        the :meth:`_stress_kernels`.
+        """
         nx, ny, nz = self.grid.shape
         forward, backward = self._volume_plans()
-        if deviatoric:
-            spectra, components = self._deviatoric_kernels(), DEVIATORIC
-        else:
-            spectra, components = self._stress_kernels(), tuple(range(6))
+        trace = np.abs(eigenstrain[0] + eigenstrain[1] + eigenstrain[2]).max()
+        trace_free = deviatoric or trace <= 1e-12 * np.abs(eigenstrain).max()
+        components = DEVIATORIC if trace_free else tuple(range(6))
         # source and image in one padded array: image layers 0..nz-1 (flipped), source nz..2nz-1
-        inputs = self._input_spectra()
-        buffer, plan_output = forward.input_array, forward.output_array
+        buffer, spectrum = forward.input_array, forward.output_array
+        buffer[...] = 0.0  # the backward transform of the last call left its output here
+        inputs = {}
         for mn in components:
             buffer[:nx, :ny, nz : 2 * nz] = eigenstrain[mn]
             buffer[:nx, :ny, :nz] = IMAGE_SIGNS[mn] * eigenstrain[mn, :, :, ::-1]
+            inputs[mn] = self._input_spectrum(mn)
             forward.update_arrays(buffer, inputs[mn])  # transform straight into its slot
             forward.execute()
-        forward.update_arrays(buffer, plan_output)
-        acc = backward.input_array
+        forward.update_arrays(buffer, spectrum)
+        if trace_free:
+            kernels = self._deviatoric_kernels()
+            outputs = [*DEVIATORIC, *([] if deviatoric else ["mean"])]
+        else:
+            kernels = self._stress_kernels()
+            outputs = list(range(6))
         out = np.zeros((6, nx, ny, nz))
-        chunks = self._row_chunks()
-        for ij in components:
+        mean = None
+        workers = self._workers()
+        for ij in outputs:
             terms = [
                 (
-                    spectra[ij, mn] if deviatoric else spectra[min(ij, mn), max(ij, mn)],
+                    kernels[ij, mn] if trace_free else kernels[min(ij, mn), max(ij, mn)],
                     inputs[mn],
-                    _parity(STRESS_COMPONENTS[ij] + STRESS_COMPONENTS[mn]),
+                    _parity(
+                        ("xx" if ij == "mean" else STRESS_COMPONENTS[ij]) + STRESS_COMPONENTS[mn]
+                    ),
                 )
                 for mn in components
             ]
-            if len(chunks) > 1:
-                work = functools.partial(self._accumulate, acc, terms)
-                list(_pool(len(chunks)).map(work, chunks))
+            if len(workers) > 1:
+                share = functools.partial(self._accumulate, backward.input_array, terms)
+                list(_pool(len(workers)).map(share, workers))
             else:
-                self._accumulate(acc, terms, chunks[0])
+                self._accumulate(backward.input_array, terms, workers[0])
             backward.execute()
-            out[ij] = backward.output_array[:nx, :ny, nz : 2 * nz]
-            if not deviatoric:
-                out[ij] /= COMPONENT_WEIGHTS[ij]
-        if deviatoric:
+            field = backward.output_array[:nx, :ny, nz : 2 * nz]
+            if ij == "mean":
+                mean = field.copy()
+            else:
+                out[ij] = field if trace_free else field / COMPONENT_WEIGHTS[ij]
+        if trace_free:
             out[2] = -(out[0] + out[1])
+        if mean is not None:
+            out[:3] += mean
         tractions = dict(tractions or {})
         pressure = self._correction_pressure(layers)
         if tractions.get("pressure") is not None:
@@ -595,42 +650,50 @@ class EigenstrainOperator:
         out += deviator(surface) if deviatoric else surface
         return out
 
-    def _row_chunks(self) -> list[list[tuple]]:
-        """Row blocks of the padded spectrum, dealt to :attr:`threads` workers.
+    def _workers(self) -> list[tuple[list[tuple], np.ndarray]]:
+        """Row blocks of the padded spectrum dealt to :attr:`threads` workers, with work arrays.
 
         Each block is ``(rows, kernel_rows, mirrored)``: spectrum rows ``kx`` and the rows of the
         stored quarter kernel that hold them (``2nx - kx`` for the mirrored half).  Blocks of
-        about :data:`CHUNK_BYTES` of spectrum keep the accumulator and work slices in cache
-        while the five or six terms of a component are summed.
+        about :data:`CHUNK_BYTES` of spectrum keep the accumulator and the worker's own work
+        array (one block: the products are never held whole) in cache while the terms of a
+        component are summed.
         """
-        nx, ny, _ = self.grid.shape
-        spectrum_row = 16 * 2 * ny * (self.length_z // 2 + 1)
-        size = max(1, CHUNK_BYTES // spectrum_row)
-        blocks = []
-        for start in range(0, nx + 1, size):
-            stop = min(nx + 1, start + size)
-            blocks.append((slice(start, stop), slice(start, stop), False))
-        for start in range(nx + 1, 2 * nx, size):
-            stop = min(2 * nx, start + size)
-            # rows kx in [start, stop) hold kernel rows 2nx - kx, from 2nx - start down
-            blocks.append((slice(start, stop), slice(2 * nx - start, 2 * nx - stop, -1), True))
-        workers = max(1, min(self.threads, len(blocks)))
-        return [blocks[w::workers] for w in range(workers)]
+        if self._work is None:
+            nx, ny, _ = self.grid.shape
+            depth = self.length_z // 2 + 1
+            size = max(1, CHUNK_BYTES // (16 * 2 * ny * depth))
+            blocks = []
+            for start in range(0, nx + 1, size):
+                stop = min(nx + 1, start + size)
+                blocks.append((slice(start, stop), slice(start, stop), False))
+            for start in range(nx + 1, 2 * nx, size):
+                stop = min(2 * nx, start + size)
+                # rows kx in [start, stop) hold kernel rows 2nx - kx, from 2nx - start down
+                blocks.append((slice(start, stop), slice(2 * nx - start, 2 * nx - stop, -1), True))
+            count = max(1, min(self.threads, len(blocks)))
+            self._work = [
+                (blocks[w::count], np.empty((size, ny + 1, depth), dtype=complex))
+                for w in range(count)
+            ]
+        return self._work
 
-    def _accumulate(self, acc: np.ndarray, terms: list, blocks: list[tuple]) -> None:
-        """``acc = sum_terms kernel * input`` over the row ``blocks`` (full spectrum layout).
+    def _accumulate(self, acc: np.ndarray, terms: list, worker: tuple) -> None:
+        """``acc = sum_terms kernel * input`` over a worker's row blocks (full spectrum layout).
 
         ``terms`` are ``(quarter kernel, input spectrum, (px, py))``: the kernel's parity in x
         and y gives its sign in the mirrored quadrants.  Same operations in the same order per
         element whatever the blocks: results do not depend on the number of threads.
         """
-        nx, ny, _ = self.grid.shape
-        tmp = self._work
+        blocks, buffer = worker
+        ny = self.grid.surface.ny
         cols = ((slice(0, ny + 1), slice(0, ny + 1), False),
                 (slice(ny + 1, 2 * ny), slice(ny - 1, 0, -1), True))  # fmt: skip
         for xs, kxs, mirrored_x in blocks:
+            rows = xs.stop - xs.start
             for ys, kys, mirrored_y in cols:
-                target, work = acc[xs, ys], tmp[xs, ys]
+                target = acc[xs, ys]
+                work = buffer[:rows, : ys.stop - ys.start]
                 for n, (kernel, values, (px, py)) in enumerate(terms):
                     negative = (px and mirrored_x) != (py and mirrored_y)
                     if n == 0:
@@ -641,13 +704,15 @@ class EigenstrainOperator:
                         np.multiply(kernel[kxs, kys], values[xs, ys], out=work)
                         (np.subtract if negative else np.add)(target, work, out=target)
 
-    def _input_spectra(self) -> list[np.ndarray]:
-        """Six aligned spectra of the padded eigenstrain components and a work array (kept)."""
-        if self._inputs is None:
+    def _input_spectrum(self, component: int) -> np.ndarray:
+        """The aligned spectrum slot of one padded eigenstrain component (kept).
+
+        Made on first use: a trace-free eigenstrain needs five (zz is -(xx + yy)).
+        """
+        if component not in self._inputs:
             shape = self._volume_plans()[0].output_array.shape
-            self._inputs = [pyfftw.empty_aligned(shape, dtype="complex128") for _ in range(6)]
-            self._work = np.empty(shape, dtype=complex)
-        return self._inputs
+            self._inputs[component] = pyfftw.empty_aligned(shape, dtype="complex128")
+        return self._inputs[component]
 
     def _direct_displacement(self, layers: np.ndarray, pressure: np.ndarray) -> tuple:
         kernels = self._surface_layer_kernels(displacement=True)
@@ -688,12 +753,12 @@ class EigenstrainOperator:
     def memory_bytes(grid: VolumeGrid, displacement: bool = True, deviatoric: bool = False) -> int:
         """Approximate peak bytes of an operator in use (kept data plus one stress evaluation).
 
-        Kept: 21 quarter 3-D kernel spectra (and the 25 of the deviatoric path with
-        ``deviatoric``), three padded ``(2nx, 2ny, L)`` FFT buffers, the
-        per-layer surface-traction and traction-to-stress kernels (pressure, plus both shears
-        with ``displacement``) and the batched 2-D FFT buffers.  One evaluation: 6 transformed
-        inputs and a work array of the padded grid, 6 per-layer eigenstrain spectra, the output.
-        Setup transients (kernel construction) stay below the evaluation's share.
+        Kept: the quarter 3-D kernel spectra (30 for trace-free eigenstrains with
+        ``deviatoric``, else the 21 general ones), one padded real ``(2nx, 2ny, L)`` FFT buffer
+        and one spectrum, the per-layer surface-traction and traction-to-stress kernels
+        (pressure, plus both shears with ``displacement``) and the batched 2-D FFT buffers.
+        One evaluation: the transformed inputs (5 or 6), 6 per-layer eigenstrain spectra, the
+        output.  Setup transients (kernel construction) stay below the evaluation's share.
         """
         nx, ny, nz = grid.shape
         length = fft_size(3 * nz - 1)
@@ -703,14 +768,14 @@ class EigenstrainOperator:
         real3 = 8 * 4 * nx * ny * length
         layer = 8 * 2 * nx * (ny + 1) * nz  # one float per-layer spectrum
         tractions = 3 if displacement else 1
-        kept = (21 + 25 * deviatoric) * quarter3 + 2 * real3 + spec3
+        kept = (30 if deviatoric else 21) * quarter3 + real3 + spec3
         kept += (6 * tractions + 6) * layer + 8 * 4 * nx * ny * nz + 2 * layer
-        evaluation = 7 * spec3 + 12 * layer + 8 * 6 * nx * ny * nz
+        evaluation = (5 if deviatoric else 6) * spec3 + 12 * layer + 8 * 6 * nx * ny * nz
         return kept + evaluation
 
 
 #: Bytes of spectrum per row block of the spectral products
-#: (:meth:`EigenstrainOperator._row_chunks`).
+#: (:meth:`EigenstrainOperator._workers`).
 CHUNK_BYTES = 2**18
 
 

@@ -21,6 +21,7 @@ from solver.eigenstrain import EigenstrainOperator
 from solver.grid import SurfaceGrid, VolumeGrid
 from solver.influence import cell_integral
 from solver.stress import rectangle_stress
+from solver.tensor import deviator
 
 E, NU = 210e9, 0.3
 G = E / (2 * (1 + NU))
@@ -413,10 +414,35 @@ def test_threads_split_the_spectral_products_without_changing_a_bit():
     results = []
     for threads in (1, 2):
         op = EigenstrainOperator(grid, 210e9, NU, threads=threads)
-        assert len(op._row_chunks()) == threads  # one share of the row blocks per thread
+        assert len(op._workers()) == threads  # one share of the row blocks per thread
         layers = op.layer_spectra(e)
         results.append(
             (op.stress(e), op.deviatoric_stress_with_tractions(e, layers, {"pressure": p}))
         )
     for one, two in zip(*results, strict=True):
         np.testing.assert_array_equal(one, two)
+
+
+def test_trace_free_eigenstrain_takes_the_deviatoric_kernels_and_agrees_with_the_general():
+    """A plastic (trace-free) eigenstrain's stress comes from the 25 deviatoric and 5 mean-stress
+    kernels; with a dilatation added it goes through the 21 general kernels.  By linearity the
+    two routes must give the same stress for the trace-free part."""
+    grid = VolumeGrid(SurfaceGrid(20, 18, 1e-5, 1e-5), 12, 1e-5)
+    rng = np.random.default_rng(7)
+    e = rng.normal(size=(6,) + grid.shape) * 1e-3
+    e[2] = -(e[0] + e[1])
+    dilatation = np.zeros_like(e)
+    dilatation[:3] = rng.normal(size=grid.shape) * 1e-3
+    op = EigenstrainOperator(grid, 210e9, NU)
+    trace_free = op.stress(e)
+    assert op._stress_spectra is None  # the general kernels were not needed
+    general = op.stress(e + dilatation) - op.stress(dilatation)
+    scale = np.abs(general).max()
+    np.testing.assert_allclose(trace_free, general, rtol=0, atol=1e-11 * scale)
+    layers = op.layer_spectra(e)
+    np.testing.assert_allclose(
+        op.deviatoric_stress_with_tractions(e, layers, {}),
+        deviator(general),
+        rtol=0,
+        atol=1e-11 * scale,
+    )
