@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from .grid import SurfaceGrid, VolumeGrid
+from .grid import IndexBox, SurfaceGrid, VolumeGrid
 from .keys import (
     DEFAULT_DEPTH,
     DEPTH_RANGE,
@@ -41,6 +41,7 @@ from .keys import (
     MAX_STAGE_STEPS,
     MAX_TOLERANCE,
     MIN_CELLS_ACROSS,
+    MIN_PLASTIC_HALF_WIDTH,
     MIN_YIELD_CELLS,
     MODULUS_RANGE,
     PRESSURE_RATIO_RANGE,
@@ -556,6 +557,7 @@ class GridSpec:
     half_width: float = 1.5
     depth: float | None = None
     depth_body1: float | None = None
+    plastic_half_width: float | None = None
 
 
 #: Field outputs a case may request.
@@ -690,6 +692,11 @@ class Case:
         def yield_depth(body: Body) -> float:
             return auto_depth(p_max, body.hardening.initial_yield_stress, body.nu)
 
+        if grid.plastic_half_width is not None and plastic is None:
+            _fail(
+                "grid.plastic_half_width",
+                "only an elastic-plastic body has a plastic box; leave the key out",
+            )
         two_fields = len(plastics) == 2 and body1 != body2  # a volume grid each
         if grid.depth_body1 is not None and not two_fields:
             _fail(
@@ -747,6 +754,11 @@ class Case:
                 "half_width": grid.half_width,
                 **({"depth": grid.depth} if grid.nz else {}),
                 **({"depth_body1": grid.depth_body1} if grid.depth_body1 else {}),
+                **(
+                    {"plastic_half_width": grid.plastic_half_width}
+                    if grid.plastic_half_width
+                    else {}
+                ),
             },
             # FFT threads and planner change no result beyond round-off: not in the case id
             "solver": {
@@ -883,6 +895,25 @@ class Case:
     def volume_grid(self) -> VolumeGrid | None:
         """The volume grid below the surface (in body 2), or None when nz = 0."""
         return self.volume_grid_of(2)
+
+    @property
+    def plastic_box(self) -> IndexBox | None:
+        """Cells of the plastic box in the volume grid, or None for the whole window.
+
+        Centred on the axis (the same cells in body 1's mirrored frame): the fewest cells with
+        the window's parity that cover ``[-w, w]`` along x and y, ``w`` =
+        ``grid.plastic_half_width`` x the largest Hertz semi-axis; every layer.
+        """
+        if self.grid.plastic_half_width is None or not self.grid.nz:
+            return None
+        half = self.grid.plastic_half_width * self.hertz.max_semi_axis
+        surface = self.surface_grid
+        ranges = []
+        for n, d in ((surface.nx, surface.dx), (surface.ny, surface.dy)):
+            cells = min(n, math.ceil(2 * half / d - 1e-9))
+            cells += (n - cells) % 2  # centred: as many cells left as right
+            ranges.append(((n - cells) // 2, (n + cells) // 2))
+        return IndexBox(ranges[0], ranges[1], (0, self.grid.nz))
 
     def volume_grid_of(self, body: int) -> VolumeGrid | None:
         """The volume grid of body ``body`` (1 or 2).
@@ -1030,8 +1061,28 @@ def _parse_grid(table: Any) -> GridSpec:
                 )
     if "depth" in table and not nz:
         _fail("grid.depth", "a depth needs a volume grid: give grid.n = [nx, ny, nz]")
+    plastic_half_width = None
+    if "plastic_half_width" in table:
+        plastic_half_width = _number(
+            table["plastic_half_width"], "grid.plastic_half_width", positive=True
+        )
+        if not MIN_PLASTIC_HALF_WIDTH <= plastic_half_width <= half_width:
+            _fail(
+                "grid.plastic_half_width",
+                f"must be in [{MIN_PLASTIC_HALF_WIDTH:g}, half_width = {half_width:g}] (units of "
+                f"the Hertz radius a_H), got {plastic_half_width:g}; leave it out for a box as "
+                "wide as the surface window",
+            )
+        if plastic_half_width == half_width:
+            plastic_half_width = None  # the whole window: the same case as without the key
     return GridSpec(
-        sizes[0], sizes[1], nz, half_width, depths.get("depth"), depths.get("depth_body1")
+        sizes[0],
+        sizes[1],
+        nz,
+        half_width,
+        depths.get("depth"),
+        depths.get("depth_body1"),
+        plastic_half_width,
     )
 
 

@@ -65,6 +65,7 @@ from .grid import VolumeGrid
 from .influence import cell_integral
 from .stress import (
     STRESS_COMPONENTS,
+    IndexBox,
     SubsurfaceStressOperator,
     kernel_parity,
     wrap_layout,
@@ -126,14 +127,6 @@ def _lattice_corner_sums(cx, cy, cz, names, chunk: int = 16) -> dict:
     return out
 
 
-@functools.lru_cache(maxsize=1)
-def eigenstrain_operator(
-    grid: VolumeGrid, E: float, nu: float, threads: int = 1, planner: str = "FFTW_ESTIMATE"
-) -> EigenstrainOperator:
-    """Cached :class:`EigenstrainOperator` (one kept: it can hold gigabytes)."""
-    return EigenstrainOperator(grid, E, nu, threads=threads, planner=planner)
-
-
 class EigenstrainOperator:
     """Residual stress and surface displacement of a cell-wise eigenstrain in a half-space.
 
@@ -176,15 +169,21 @@ class EigenstrainOperator:
         threads: int = 1,
         planner: str = "FFTW_ESTIMATE",
         surface_stress: SubsurfaceStressOperator | None = None,
+        box: IndexBox | None = None,
     ):
         self.grid = grid
+        self.box = IndexBox.full(grid) if box is None else box
+        self.box.validate(grid)
+        if self.box.z != (0, grid.nz):
+            raise ValueError(f"the plastic box spans every layer, not {self.box.z}")
+        #: Cells of the plastic box: where the eigenstrain lives and its stress is evaluated.
+        self.shape = self.box.shape
         self.E = float(E)
         self.nu = float(nu)
         self.shear_modulus = self.E / (2.0 * (1.0 + self.nu))
         self.threads = threads
         self.planner = planner
-        nx, ny, nz = grid.shape
-        self.length_z = fft_size(3 * nz - 1)
+        self.length_z = fft_size(3 * grid.nz - 1)
         if surface_stress is None:
             surface_stress = SubsurfaceStressOperator(grid, nu, threads=threads, planner=planner)
         elif surface_stress.grid != grid or surface_stress.nu != self.nu:
@@ -231,7 +230,7 @@ class EigenstrainOperator:
         output until :meth:`_stress` points it at its input slots.
         """
         if self._volume is None:
-            nx, ny, _ = self.grid.shape
+            nx, ny, _ = self.shape
             shape = (2 * nx, 2 * ny, self.length_z)
             spec_shape = (2 * nx, 2 * ny, self.length_z // 2 + 1)
             real = pyfftw.empty_aligned(shape, dtype="float64")
@@ -262,7 +261,7 @@ class EigenstrainOperator:
         every combination that uses it; nothing else is kept.
         """
         g = self.grid.surface
-        nx, ny, nz = self.grid.shape
+        nx, ny, nz = self.shape
         length = self.length_z
         forward, _ = self._volume_plans()
         scale = 1.0 / (4 * nx * ny * length)
@@ -437,25 +436,41 @@ class EigenstrainOperator:
 
     # -- application -----------------------------------------------------------------------
 
+    def on_window(self, values: np.ndarray, outside: float = 0.0) -> np.ndarray:
+        """A field on the plastic box's cells (last three axes) put on the whole volume grid.
+
+        Cells outside the box take ``outside`` (0 for plastic strain, which the box holds all
+        of; NaN for what is not computed there).  The array itself when the box is the grid.
+        """
+        if self.shape == self.grid.shape:
+            return values
+        out = np.full(values.shape[:-3] + self.grid.shape, outside)
+        out[(...,) + self.box.slices] = values
+        return out
+
     def _check(self, eigenstrain: np.ndarray) -> np.ndarray:
         eigenstrain = np.asarray(eigenstrain, dtype=float)
-        if eigenstrain.shape != (6,) + self.grid.shape:
+        if eigenstrain.shape != (6,) + self.shape:
             raise ValueError(
-                f"eigenstrain must have shape (6, nx, ny, nz) = {(6,) + self.grid.shape}, "
-                f"got {eigenstrain.shape}"
+                f"eigenstrain must have the plastic box's shape (6, nx, ny, nz) = "
+                f"{(6,) + self.shape}, got {eigenstrain.shape}"
             )
         return eigenstrain
 
     def layer_spectra(self, eigenstrain: np.ndarray) -> np.ndarray:
-        """Per-layer 2-D transforms of the zero-padded eigenstrain: ``(6, 2nx, ny + 1, nz)``."""
+        """Per-layer 2-D transforms of the zero-padded eigenstrain: ``(6, 2nx, ny + 1, nz)``.
+
+        The plastic box's eigenstrain sits at its place in the surface window (``nx``, ``ny``
+        the window's cells): the surface fields it makes are the window's.
+        """
         eigenstrain = self._check(eigenstrain)
-        nx, ny, nz = self.grid.shape
-        forward, _ = self.surface_stress.batched_transforms(nz)
+        forward, _ = self.surface_stress.batched_transforms(self.grid.nz)
         out = np.empty((6,) + forward.output_array.shape, dtype=complex)
         buffer = forward.input_array
         buffer[...] = 0.0
+        sx, sy, _ = self.box.slices
         for mn in range(6):
-            buffer[:nx, :ny, :] = eigenstrain[mn]
+            buffer[sx, sy, :] = eigenstrain[mn]
             forward.execute()
             out[mn] = forward.output_array
         buffer[...] = 0.0
@@ -583,9 +598,9 @@ class EigenstrainOperator:
 
         A trace-free eigenstrain (every plastic strain) goes through the five deviatoric
         components and the :meth:`_deviatoric_kernels`; one with a trace through all six and
-        the :meth:`_stress_kernels`.
+        the :meth:`_stress_kernels`.  Evaluated on the plastic box's cells.
         """
-        nx, ny, nz = self.grid.shape
+        nx, ny, nz = self.shape
         forward, backward = self._volume_plans()
         trace = np.abs(eigenstrain[0] + eigenstrain[1] + eigenstrain[2]).max()
         trace_free = deviatoric or trace <= 1e-12 * np.abs(eigenstrain).max()
@@ -646,7 +661,7 @@ class EigenstrainOperator:
             for name, values in tractions.items()
             if values is not None
         }
-        surface = self.surface_stress.stress_from_spectra(spectra)
+        surface = self.surface_stress.stress_from_spectra(spectra, self.box)
         out += deviator(surface) if deviatoric else surface
         return out
 
@@ -660,7 +675,7 @@ class EigenstrainOperator:
         component are summed.
         """
         if self._work is None:
-            nx, ny, _ = self.grid.shape
+            nx, ny, _ = self.shape
             depth = self.length_z // 2 + 1
             size = max(1, CHUNK_BYTES // (16 * 2 * ny * depth))
             blocks = []
@@ -686,7 +701,7 @@ class EigenstrainOperator:
         element whatever the blocks: results do not depend on the number of threads.
         """
         blocks, buffer = worker
-        ny = self.grid.surface.ny
+        ny = self.shape[1]
         cols = ((slice(0, ny + 1), slice(0, ny + 1), False),
                 (slice(ny + 1, 2 * ny), slice(ny - 1, 0, -1), True))  # fmt: skip
         for xs, kxs, mirrored_x in blocks:
@@ -750,27 +765,35 @@ class EigenstrainOperator:
     # -- bookkeeping -----------------------------------------------------------------------
 
     @staticmethod
-    def memory_bytes(grid: VolumeGrid, displacement: bool = True, deviatoric: bool = False) -> int:
+    def memory_bytes(
+        grid: VolumeGrid,
+        displacement: bool = True,
+        deviatoric: bool = False,
+        box: tuple[int, int] | None = None,
+    ) -> int:
         """Approximate peak bytes of an operator in use (kept data plus one stress evaluation).
 
-        Kept: the quarter 3-D kernel spectra (30 for trace-free eigenstrains with
-        ``deviatoric``, else the 21 general ones), one padded real ``(2nx, 2ny, L)`` FFT buffer
-        and one spectrum, the per-layer surface-traction and traction-to-stress kernels
-        (pressure, plus both shears with ``displacement``) and the batched 2-D FFT buffers.
-        One evaluation: the transformed inputs (5 or 6), 6 per-layer eigenstrain spectra, the
-        output.  Setup transients (kernel construction) stay below the evaluation's share.
+        Kept: the quarter 3-D kernel spectra of the plastic box (30 for trace-free eigenstrains
+        with ``deviatoric``, else the 21 general ones), one padded real ``(2nx, 2ny, L)`` FFT
+        buffer and one spectrum of the box, the window's per-layer surface-traction and
+        traction-to-stress kernels (pressure, plus both shears with ``displacement``) and its
+        batched 2-D FFT buffers.  One evaluation: the transformed inputs (5 or 6), 6 per-layer
+        eigenstrain spectra, the output.  Setup transients (kernel construction) stay below
+        the evaluation's share.  ``box``: the plastic box's cells ``(nx, ny)`` (default: the
+        window's).
         """
         nx, ny, nz = grid.shape
+        bx, by = box or (nx, ny)
         length = fft_size(3 * nz - 1)
         half = length // 2 + 1
-        spec3 = 16 * 4 * nx * ny * half
-        quarter3 = 16 * (nx + 1) * (ny + 1) * half
-        real3 = 8 * 4 * nx * ny * length
-        layer = 8 * 2 * nx * (ny + 1) * nz  # one float per-layer spectrum
+        spec3 = 16 * 4 * bx * by * half
+        quarter3 = 16 * (bx + 1) * (by + 1) * half
+        real3 = 8 * 4 * bx * by * length
+        layer = 8 * 2 * nx * (ny + 1) * nz  # one float per-layer spectrum of the window
         tractions = 3 if displacement else 1
         kept = (30 if deviatoric else 21) * quarter3 + real3 + spec3
         kept += (6 * tractions + 6) * layer + 8 * 4 * nx * ny * nz + 2 * layer
-        evaluation = (5 if deviatoric else 6) * spec3 + 12 * layer + 8 * 6 * nx * ny * nz
+        evaluation = (5 if deviatoric else 6) * spec3 + 12 * layer + 8 * 6 * bx * by * nz
         return kept + evaluation
 
 

@@ -50,6 +50,8 @@ MAX_INCREMENTS = 1_000_000
 MAX_FRICTION = 100.0
 #: Volume depths accepted (``grid.depth``, ``grid.depth_body1``; units of the Hertz radius).
 DEPTH_RANGE = (0.05, 20.0)
+#: Smallest half side of the plastic box (``grid.plastic_half_width``, units of a_H).
+MIN_PLASTIC_HALF_WIDTH = 0.25
 #: Fewest volume cells across the elastic yield region in depth (``solver.case``).
 MIN_YIELD_CELLS = 2
 #: Thickest volume cell (units of a_H) of an elastic-plastic body (``solver.case``).
@@ -249,6 +251,11 @@ CASE_KEYS: tuple[Key, ...] = (
         f"<= {MAX_CELL_DEPTH:g} a_H, the box reaches where yield starts, >= {MIN_YIELD_CELLS} "
         "cells across the Hertz yield region", "volume grids",
         "Depth of the volume grid (the plastic box)."),
+    Key("grid", "plastic_half_width", "number", "a_H", "half_width (the whole window)",
+        f"[{MIN_PLASTIC_HALF_WIDTH:g}, half_width]", "elastic-plastic bodies",
+        "Half side of the plastic box: plastic strain lives, and the volume convolutions run, on "
+        "the cells within this distance of the axis along x and y (the surface window stays "
+        "half_width); a plastic zone reaching its sides is a note and the status truncated."),
     Key("grid", "depth_body1", "number", "a_H", "depth if given, else body 1's yield depth",
         "as grid.depth", "two different elastic-plastic bodies",
         "Depth of body 1's own volume grid."),

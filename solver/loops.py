@@ -28,7 +28,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .case import SMALL_STRAIN_LIMIT, Case
-from .grid import VolumeGrid
+from .grid import IndexBox, VolumeGrid
 from .operators import CaseOperators
 from .plastic_loop import PlasticState, mirror, plastic_step
 from .result import SEPARATED, SLIP, STICK, Result
@@ -159,11 +159,15 @@ def peak_depth(values: np.ndarray, depth: np.ndarray) -> float:
     return float(depth[k])
 
 
-def _box_faces_reached(equivalent: np.ndarray) -> list[str]:
+def _box_faces_reached(equivalent: np.ndarray, sides: str) -> list[str]:
+    """Faces of the plastic box where the equivalent plastic strain exceeds the zone threshold.
+
+    ``sides`` names the key that sets the box's sides.
+    """
     faces = {
         "bottom (grid.depth)": equivalent[:, :, -1],
-        "side x (grid.half_width)": equivalent[[0, -1], :, :],
-        "side y (grid.half_width)": equivalent[:, [0, -1], :],
+        f"side x ({sides})": equivalent[[0, -1], :, :],
+        f"side y ({sides})": equivalent[:, [0, -1], :],
     }
     return [name for name, cells in faces.items() if cells.max() > PLASTIC_ZONE_THRESHOLD]
 
@@ -250,7 +254,10 @@ def solve(case: Case) -> Result:
     area = case.surface_grid.cell_area
 
     state = ContactState.unloaded(operators.gap.shape)
-    plastic_state = tuple(PlasticState.virgin(volume.shape) for _ in case.plastic_bodies)
+    box = case.plastic_box or (IndexBox.full(volume) if volume is not None else None)
+    plastic_state = tuple(
+        PlasticState.virgin(box.shape, case.surface_grid.shape) for _ in case.plastic_bodies
+    )
     notes: list[str] = list(case.warnings)
     converged = True
     coupled = contact_step is slip_stick_step and case.pair.dundurs_beta != 0.0
@@ -338,7 +345,10 @@ def solve(case: Case) -> Result:
         history["step_converged"][k] = float(step_ok)
         if plastic:
             _record_plastic(history, k, step, case)
-            reached = sorted({f for p in plastic_state for f in _box_faces_reached(p.equivalent)})
+            sides = "grid.plastic_half_width" if case.plastic_box else "grid.half_width"
+            reached = sorted(
+                {f for p in plastic_state for f in _box_faces_reached(p.equivalent, sides)}
+            )
             if reached and not faces_noted:
                 faces_noted = True
                 notes.append(
@@ -479,14 +489,19 @@ def _plastic_fields(
 ) -> None:
     """Final plastic fields of each plastic body (body 1's on the common x, y axes).
 
-    Displacements and residual stress are those of the final plastic strain.
+    Displacements and residual stress are those of the final plastic strain.  Volume fields
+    span the surface window: a plastic box narrower than it (``grid.plastic_half_width``) has
+    no plastic strain outside by construction (zeros there), and its residual stress is not
+    computed outside (NaN there).
     """
     for body, plastic in zip(result.case.plastic_bodies, states, strict=True):
+        eigenstrain = operators.volume(body)[1]
         if plastic.strain.any():
-            residual_stress, displacement = operators.volume(body)[1].evaluate(plastic.strain)
+            residual_stress, displacement = eigenstrain.evaluate(plastic.strain)
         else:
             residual_stress, displacement = np.zeros_like(plastic.strain), plastic.displacement
-        fields = {"plastic_strain": plastic.equivalent}
+        window = eigenstrain.on_window
+        fields = {"plastic_strain": window(plastic.equivalent)}
         fields.update(
             {
                 f"residual_displacement_{axis}": u
@@ -494,9 +509,9 @@ def _plastic_fields(
             }
         )
         if "plastic_strain_tensor" in result.case.fields:
-            fields["plastic_strain_tensor"] = plastic.strain
+            fields["plastic_strain_tensor"] = window(plastic.strain)
         if "residual_stress" in result.case.fields:
-            fields["residual_stress"] = residual_stress
+            fields["residual_stress"] = window(residual_stress, np.nan)
         for name, values in fields.items():
             if body == 1:
                 result.fields[name + BODY1_SUFFIX] = _on_common_axes(name, values)

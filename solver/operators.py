@@ -47,13 +47,13 @@ def _volume_operators(keys: list[tuple]) -> list[tuple]:
     out = []
     for key in keys:
         if key not in _VOLUME_OPERATORS:
-            grid, body, threads, planner, eigenstrain = key
+            grid, body, threads, planner, eigenstrain, box = key
             stress = SubsurfaceStressOperator(grid, body.nu, threads=threads, planner=planner)
             plastic = None
             if eigenstrain:
                 plastic = EigenstrainOperator(
                     grid, body.E, body.nu, threads=threads, planner=planner,
-                    surface_stress=stress,
+                    surface_stress=stress, box=box,
                 )  # fmt: skip
             _VOLUME_OPERATORS[key] = (stress, plastic)
         out.append(_VOLUME_OPERATORS[key])
@@ -112,10 +112,11 @@ class CaseOperators:
         surface = surface_operator(case.surface_grid, case.pair, options.fft_threads, planner)
         plastic_case = case.plastic_body is not None
         keys = []
+        threads, box = options.fft_threads, case.plastic_box
         if plastic_case or "stress" in case.fields:
-            keys.append((case.volume_grid, case.body2, options.fft_threads, planner, plastic_case))
+            keys.append((case.volume_grid, case.body2, threads, planner, plastic_case, box))
         if 1 in case.plastic_bodies:
-            keys.append((case.volume_grid_of(1), case.body1, options.fft_threads, planner, True))
+            keys.append((case.volume_grid_of(1), case.body1, threads, planner, True, box))
         volumes = _volume_operators(keys) + [(None, None)] * (2 - len(keys))
         (stress, plastic), (stress1, plastic1) = volumes
         return cls(case, surface, initial_gap(case), stress, plastic, stress1, plastic1)
@@ -137,9 +138,10 @@ class CaseOperators:
         total += 8 * nx * ny * 40 + 8 * 16 * case.total_steps
         volume = case.volume_grid
         if case.plastic_body is not None:
-            cells = 8 * 6 * nx * ny * volume.nz
+            box = case.plastic_box.shape[:2] if case.plastic_box else (nx, ny)
+            cells = 8 * 6 * box[0] * box[1] * volume.nz
             bodies = len(case.plastic_bodies)
-            total += bodies * EigenstrainOperator.memory_bytes(volume, deviatoric=True)
+            total += bodies * EigenstrainOperator.memory_bytes(volume, deviatoric=True, box=box)
             total += bodies * plastic_work_arrays(case.solver) * cells
             pair = (case.body1, case.body2)
             kinematic = sum(b.hardening is not None and b.hardening.kinematic for b in pair)

@@ -67,10 +67,10 @@ class PlasticState:
     back_stress: np.ndarray | None = None
 
     @classmethod
-    def virgin(cls, shape: tuple[int, int, int]) -> PlasticState:
-        """No plastic strain."""
-        surface = np.zeros(shape[:2])
-        return cls(np.zeros((6,) + shape), np.zeros(shape), (surface, surface, surface))
+    def virgin(cls, shape: tuple[int, int, int], surface: tuple[int, int]) -> PlasticState:
+        """No plastic strain in the plastic box's cells ``shape``, none on the ``surface``."""
+        zero = np.zeros(surface)
+        return cls(np.zeros((6,) + shape), np.zeros(shape), (zero, zero, zero))
 
 
 @dataclass(frozen=True)
@@ -224,7 +224,7 @@ def plastic_step(
                     strain[i], layers[i], tractions
                 )
             elif tractions["pressure"].any() or len(tractions) > 1:
-                trial = stress_operator.stress(**tractions)
+                trial = stress_operator.stress(**tractions, box=eigenstrain.box)
             else:
                 trial = np.zeros_like(strain[i])
             trial += 2.0 * material.shear_modulus * increment[i]

@@ -60,12 +60,11 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
 
 import numpy as np
 import pyfftw
 
-from .grid import VolumeGrid
+from .grid import IndexBox, VolumeGrid  # noqa: F401  (IndexBox: re-exported)
 from .tensor import COMPONENTS, von_mises  # noqa: F401  (von_mises: re-exported)
 
 #: Order of the six stress components in every array returned here (:mod:`solver.tensor`).
@@ -398,43 +397,6 @@ def hamilton_stress(
 # --------------------------------------------------------------------------------------------
 # The DC-FFT operator
 # --------------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class IndexBox:
-    """Half-open index ranges ``[start, stop)`` of a sub-box of a volume grid.
-
-    Parameters
-    ----------
-    x, y, z : (int, int)
-        Cell-index ranges along x, y and z (layers).
-    """
-
-    x: tuple[int, int]
-    y: tuple[int, int]
-    z: tuple[int, int]
-
-    @classmethod
-    def full(cls, grid: VolumeGrid) -> IndexBox:
-        """The whole grid."""
-        nx, ny, nz = grid.shape
-        return cls((0, nx), (0, ny), (0, nz))
-
-    @property
-    def shape(self) -> tuple[int, int, int]:
-        """Number of cells along x, y, z."""
-        return (self.x[1] - self.x[0], self.y[1] - self.y[0], self.z[1] - self.z[0])
-
-    @property
-    def slices(self) -> tuple[slice, slice, slice]:
-        """Slices selecting the box from an ``(nx, ny, nz)`` array."""
-        return (slice(*self.x), slice(*self.y), slice(*self.z))
-
-    def validate(self, grid: VolumeGrid) -> None:
-        """Raise ValueError unless the box is a non-empty part of ``grid``."""
-        for (lo, hi), n, axis in zip((self.x, self.y, self.z), grid.shape, "xyz", strict=True):
-            if not 0 <= lo < hi <= n:
-                raise ValueError(f"box range {axis}={lo, hi} is empty or outside [0, {n}]")
 
 
 def wrap_layout(values: np.ndarray, axis: int) -> np.ndarray:

@@ -208,7 +208,7 @@ def test_operator_equals_direct_sums():
 
 def test_shape_is_checked():
     op = operator(VolumeGrid(SurfaceGrid(4, 4, 1.0, 1.0), 2, 1.0))
-    with pytest.raises(ValueError, match="eigenstrain must have shape"):
+    with pytest.raises(ValueError, match="eigenstrain must have the plastic box.s shape"):
         op.stress(np.zeros((6, 4, 4, 3)))
     with pytest.raises(ValueError, match="unknown method"):
         op.surface_displacement(np.zeros((6, 4, 4, 2)), method="magic")
