@@ -42,6 +42,7 @@ from .keys import (
     MAX_TOLERANCE,
     MIN_CELLS_ACROSS,
     MIN_PLASTIC_HALF_WIDTH,
+    MIN_SINGLE_PLASTIC_TOLERANCE,
     MIN_YIELD_CELLS,
     MODULUS_RANGE,
     PRESSURE_RATIO_RANGE,
@@ -491,6 +492,7 @@ class SolverOptions:
     anderson_memory: int = SOLVER_DEFAULTS["anderson_memory"]
     fft_threads: int = SOLVER_DEFAULTS["fft_threads"]
     fft_planner: str = SOLVER_DEFAULTS["fft_planner"]
+    volume_precision: str = SOLVER_DEFAULTS["volume_precision"]
 
 
 _SOLVER_RULES = {
@@ -507,6 +509,7 @@ _SOLVER_RULES = {
     "anderson_memory": ("memory",),
     "fft_threads": ("threads",),
     "fft_planner": ("planner",),
+    "volume_precision": ("precision",),
 }
 
 
@@ -530,6 +533,10 @@ def _parse_solver(table: Any) -> SolverOptions:
             if value not in ("estimate", "measure"):
                 _fail(path, f'must be "estimate" (reproducible) or "measure", got {value!r}')
             values[key] = value
+        elif rule == "precision":
+            if value not in ("double", "single"):
+                _fail(path, f'must be "double" or "single", got {value!r}')
+            values[key] = value
         elif rule == "threads":
             values[key] = _integer(value, path, 1, MAX_FFT_THREADS)
         elif rule == "memory":
@@ -538,7 +545,18 @@ def _parse_solver(table: Any) -> SolverOptions:
             _fail(path, f"must be true or false, got {value!r}")
         else:
             values[key] = value
-    return SolverOptions(**values)
+    options = SolverOptions(**values)
+    if (
+        options.volume_precision == "single"
+        and options.plastic_tolerance < MIN_SINGLE_PLASTIC_TOLERANCE
+    ):
+        _fail(
+            "solver.volume_precision",
+            f"single precision rounds the stress to ~1e-7, too coarse for plastic_tolerance = "
+            f"{options.plastic_tolerance:g}: use plastic_tolerance >= "
+            f'{MIN_SINGLE_PLASTIC_TOLERANCE:g} or volume_precision = "double"',
+        )
+    return options
 
 
 @dataclass(frozen=True)
@@ -760,11 +778,13 @@ class Case:
                     else {}
                 ),
             },
-            # FFT threads and planner change no result beyond round-off: not in the case id
+            # FFT threads and planner change no result beyond round-off: not in the case id;
+            # the volume precision only when single (the ids of double cases stay as they were)
             "solver": {
                 k: _json_number(getattr(solver, k))
                 for k in _SOLVER_RULES
-                if k not in ("fft_threads", "fft_planner")
+                if k not in ("fft_threads", "fft_planner", "volume_precision")
+                or (k == "volume_precision" and solver.volume_precision != "double")
             },
             "output": {"fields": sorted(fields)},
         }

@@ -170,7 +170,12 @@ class EigenstrainOperator:
         planner: str = "FFTW_ESTIMATE",
         surface_stress: SubsurfaceStressOperator | None = None,
         box: IndexBox | None = None,
+        precision: str = "double",
     ):
+        if precision not in VOLUME_PRECISIONS:
+            raise ValueError(f"precision must be one of {list(VOLUME_PRECISIONS)}: {precision!r}")
+        self.precision = precision
+        self._real, self._complex = VOLUME_PRECISIONS[precision]
         self.grid = grid
         self.box = IndexBox.full(grid) if box is None else box
         self.box.validate(grid)
@@ -233,8 +238,8 @@ class EigenstrainOperator:
             nx, ny, _ = self.shape
             shape = (2 * nx, 2 * ny, self.length_z)
             spec_shape = (2 * nx, 2 * ny, self.length_z // 2 + 1)
-            real = pyfftw.empty_aligned(shape, dtype="float64")
-            spec = pyfftw.empty_aligned(spec_shape, dtype="complex128")
+            real = pyfftw.empty_aligned(shape, dtype=self._real)
+            spec = pyfftw.empty_aligned(spec_shape, dtype=self._complex)
             flags = (self.planner,)
             forward = pyfftw.FFTW(real, spec, axes=(0, 1, 2), flags=flags, threads=self.threads)
             backward = pyfftw.FFTW(
@@ -268,14 +273,14 @@ class EigenstrainOperator:
         quarter = (slice(0, nx + 1), slice(0, ny + 1))
         shape = (nx + 1, ny + 1, length // 2 + 1)
         spectra = {
-            key: np.full(shape, coefficients[-1] * scale, dtype=complex)
+            key: np.full(shape, coefficients[-1] * scale, dtype=self._complex)
             for key, (coefficients, _) in combinations.items()
         }
         cx = (np.arange(-nx, nx) + 0.5) * g.dx
         cy = (np.arange(-ny, ny) + 0.5) * g.dy
         first = 2 * nz - length  # most negative z offset (in layers)
         cz = (np.arange(first - 1, 2 * nz) + 0.5) * self.grid.dz
-        work = np.empty(shape, dtype=complex)
+        work = np.empty(shape, dtype=self._complex)
         for group in _base_groups(STRESS_BASE):
             sums = _lattice_corner_sums(cx, cy, cz, group)
             for name in group:
@@ -677,7 +682,8 @@ class EigenstrainOperator:
         if self._work is None:
             nx, ny, _ = self.shape
             depth = self.length_z // 2 + 1
-            size = max(1, CHUNK_BYTES // (16 * 2 * ny * depth))
+            itemsize = np.dtype(self._complex).itemsize
+            size = max(1, CHUNK_BYTES // (itemsize * 2 * ny * depth))
             blocks = []
             for start in range(0, nx + 1, size):
                 stop = min(nx + 1, start + size)
@@ -688,7 +694,7 @@ class EigenstrainOperator:
                 blocks.append((slice(start, stop), slice(2 * nx - start, 2 * nx - stop, -1), True))
             count = max(1, min(self.threads, len(blocks)))
             self._work = [
-                (blocks[w::count], np.empty((size, ny + 1, depth), dtype=complex))
+                (blocks[w::count], np.empty((size, ny + 1, depth), dtype=self._complex))
                 for w in range(count)
             ]
         return self._work
@@ -726,7 +732,7 @@ class EigenstrainOperator:
         """
         if component not in self._inputs:
             shape = self._volume_plans()[0].output_array.shape
-            self._inputs[component] = pyfftw.empty_aligned(shape, dtype="complex128")
+            self._inputs[component] = pyfftw.empty_aligned(shape, dtype=self._complex)
         return self._inputs[component]
 
     def _direct_displacement(self, layers: np.ndarray, pressure: np.ndarray) -> tuple:
@@ -770,6 +776,7 @@ class EigenstrainOperator:
         displacement: bool = True,
         deviatoric: bool = False,
         box: tuple[int, int] | None = None,
+        precision: str = "double",
     ) -> int:
         """Approximate peak bytes of an operator in use (kept data plus one stress evaluation).
 
@@ -780,15 +787,16 @@ class EigenstrainOperator:
         batched 2-D FFT buffers.  One evaluation: the transformed inputs (5 or 6), 6 per-layer
         eigenstrain spectra, the output.  Setup transients (kernel construction) stay below
         the evaluation's share.  ``box``: the plastic box's cells ``(nx, ny)`` (default: the
-        window's).
+        window's); ``precision``: of the 3-D parts (:data:`VOLUME_PRECISIONS`).
         """
         nx, ny, nz = grid.shape
         bx, by = box or (nx, ny)
         length = fft_size(3 * nz - 1)
         half = length // 2 + 1
-        spec3 = 16 * 4 * bx * by * half
-        quarter3 = 16 * (bx + 1) * (by + 1) * half
-        real3 = 8 * 4 * bx * by * length
+        word = np.dtype(VOLUME_PRECISIONS[precision][0]).itemsize  # 8 or 4 bytes
+        spec3 = 2 * word * 4 * bx * by * half
+        quarter3 = 2 * word * (bx + 1) * (by + 1) * half
+        real3 = word * 4 * bx * by * length
         layer = 8 * 2 * nx * (ny + 1) * nz  # one float per-layer spectrum of the window
         tractions = 3 if displacement else 1
         kept = (30 if deviatoric else 21) * quarter3 + real3 + spec3
@@ -796,6 +804,9 @@ class EigenstrainOperator:
         evaluation = (5 if deviatoric else 6) * spec3 + 12 * layer + 8 * 6 * bx * by * nz
         return kept + evaluation
 
+
+#: Real and complex types of the 3-D eigenstrain convolution by ``solver.volume_precision``.
+VOLUME_PRECISIONS = {"double": ("float64", "complex128"), "single": ("float32", "complex64")}
 
 #: Bytes of spectrum per row block of the spectral products
 #: (:meth:`EigenstrainOperator._workers`).

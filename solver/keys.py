@@ -93,7 +93,11 @@ SOLVER_DEFAULTS = {
     "anderson_memory": 5,
     "fft_threads": 1,
     "fft_planner": "estimate",
+    "volume_precision": "double",
 }
+#: Smallest plasticity tolerance a single-precision volume convolution can settle to: its
+#: rounding (~1e-7 of the stress) would otherwise keep the plasticity loop from converging.
+MIN_SINGLE_PLASTIC_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
@@ -298,6 +302,11 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("solver", "fft_planner", "string", "", f'"{SOLVER_DEFAULTS["fft_planner"]}"',
         '"estimate" (reproducible) or "measure"', "every case",
         "FFTW planning (not part of the case id)."),
+    Key("solver", "volume_precision", "string", "", f'"{SOLVER_DEFAULTS["volume_precision"]}"',
+        f'"double" or "single" (with plastic_tolerance >= {MIN_SINGLE_PLASTIC_TOLERANCE:g})', _EP,
+        "Floating-point precision of the 3-D eigenstrain convolution (kernels, FFTs, products); "
+        '"single" halves its memory and saves 17-22 % of the CPU at 48^3-64^3 with results '
+        "within ~1e-7 of double's (part of the case id when single)."),
 )  # fmt: skip
 
 

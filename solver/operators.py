@@ -47,13 +47,13 @@ def _volume_operators(keys: list[tuple]) -> list[tuple]:
     out = []
     for key in keys:
         if key not in _VOLUME_OPERATORS:
-            grid, body, threads, planner, eigenstrain, box = key
+            grid, body, threads, planner, eigenstrain, box, precision = key
             stress = SubsurfaceStressOperator(grid, body.nu, threads=threads, planner=planner)
             plastic = None
             if eigenstrain:
                 plastic = EigenstrainOperator(
                     grid, body.E, body.nu, threads=threads, planner=planner,
-                    surface_stress=stress, box=box,
+                    surface_stress=stress, box=box, precision=precision,
                 )  # fmt: skip
             _VOLUME_OPERATORS[key] = (stress, plastic)
         out.append(_VOLUME_OPERATORS[key])
@@ -112,11 +112,13 @@ class CaseOperators:
         surface = surface_operator(case.surface_grid, case.pair, options.fft_threads, planner)
         plastic_case = case.plastic_body is not None
         keys = []
-        threads, box = options.fft_threads, case.plastic_box
+        threads, box, precision = options.fft_threads, case.plastic_box, options.volume_precision
         if plastic_case or "stress" in case.fields:
-            keys.append((case.volume_grid, case.body2, threads, planner, plastic_case, box))
+            volume = case.volume_grid
+            keys.append((volume, case.body2, threads, planner, plastic_case, box, precision))
         if 1 in case.plastic_bodies:
-            keys.append((case.volume_grid_of(1), case.body1, threads, planner, True, box))
+            volume1 = case.volume_grid_of(1)
+            keys.append((volume1, case.body1, threads, planner, True, box, precision))
         volumes = _volume_operators(keys) + [(None, None)] * (2 - len(keys))
         (stress, plastic), (stress1, plastic1) = volumes
         return cls(case, surface, initial_gap(case), stress, plastic, stress1, plastic1)
@@ -141,7 +143,9 @@ class CaseOperators:
             box = case.plastic_box.shape[:2] if case.plastic_box else (nx, ny)
             cells = 8 * 6 * box[0] * box[1] * volume.nz
             bodies = len(case.plastic_bodies)
-            total += bodies * EigenstrainOperator.memory_bytes(volume, deviatoric=True, box=box)
+            total += bodies * EigenstrainOperator.memory_bytes(
+                volume, deviatoric=True, box=box, precision=case.solver.volume_precision
+            )
             total += bodies * plastic_work_arrays(case.solver) * cells
             pair = (case.body1, case.body2)
             kinematic = sum(b.hardening is not None and b.hardening.kinematic for b in pair)

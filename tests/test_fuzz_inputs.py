@@ -181,6 +181,8 @@ PLASTIC_FAULTS = [
     ("base.grid.plastic_half_width", 0.1, "grid.plastic_half_width: must be in [0.25"),
     ("base.grid.plastic_half_width", -1.0, "grid.plastic_half_width: must be > 0"),
     ("base.grid.plastic_half_width", "wide", "grid.plastic_half_width: must be a number"),
+    ("base.solver.volume_precision", "half", 'solver.volume_precision: must be "double" or'),
+    ("base.solver.volume_precision", 32, 'solver.volume_precision: must be "double" or'),
     ("base.grid.depth_body1", 1e6, "grid.depth_body1: must be in"),
     ("base.grid.n", [16, 16, 4], "grid.n: cells 0.416 a_H thick"),
     ("sweep", {"grid.nz": [16, 4]}, "grid.n: cells"),

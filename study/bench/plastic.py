@@ -31,10 +31,14 @@ SCENE = {
 }
 
 
-def scene_table(n: int) -> dict:
-    """The case table of the scene on an n^3 volume grid (depth sized from the yield region)."""
+def scene_table(n: int, precision: str = "double") -> dict:
+    """The case table of the scene on an n^3 volume grid (depth sized from the yield region).
+
+    ``precision``: ``solver.volume_precision`` of the 3-D eigenstrain convolution.
+    """
     s = SCENE
     return {
+        "solver": {"volume_precision": precision},
         "body1": {"behaviour": "rigid", "radius": s["radius"]},
         "body2": {
             "behaviour": "elastic-plastic",
@@ -57,11 +61,11 @@ def scene_table(n: int) -> dict:
     }
 
 
-def _ours(n: int) -> dict:
+def _ours(n: int, precision: str = "double") -> dict:
     import solver
     from solver.operators import PROCESS_BYTES, CaseOperators
 
-    case = solver.Case.from_dict(scene_table(n))
+    case = solver.Case.from_dict(scene_table(n, precision))
     with peak_memory() as memory:
         setup, setup_cpu = time.perf_counter(), time.process_time()
         CaseOperators.build(case).eigenstrain.prepare()  # kernels and plans, cached per grid
@@ -144,17 +148,18 @@ def run_plastic(sizes: list[int], peers: bool = False) -> int:
     reference = Case.from_dict(scene_table(sizes[0])).hertz
     rows, failures = [], 0
     for n in sizes:
-        codes = [("slipstick", _ours)] + ([("tamaas", _tamaas)] if peers else [])
-        for code, target in codes:
-            status, out = isolated(target, n, timeout=3600.0)
+        codes = [("slipstick", _ours, ()), ("slipstick (single)", _ours, ("single",))]
+        codes += [("tamaas", _tamaas, ())] if peers else []
+        for code, target, args in codes:
+            status, out = isolated(target, n, *args, timeout=3600.0)
             if status != "ok":
-                failures += code == "slipstick"
+                failures += code.startswith("slipstick")
                 print(f"{code} n={n}: {out}")
                 continue
             rows.append(_row(code, n, out, reference.radius, reference.max_pressure))
-            if code == "slipstick":
+            if code.startswith("slipstick"):
                 print(
-                    f"slipstick n={n}: {out['status']}, memory estimate beyond the process "
+                    f"{code} n={n}: {out['status']}, memory estimate beyond the process "
                     f"baseline {out['estimate_MB']:.0f} MB, measured growth {out['memory']:.0f} MB"
                 )
             elif out.get("notes"):
@@ -162,7 +167,8 @@ def run_plastic(sizes: list[int], peers: bool = False) -> int:
     print(
         "Elastic-plastic: rigid sphere R = 15 mm, E = 210 GPa, nu = 0.3, linear hardening "
         "sigma_Y0 = 1.3579 GPa, H = 152.3 GPa, W = 4716 N in 6 steps then unloaded; "
-        "one thread.  pmax, a, ep, depths at the maximum load; dent after unloading."
+        "one thread.  pmax, a, ep, depths at the maximum load; dent after unloading.  "
+        '"single": solver.volume_precision = "single" (the 3-D eigenstrain convolution).'
     )
     print(format_table(rows))
     ours = [row for row in rows if row["code"] == "slipstick"]
