@@ -227,31 +227,42 @@ class EigenstrainOperator:
         if direct:
             self._surface_layer_kernels(displacement=True)
 
-    def _volume_plans(self) -> tuple[pyfftw.FFTW, pyfftw.FFTW]:
-        """Forward and backward 3-D transforms of the padded volume (built once).
+    def _volume_plans(self) -> dict[str, pyfftw.FFTW]:
+        """Pruned 3-D transforms of the padded volume, one axis at a time (built once).
 
-        One real array is the forward input and the backward output (:meth:`_stress` zeroes it
-        before it lays out an eigenstrain); one spectrum is the backward input, and the forward
-        output until :meth:`_stress` points it at its input slots.
+        The padded eigenstrain ``(2nx, 2ny, L)`` is zero outside ``(nx, ny, 2nz)`` and only
+        ``(nx, ny, nz)`` of the padded stress is wanted, so the forward transform runs along z
+        on the ``nx ny`` data columns only (``"z"``), along y on the ``nx`` data rows
+        (``"y"``), then along x (``"x"``); the backward one along x, along y on ``nx`` rows,
+        then along z on ``nx ny`` columns (``"-x"``, ``"-y"``, ``"-z"``): about 0.6 of the
+        work of the whole 3-D transform, the same values.  ``columns`` ``(nx, ny, L)`` holds
+        the eigenstrain columns in and the stress columns out; ``spectrum`` ``(2nx, 2ny,
+        L/2 + 1)`` is the product accumulator.  The forward plans are pointed at each input
+        slot in turn.
         """
         if self._volume is None:
             nx, ny, _ = self.shape
-            shape = (2 * nx, 2 * ny, self.length_z)
-            spec_shape = (2 * nx, 2 * ny, self.length_z // 2 + 1)
-            real = pyfftw.empty_aligned(shape, dtype=self._real)
-            spec = pyfftw.empty_aligned(spec_shape, dtype=self._complex)
-            flags = (self.planner,)
-            forward = pyfftw.FFTW(real, spec, axes=(0, 1, 2), flags=flags, threads=self.threads)
-            backward = pyfftw.FFTW(
-                spec,
-                real,
-                axes=(0, 1, 2),
-                direction="FFTW_BACKWARD",
-                flags=(*flags, "FFTW_DESTROY_INPUT"),
-                threads=self.threads,
+            columns = pyfftw.empty_aligned((nx, ny, self.length_z), dtype=self._real)
+            spectrum = pyfftw.empty_aligned(
+                (2 * nx, 2 * ny, self.length_z // 2 + 1), dtype=self._complex
             )
-            real[...] = 0.0
-            self._volume = (forward, backward)
+            plan = functools.partial(pyfftw.FFTW, flags=(self.planner,), threads=self.threads)
+            back = functools.partial(plan, direction="FFTW_BACKWARD")
+            self._volume = {
+                "z": plan(columns, spectrum[:nx, :ny], axes=(2,)),
+                "y": plan(spectrum[:nx], spectrum[:nx], axes=(1,)),
+                "x": plan(spectrum, spectrum, axes=(0,)),
+                "-x": back(spectrum, spectrum, axes=(0,)),
+                "-y": back(spectrum[:nx], spectrum[:nx], axes=(1,)),
+                "-z": plan(
+                    spectrum[:nx, :ny],
+                    columns,
+                    axes=(2,),
+                    direction="FFTW_BACKWARD",
+                    flags=(self.planner, "FFTW_DESTROY_INPUT"),
+                ),
+            }
+            columns[...] = 0.0
         return self._volume
 
     def _build_spectra(self, combinations: dict) -> dict:
@@ -268,7 +279,11 @@ class EigenstrainOperator:
         g = self.grid.surface
         nx, ny, nz = self.shape
         length = self.length_z
-        forward, _ = self._volume_plans()
+        spectrum_out = self._volume_plans()["-x"].input_array  # the accumulator, free here
+        kernel_in = pyfftw.empty_aligned((2 * nx, 2 * ny, length), dtype=self._real)
+        forward = pyfftw.FFTW(
+            kernel_in, spectrum_out, axes=(0, 1, 2), flags=(self.planner,), threads=self.threads
+        )  # a whole 3-D transform: kernels fill the padded volume (freed on return)
         scale = 1.0 / (4 * nx * ny * length)
         quarter = (slice(0, nx + 1), slice(0, ny + 1))
         shape = (nx + 1, ny + 1, length // 2 + 1)
@@ -298,7 +313,6 @@ class EigenstrainOperator:
                         raise AssertionError("cuboid kernel of mixed parity")  # pragma: no cover
                     np.multiply(spectrum, c * scale, out=work)
                     spectra[key] += work
-        forward.input_array[...] = 0.0
         return spectra
 
     def _unit_stress_coefficients(self) -> np.ndarray:
@@ -606,21 +620,27 @@ class EigenstrainOperator:
         the :meth:`_stress_kernels`.  Evaluated on the plastic box's cells.
         """
         nx, ny, nz = self.shape
-        forward, backward = self._volume_plans()
+        plans = self._volume_plans()
         trace = np.abs(eigenstrain[0] + eigenstrain[1] + eigenstrain[2]).max()
         trace_free = deviatoric or trace <= 1e-12 * np.abs(eigenstrain).max()
         components = DEVIATORIC if trace_free else tuple(range(6))
-        # source and image in one padded array: image layers 0..nz-1 (flipped), source nz..2nz-1
-        buffer, spectrum = forward.input_array, forward.output_array
-        buffer[...] = 0.0  # the backward transform of the last call left its output here
+        # source and image in one padded column: image layers 0..nz-1 (flipped), source
+        # nz..2nz-1, zeros below (the backward transform of the last call left its output)
+        columns = plans["z"].input_array
+        columns[:, :, 2 * nz :] = 0.0
         inputs = {}
         for mn in components:
-            buffer[:nx, :ny, nz : 2 * nz] = eigenstrain[mn]
-            buffer[:nx, :ny, :nz] = IMAGE_SIGNS[mn] * eigenstrain[mn, :, :, ::-1]
-            inputs[mn] = self._input_spectrum(mn)
-            forward.update_arrays(buffer, inputs[mn])  # transform straight into its slot
-            forward.execute()
-        forward.update_arrays(buffer, spectrum)
+            columns[:, :, nz : 2 * nz] = eigenstrain[mn]
+            columns[:, :, :nz] = IMAGE_SIGNS[mn] * eigenstrain[mn, :, :, ::-1]
+            target = inputs[mn] = self._input_spectrum(mn)  # transformed straight into its slot
+            target[:nx, ny:] = 0.0
+            target[nx:] = 0.0
+            plans["z"].update_arrays(columns, target[:nx, :ny])
+            plans["y"].update_arrays(target[:nx], target[:nx])
+            plans["x"].update_arrays(target, target)
+            for axis in "zyx":
+                plans[axis].execute()
+        accumulator = plans["-x"].input_array
         if trace_free:
             kernels = self._deviatoric_kernels()
             outputs = [*DEVIATORIC, *([] if deviatoric else ["mean"])]
@@ -642,12 +662,13 @@ class EigenstrainOperator:
                 for mn in components
             ]
             if len(workers) > 1:
-                share = functools.partial(self._accumulate, backward.input_array, terms)
+                share = functools.partial(self._accumulate, accumulator, terms)
                 list(_pool(len(workers)).map(share, workers))
             else:
-                self._accumulate(backward.input_array, terms, workers[0])
-            backward.execute()
-            field = backward.output_array[:nx, :ny, nz : 2 * nz]
+                self._accumulate(accumulator, terms, workers[0])
+            for axis in ("-x", "-y", "-z"):
+                plans[axis].execute()
+            field = columns[:, :, nz : 2 * nz]
             if ij == "mean":
                 mean = field.copy()
             else:
@@ -731,7 +752,7 @@ class EigenstrainOperator:
         Made on first use: a trace-free eigenstrain needs five (zz is -(xx + yy)).
         """
         if component not in self._inputs:
-            shape = self._volume_plans()[0].output_array.shape
+            shape = self._volume_plans()["-x"].input_array.shape
             self._inputs[component] = pyfftw.empty_aligned(shape, dtype=self._complex)
         return self._inputs[component]
 
@@ -796,7 +817,7 @@ class EigenstrainOperator:
         word = np.dtype(VOLUME_PRECISIONS[precision][0]).itemsize  # 8 or 4 bytes
         spec3 = 2 * word * 4 * bx * by * half
         quarter3 = 2 * word * (bx + 1) * (by + 1) * half
-        real3 = word * 4 * bx * by * length
+        real3 = word * bx * by * length  # the data columns of the pruned transforms
         layer = 8 * 2 * nx * (ny + 1) * nz  # one float per-layer spectrum of the window
         tractions = 3 if displacement else 1
         kept = (30 if deviatoric else 21) * quarter3 + real3 + spec3
