@@ -116,8 +116,9 @@ def campaign_keys_page() -> str:
 
 def dataset_page() -> str:
     """Every variable of a case's dataset and of a campaign's assembled dataset."""
+    from solver.result import STATUS_FLAGS
     from solver.variables import CYCLE_QUANTITIES, FIELDS, HISTORIES
-    from study.run.assemble import SCALARS
+    from study.run.assemble import BOOKKEEPING, SCALARS
 
     lines = [
         "# Dataset variables",
@@ -146,6 +147,11 @@ def dataset_page() -> str:
     lines += ["## Per-case scalars of a campaign dataset (dimensions: the sweep axes)", ""]
     rows = [[f"`{n}`", units, long] for n, (units, long) in SCALARS.items()]
     lines += _table(["name", "units", "long_name"], rows)
+    lines += ["## Per-case bookkeeping of a campaign dataset", ""]
+    flags = ", ".join(f"{value} {name}" for name, value in STATUS_FLAGS.items())
+    notes = {"status": f"int8 flags: {flags}"}
+    rows = [[f"`{n}`", long, notes.get(n, "")] for n, long in BOOKKEEPING.items()]
+    lines += _table(["name", "long_name", "values"], rows)
     return "\n".join(lines)
 
 

@@ -20,7 +20,7 @@ from solver.keys import CASE_KEYS, table_keys
 from solver.variables import CYCLE_QUANTITIES, FIELDS, HISTORIES
 from study.campaign import CAMPAIGN_KEYS, CampaignError, expand_campaign
 from study.cli import build_parser
-from study.run.assemble import SCALARS
+from study.run.assemble import BOOKKEEPING, SCALARS
 
 ROOT = Path(__file__).resolve().parents[1]
 spec = importlib.util.spec_from_file_location("docs_generate", ROOT / "docs" / "generate.py")
@@ -80,7 +80,7 @@ def test_every_campaign_setting_is_declared_and_on_its_page():
 
 def test_every_dataset_variable_is_on_the_dataset_page():
     page = generate.dataset_page()
-    for name in [*HISTORIES, *FIELDS, *CYCLE_QUANTITIES, *SCALARS]:
+    for name in [*HISTORIES, *FIELDS, *CYCLE_QUANTITIES, *SCALARS, *BOOKKEEPING]:
         assert f"| `{name}` |" in page, name
 
 

@@ -89,6 +89,12 @@ SCALARS = {
     "composite_modulus": ("Pa", "composite modulus E*"),
     "dundurs_beta": ("1", "Dundurs' second constant beta"),
 }
+#: Per-case bookkeeping variables of a campaign dataset (name: long_name).
+BOOKKEEPING = {
+    "status": "case status",
+    "case_id": "case id (file cases/<id>.nc)",
+    "error": "error of a failed case",
+}
 _ATTRS = (
     "hertz_radius",
     "hertz_semi_axis_x",
@@ -290,13 +296,13 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
             dims,
             status,
             {
-                "long_name": "case status",
+                "long_name": BOOKKEEPING["status"],
                 "flag_values": np.array(list(STATUS_FLAGS.values()), dtype=np.int8),
                 "flag_meanings": " ".join(STATUS_FLAGS),
             },
         ),
-        "case_id": (dims, case_ids.astype(str), {"long_name": "case id (file cases/<id>.nc)"}),
-        "error": (dims, errors.astype(str), {"long_name": "error of a failed case"}),
+        "case_id": (dims, case_ids.astype(str), {"long_name": BOOKKEEPING["case_id"]}),
+        "error": (dims, errors.astype(str), {"long_name": BOOKKEEPING["error"]}),
         "mpi_rank": (dims, rank, {"units": "1", "long_name": SCALARS["mpi_rank"][1]}),
         "grid_cells": (dims, cells, {"units": "1", "long_name": SCALARS["grid_cells"][1]}),
     }
