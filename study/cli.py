@@ -137,6 +137,12 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--peers", action="store_true", help="also run installed peer codes")
     bench.add_argument("--repeat", type=int, default=3, help="timing repetitions (best of)")
     bench.add_argument(
+        "--error",
+        action="store_true",
+        help="plastic: also the error of each code against the converged value (a fit over "
+        "our meshes: use 3 or more sizes) and the CPU each needs for 1 %% error",
+    )
+    bench.add_argument(
         "--table",
         metavar="FILE",
         help="also write what the run prints to FILE (Markdown), headed by the command, the "
@@ -203,7 +209,7 @@ def main(argv: list[str] | None = None) -> int:
         from .bench.timing import recorded
 
         with recorded(args.table, ["python -m study", *(argv or sys.argv[1:])]):
-            return run_benchmark(args.scene, args.sizes, args.peers, args.repeat)
+            return run_benchmark(args.scene, args.sizes, args.peers, args.repeat, args.error)
 
     from .campaign import CampaignError
     from .report import main as report_main

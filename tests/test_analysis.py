@@ -469,3 +469,33 @@ def test_report_subcommand_parser():
     report.add_parser(parser.add_subparsers(dest="command"))
     args = parser.parse_args(["report", "OUT", "--no-plots"])
     assert args.command == "report" and args.out == "OUT" and args.no_plots
+
+
+def test_speed_error_table_finds_the_limit_and_the_cpu_for_one_percent(capsys):
+    """Synthetic meshes v = v* + C n^-p: the fit recovers v*, and the CPU at 1 % error is the
+    log-log interpolation between the meshes that bracket it (computed here from the model)."""
+    import math
+
+    from study.bench.plastic import error_table
+
+    rows = []
+    for code, cpu0 in (("slipstick", 1.0), ("tamaas", 10.0)):
+        for n in (16, 24, 32, 48):
+            rows.append(
+                {
+                    "code": code,
+                    "n": n,
+                    "cpu_s": cpu0 * (n / 16) ** 3,
+                    "ep_max_%": 0.78 + 0.5 * n**-1.5,
+                    "dent_um": 4.3 + 1.0 / n,
+                }  # fmt: skip
+            )
+    error_table(rows)
+    out = capsys.readouterr().out
+    assert "e_p,max: converged value 0.78 " in out and "order 1.50" in out
+    # the dent's error 1/(4.3 n) crosses 1 % between n = 16 and 24: log-log interpolation
+    e16, e24 = 1 / (4.3 * 16), 1 / (4.3 * 24)
+    f = math.log(e16 / 0.01) / math.log(e16 / e24)
+    cpu = math.exp(f * math.log(1.5**3))
+    assert f"slipstick, residual dent: {cpu:.3g} s (between n = 16 and 24)" in out
+    assert f"tamaas, residual dent: {10 * cpu:.3g} s (between n = 16 and 24)" in out

@@ -141,8 +141,11 @@ def _row(code: str, n: int, out: dict, a_h: float, p_h: float) -> dict:
     }
 
 
-def run_plastic(sizes: list[int], peers: bool = False) -> int:
-    """Run the scene at each size (ours, and Tamaas with ``peers``); print the table."""
+def run_plastic(sizes: list[int], peers: bool = False, error: bool = False) -> int:
+    """Run the scene at each size (ours, and Tamaas with ``peers``); print the table.
+
+    ``error``: also the speed-error table (:func:`error_table`).
+    """
     from solver import Case
 
     reference = Case.from_dict(scene_table(sizes[0])).hertz
@@ -183,7 +186,73 @@ def run_plastic(sizes: list[int], peers: bool = False) -> int:
             f"cpu per plasticity iteration grows as N^{observed:.2f} from n = {first['n']} "
             f"to {last['n']} (N log N: N^{nlogn / math.log(cells[1] / cells[0]):.2f})"
         )
+    if error:
+        error_table(rows)
     return 1 if failures else 0
+
+
+#: Quantities of the speed-error table: table column -> (short name, what it is).
+ERROR_QUANTITIES = {"ep_max_%": ("ep", "e_p,max"), "dent_um": ("dent", "residual dent")}
+
+
+def error_table(rows: list[dict], target: float = 0.01) -> None:
+    """Print each row's error against the converged value and the CPU each code needs for it.
+
+    The converged value of each quantity is the limit of ``v = v* + C h^p`` fitted over our
+    double-precision meshes (:func:`study.analysis.convergence.fit_convergence`, h = 1/n;
+    three or more).  Every code's error is taken against that one limit (Tamaas solves the same
+    scene in a periodic cell, so its own limit may differ: its finest value is printed beside
+    ours).  The CPU for ``target`` relative error is interpolated in log-log between the two
+    meshes that bracket it, or said not reached.
+    """
+    from ..analysis.convergence import fit_convergence
+    from .timing import format_table
+
+    ours = [row for row in rows if row["code"] == "slipstick"]
+    if len(ours) < 3:
+        print("speed-error table: needs our results on 3 or more sizes")
+        return
+    limits = {}
+    for column, (_, label) in ERROR_QUANTITIES.items():
+        fit = fit_convergence([1 / row["n"] for row in ours], [row[column] for row in ours])
+        limits[column] = fit.limit
+        print(
+            f"{label}: converged value {fit.limit:.5g} ({column}), observed order "
+            f"{fit.order:.2f}{' (at the bound of the fit: not asymptotic)' if fit.at_bound else ''}"
+        )
+    table, needs = [], []
+    for code in dict.fromkeys(row["code"] for row in rows):
+        mine = sorted((row for row in rows if row["code"] == code), key=lambda row: row["n"])
+        for row in mine:
+            table.append(
+                {"code": code, "n": row["n"], "cpu_s": row["cpu_s"]}
+                | {
+                    f"{short}_err_%": 100 * abs(row[column] / limits[column] - 1)
+                    for column, (short, _) in ERROR_QUANTITIES.items()
+                }
+            )
+        for column, (_, label) in ERROR_QUANTITIES.items():
+            errors = [abs(row[column] / limits[column] - 1) for row in mine]
+            needs.append(f"{code}, {label}: {_cpu_for(target, mine, errors)}")
+    print(format_table(table))
+    print(f"CPU for {100 * target:g} % error:")
+    for line in needs:
+        print(f"  {line}")
+
+
+def _cpu_for(target: float, rows: list[dict], errors: list[float]) -> str:
+    """CPU (s) at ``target`` error, log-log between the bracketing meshes, as text."""
+    for (a, ea), (b, eb) in zip(
+        zip(rows, errors, strict=True), zip(rows[1:], errors[1:], strict=True), strict=False
+    ):
+        if ea >= target >= eb > 0:
+            f = math.log(ea / target) / math.log(ea / eb)
+            cpu = math.exp(math.log(a["cpu_s"]) + f * math.log(b["cpu_s"] / a["cpu_s"]))
+            return f"{cpu:.3g} s (between n = {a['n']} and {b['n']})"
+    if errors and errors[0] <= target:
+        return f"reached at the coarsest mesh n = {rows[0]['n']}: {rows[0]['cpu_s']:.3g} s or less"
+    smallest = min(errors) if errors else math.nan
+    return f"not reached (smallest error {100 * smallest:.2g} %)"
 
 
 def paper_spheres(n: int, steps: int = 10) -> int:

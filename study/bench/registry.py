@@ -8,11 +8,11 @@ from __future__ import annotations
 
 import importlib
 
-#: Scene -> (module, runner, the options it takes of ``peers`` and ``repeat``).
+#: Scene -> (module, runner, the options it takes of ``peers``, ``repeat`` and ``error``).
 SCENES = {
     "hertz": ("hertz", "run_hertz", ("peers", "repeat")),
     "cattaneo": ("cattaneo", "run_cattaneo", ("peers", "repeat")),
-    "plastic": ("plastic", "run_plastic", ("peers",)),
+    "plastic": ("plastic", "run_plastic", ("peers", "error")),
     "slipstick": ("slipstick", "run_slipstick", ()),
     "cycles": ("cycles", "run_cycles", ()),
 }
@@ -27,10 +27,16 @@ DEFAULT_SIZES = {
 
 
 def run_benchmark(
-    scene: str, sizes: list[int] | None = None, peers: bool = False, repeat: int = 3
+    scene: str,
+    sizes: list[int] | None = None,
+    peers: bool = False,
+    repeat: int = 3,
+    error: bool = False,
 ) -> int:
     """Run a benchmark scene, print its table, and return an exit status."""
     module, runner, takes = SCENES[scene]
+    if error and "error" not in takes:
+        raise ValueError(f"--error: scene {scene!r} has no error table (only plastic)")
     run = getattr(importlib.import_module(f"{__package__}.{module}"), runner)
-    options = {"peers": peers, "repeat": repeat}
+    options = {"peers": peers, "repeat": repeat, "error": error}
     return run(sizes or DEFAULT_SIZES[scene], **{k: options[k] for k in takes})
