@@ -15,13 +15,20 @@ a :class:`~solver.grid.VolumeGrid`, components (xx, yy, zz, yz, xz, xy), tensor 
    grid only; the part outside is dropped, which changes the stresses by ~1e-5 of their maximum
    in the tests (an eigenstrain blob at depth 4 in a window 8 depths wide).
 
-Source and image are one 3-D convolution: the eigenstrain is laid out on ``2 nz`` layers (the
-image, flipped in z, then the source), zero-padded to ``(2nx, 2ny, L)`` with ``L >= 3 nz - 1``, and
-convolved with the cuboid kernels in wrap-around order (offsets ``-(nz - 1) .. 2nz - 1`` along
-z), so the image term is the correlation in z of Liu & Wang's recipe.  Cost: 6 forward and 6
-backward real 3-D FFTs of ``4 L nx ny`` points, 36 complex multiply-adds per frequency.  The 21
-distinct kernel spectra (``w_ij D_ij,mn`` is symmetric) are even or odd in kx and ky, so a
-quarter of each is stored.
+Source and image are one 3-D convolution, symmetric in z.  Source plus image is a column of
+``2 nz`` cells even in z (xx, yy, zz, xy) or odd (yz, xz) about the surface, and every cuboid
+kernel is even or odd in its z offset, so the z direction is a symmetric convolution (Martucci
+1994) of period ``2M`` with ``M >= 2 nz`` (no wrap-around reaches an offset the layers have):
+the column goes through a DCT-II (even) or DST-II (odd) of length M, the kernel's offsets
+``0 .. M`` through a DCT-I or DST-I, their product through a DCT-III or DST-III back, all real.
+The data first go through per-layer 2-D transforms of the box zero-padded to ``(2nx, 2ny)``
+(the layer spectra the surface terms use as well), then the z transforms; each kernel is even
+or odd in x and y too, so its spectrum is real up to a power of i: stored real, for ``kx <=
+nx``, ``ky <= ny`` (the mirrored kx by parity), ``(nx + 1, ny + 1, M + 1)``, and multiplied
+with the real and imaginary planes of the inputs apart.  Per output component: 5 (trace-free)
+or 6 real multiply-adds per frequency and plane; the spectrum has ``2nx (ny + 1) (M + 1)``
+frequencies.  The 21 general kernels (``w_ij D_ij,mn`` is symmetric) or the 30 of a trace-free
+eigenstrain are kept.
 
 Surface residual displacements (body-2 frame, z into the body; a uniform layer of thickness h
 with ``e_zz > 0`` gives ``u_z = -h e_zz``), two routes:
@@ -106,6 +113,35 @@ def _is_imaginary(indices: str) -> bool:
     return bool((px + py) % 2)
 
 
+def _parity3(indices: str) -> tuple[int, int, int]:
+    """Parity (0 even, 1 odd) in x, y and z of a kernel or field with these tensor indices."""
+    return indices.count("x") % 2, indices.count("y") % 2, indices.count("z") % 2
+
+
+def _name(component) -> str:
+    """Index letters of a stress component (an index, or ``"mean"``: a normal one)."""
+    return "xx" if component == "mean" else STRESS_COMPONENTS[component]
+
+
+def _rotation(component) -> int:
+    """1 when a component's x-y transform carries a factor i (odd in exactly one of x, y)."""
+    px, py, _ = _parity3(_name(component))
+    return (px + py) % 2
+
+
+def _rotation_sign(a, b, parity_xy: tuple[int, int]) -> float:
+    """``(-i)^(px + py) / i^(r_a + r_b)``: +-1, the sign of a stored real kernel spectrum.
+
+    A kernel of x-y parity ``(px, py)`` has the 2-D transform ``(-i)^(px + py) R``;
+    stored is ``K / i^(r_a + r_b)``, so that inputs turned by ``i^r_b`` and outputs by
+    ``i^r_a`` (:meth:`EigenstrainOperator._stress`) see real kernels only.
+    """
+    value = (-1j) ** sum(parity_xy) / 1j ** (_rotation(a) + _rotation(b))
+    if abs(value.imag) > 1e-12:
+        raise AssertionError("kernel parity and component rotations disagree")  # pragma: no cover
+    return value.real
+
+
 def _lattice_corner_sums(cx, cy, cz, names, chunk: int = 16) -> dict:
     """Corner sums of the cuboid corner functions over a lattice of corner coordinates.
 
@@ -151,14 +187,14 @@ class EigenstrainOperator:
 
     Notes
     -----
-    Kernels are built on first use (:meth:`prepare` builds them explicitly): 21 quarter 3-D
-    spectra ``(nx + 1, ny + 1, L/2 + 1)`` for the stress, float per-layer 2-D spectra for the
-    surface traction (6), the :class:`~solver.stress.SubsurfaceStressOperator` kernels
-    (pressure for the correction, both shears as well for the reciprocal displacement) and,
-    only if the direct displacement route is used, its 12 per-layer kernels.
-    :meth:`memory_bytes` states the peak (within 3 % of the measured one, 32^3 to 128^3).
-    Measured on one core: 64^3 cells, setup 5-7 s, stress 0.4-0.6 s, displacement 0.05-0.08 s,
-    peak 0.56 GB; 128^3, 40-60 s, 5-6 s, 0.8 s, 4.4 GB (``python -m study.bench.subsurface``).
+    Kernels are built on first use (:meth:`prepare` builds them explicitly): 30 (trace-free)
+    or 21 real 3-D spectra ``(nx + 1, ny + 1, M + 1)`` for the stress, float per-layer 2-D
+    spectra for the surface traction (6), the
+    :class:`~solver.stress.SubsurfaceStressOperator` kernels (pressure for the correction, both
+    shears as well for the reciprocal displacement) and, only if the direct displacement route
+    is used, its 12 per-layer kernels.
+    :meth:`memory_bytes` states the peak; ``python -m study.bench.subsurface`` measures
+    setup, stress and displacement times and the peak against it.
     """
 
     def __init__(
@@ -188,7 +224,7 @@ class EigenstrainOperator:
         self.shear_modulus = self.E / (2.0 * (1.0 + self.nu))
         self.threads = threads
         self.planner = planner
-        self.length_z = fft_size(3 * grid.nz - 1)
+        self.length_z = fft_size(2 * grid.nz)
         if surface_stress is None:
             surface_stress = SubsurfaceStressOperator(grid, nu, threads=threads, planner=planner)
         elif surface_stress.grid != grid or surface_stress.nu != self.nu:
@@ -227,92 +263,111 @@ class EigenstrainOperator:
         if direct:
             self._surface_layer_kernels(displacement=True)
 
-    def _volume_plans(self) -> dict[str, pyfftw.FFTW]:
-        """Pruned 3-D transforms of the padded volume, one axis at a time (built once).
+    def _volume_plans(self) -> dict:
+        """FFT plans and buffers of the volume convolution (built once; module docstring).
 
-        The padded eigenstrain ``(2nx, 2ny, L)`` is zero outside ``(nx, ny, 2nz)`` and only
-        ``(nx, ny, nz)`` of the padded stress is wanted, so the forward transform runs along z
-        on the ``nx ny`` data columns only (``"z"``), along y on the ``nx`` data rows
-        (``"y"``), then along x (``"x"``); the backward one along x, along y on ``nx`` rows,
-        then along z on ``nx ny`` columns (``"-x"``, ``"-y"``, ``"-z"``): about 0.6 of the
-        work of the whole 3-D transform, the same values.  ``columns`` ``(nx, ny, L)`` holds
-        the eigenstrain columns in and the stress columns out; ``spectrum`` ``(2nx, 2ny,
-        L/2 + 1)`` is the product accumulator.  The forward plans are pointed at each input
-        slot in turn.
+        ``"layers"`` ``(2nx, ny + 1, M)`` complex holds per-layer 2-D spectra of the box in
+        its first ``nz`` z slots (zeros after them on the way in): the forward 2-D transform
+        of the data rows (``"y"`` on the box's ``nx`` rows of ``"rows"``, then ``"x"``) writes
+        there, the z transforms read its real and imaginary parts; on the way back the
+        inverse z transforms write there and ``"-x"``, ``"-y"`` bring the first ``nz`` slots
+        back to the box's cells in ``"rows"`` ``(nx, 2ny, nz)``.  ``"acc"`` ``(2, 2nx, ny +
+        1, M + 1)`` is the product accumulator, real and imaginary planes apart (real kernels
+        multiply both).  z plans: ``"dct2"``/``"dst2"`` (data even or odd in z), ``"dct3"``/
+        ``"dst3"`` (outputs), pointed at each plane in turn.
         """
         if self._volume is None:
-            nx, ny, _ = self.shape
-            columns = pyfftw.empty_aligned((nx, ny, self.length_z), dtype=self._real)
-            spectrum = pyfftw.empty_aligned(
-                (2 * nx, 2 * ny, self.length_z // 2 + 1), dtype=self._complex
-            )
-            plan = functools.partial(pyfftw.FFTW, flags=(self.planner,), threads=self.threads)
-            back = functools.partial(plan, direction="FFTW_BACKWARD")
+            nx, ny, nz = self.shape
+            m = self.length_z
+            layers = pyfftw.empty_aligned((2 * nx, ny + 1, m), dtype=self._complex)
+            rows = pyfftw.empty_aligned((nx, 2 * ny, nz), dtype=self._real)
+            acc = pyfftw.empty_aligned((2, 2 * nx, ny + 1, m + 1), dtype=self._real)
+            layers[...] = 0.0
+            rows[...] = 0.0
+            acc[...] = 0.0
+            plan = functools.partial(pyfftw.FFTW, threads=self.threads)
+            flags = (self.planner,)
+            r2r = functools.partial(plan, axes=(2,), flags=(self.planner, "FFTW_UNALIGNED"))
+            data = layers[..., :nz]
             self._volume = {
-                "z": plan(columns, spectrum[:nx, :ny], axes=(2,)),
-                "y": plan(spectrum[:nx], spectrum[:nx], axes=(1,)),
-                "x": plan(spectrum, spectrum, axes=(0,)),
-                "-x": back(spectrum, spectrum, axes=(0,)),
-                "-y": back(spectrum[:nx], spectrum[:nx], axes=(1,)),
-                "-z": plan(
-                    spectrum[:nx, :ny],
-                    columns,
-                    axes=(2,),
+                "layers": layers,
+                "rows": rows,
+                "acc": acc,
+                "y": plan(rows, data[:nx], axes=(1,), flags=flags),
+                "x": plan(data, data, axes=(0,), flags=flags),
+                "-x": plan(data, data, axes=(0,), direction="FFTW_BACKWARD", flags=flags),
+                "-y": plan(
+                    data[:nx],
+                    rows,
+                    axes=(1,),
                     direction="FFTW_BACKWARD",
                     flags=(self.planner, "FFTW_DESTROY_INPUT"),
                 ),
+                "dct2": r2r(layers.real, acc[0, ..., :m], direction="FFTW_REDFT10"),
+                "dst2": r2r(layers.real, acc[0, ..., 1:], direction="FFTW_RODFT10"),
+                "dct3": r2r(acc[0, ..., :m], layers.real, direction="FFTW_REDFT01"),
+                "dst3": r2r(acc[0, ..., 1:], layers.real, direction="FFTW_RODFT01"),
             }
-            columns[...] = 0.0
+            layers[...] = 0.0
         return self._volume
 
     def _build_spectra(self, combinations: dict) -> dict:
-        """Quarter spectra of linear combinations of the cuboid kernels (normalised).
+        """Real spectra of linear combinations of the cuboid kernels (normalised).
 
-        ``combinations`` maps a key to ``(coefficients, parity)``: the coefficients of the
+        ``combinations`` maps a key ``(a, b)`` (output and input component names; ``"mean"``
+        counts as a normal component) to the coefficients of the
         :data:`~solver.cuboid.STRESS_BASE` functions followed by the one of the eigenstress
-        inside the source cell (a delta at offset 0: a flat spectrum), and the parity in x and
-        y of the kernel.  A kernel even or odd in x and in y has a spectrum even or odd in kx and
-        ky, so only ``kx <= nx``, ``ky <= ny`` is stored, shape ``(nx + 1, ny + 1, L/2 + 1)``:
-        a quarter of the full spectrum.  Each base function is transformed once and added to
-        every combination that uses it; nothing else is kept.
+        inside the source cell (a delta at offset 0: a flat spectrum).  Each kernel has a
+        parity in x, y and z: its z offsets ``0 .. M`` go through a DCT-I (even) or DST-I
+        (odd), then the x and y offsets through a 2-D FFT, whose value is ``i^(r_a + r_b)``
+        times a real array (``r`` the x-y rotation of a component, :func:`_rotation`): that
+        array is stored, for ``kx <= nx``, ``ky <= ny`` and the ``M + 1`` z frequencies,
+        shape ``(nx + 1, ny + 1, M + 1)``.  Each base function is transformed once and added
+        to every combination that uses it; nothing else is kept.
         """
         g = self.grid.surface
         nx, ny, nz = self.shape
-        length = self.length_z
-        spectrum_out = self._volume_plans()["-x"].input_array  # the accumulator, free here
-        kernel_in = pyfftw.empty_aligned((2 * nx, 2 * ny, length), dtype=self._real)
-        forward = pyfftw.FFTW(
-            kernel_in, spectrum_out, axes=(0, 1, 2), flags=(self.planner,), threads=self.threads
-        )  # a whole 3-D transform: kernels fill the padded volume (freed on return)
-        scale = 1.0 / (4 * nx * ny * length)
-        quarter = (slice(0, nx + 1), slice(0, ny + 1))
-        shape = (nx + 1, ny + 1, length // 2 + 1)
-        spectra = {
-            key: np.full(shape, coefficients[-1] * scale, dtype=self._complex)
-            for key, (coefficients, _) in combinations.items()
+        m = self.length_z
+        lattice = pyfftw.empty_aligned((2 * nx, 2 * ny, m + 1), dtype="float64")
+        along_z = pyfftw.empty_aligned((2 * nx, 2 * ny, m + 1), dtype="float64")
+        spectrum = pyfftw.empty_aligned((2 * nx, ny + 1, m + 1), dtype="complex128")
+        z_plans = {
+            0: pyfftw.FFTW(lattice, along_z, axes=(2,), direction="FFTW_REDFT00"),
+            1: pyfftw.FFTW(
+                lattice[..., 1:m], along_z[..., 1:m], axes=(2,), direction="FFTW_RODFT00"
+            ),
         }
+        xy_plan = pyfftw.FFTW(along_z, spectrum, axes=(0, 1))
+        scale = 1.0 / (2 * m * 4 * nx * ny)
+        shape = (nx + 1, ny + 1, m + 1)
+        spectra = {}
+        for (a, b), coefficients in combinations.items():
+            inside = coefficients[-1]  # nonzero only where a and b have one parity
+            sign = _rotation_sign(a, b, (0, 0)) if inside else 0.0
+            spectra[a, b] = np.full(shape, sign * inside * scale, dtype=self._real)
         cx = (np.arange(-nx, nx) + 0.5) * g.dx
         cy = (np.arange(-ny, ny) + 0.5) * g.dy
-        first = 2 * nz - length  # most negative z offset (in layers)
-        cz = (np.arange(first - 1, 2 * nz) + 0.5) * self.grid.dz
-        work = np.empty(shape, dtype=self._complex)
+        cz = (np.arange(-1, m + 1) + 0.5) * self.grid.dz  # z offsets 0 .. M
+        work = np.empty(shape)
         for group in _base_groups(STRESS_BASE):
             sums = _lattice_corner_sums(cx, cy, cz, group)
             for name in group:
-                b = STRESS_BASE.index(name)
-                kernel = wrap_layout(wrap_layout(sums.pop(name), 0), 1)
-                forward.input_array[...] = np.roll(kernel, first, axis=2)
-                del kernel
-                forward.execute()
-                spectrum = forward.output_array[quarter]
-                for key, (coefficients, parity) in combinations.items():
-                    c = coefficients[b]
+                base = STRESS_BASE.index(name)
+                px, py, pz = _parity3(name[1:])
+                lattice[...] = wrap_layout(wrap_layout(sums.pop(name), 0), 1)
+                along_z[..., 0] = along_z[..., m] = 0.0  # the DST-I leaves the ends
+                z_plans[pz].execute()
+                xy_plan.execute()
+                # the 2-D transform of a kernel of parity (px, py) is (-i)^(px + py) x real
+                real = (spectrum[: nx + 1] * 1j ** (px + py)).real
+                for (a, b), coefficients in combinations.items():
+                    c = coefficients[base]
                     if abs(c) <= 1e-14 * np.abs(coefficients[:-1]).max():
                         continue  # zero, or zero up to the round-off of a combination
-                    if _parity(name[1:]) != parity:
+                    if _parity3(_name(a) + _name(b)) != (px, py, pz):
                         raise AssertionError("cuboid kernel of mixed parity")  # pragma: no cover
-                    np.multiply(spectrum, c * scale, out=work)
-                    spectra[key] += work
+                    np.multiply(real, c * scale * _rotation_sign(a, b, (px, py)), out=work)
+                    spectra[a, b] += work
         return spectra
 
     def _unit_stress_coefficients(self) -> np.ndarray:
@@ -331,7 +386,7 @@ class EigenstrainOperator:
         return unit
 
     def _stress_kernels(self) -> dict:
-        """Quarter spectra ``S[(ij, mn)] = w_ij D_ij,mn`` (symmetric), ij <= mn: any eigenstrain.
+        """Spectra ``S[(ij, mn)] = w_ij D_ij,mn`` (symmetric), ij <= mn: any eigenstrain.
 
         Built on first use by :meth:`stress` of an eigenstrain with a trace; the plasticity
         loop's trace-free eigenstrains use :meth:`_deviatoric_kernels` only.
@@ -340,10 +395,7 @@ class EigenstrainOperator:
             unit = self._unit_stress_coefficients()
             self._stress_spectra = self._build_spectra(
                 {
-                    (ij, mn): (
-                        COMPONENT_WEIGHTS[ij] * unit[ij, mn],
-                        _parity(STRESS_COMPONENTS[ij] + STRESS_COMPONENTS[mn]),
-                    )
+                    (ij, mn): COMPONENT_WEIGHTS[ij] * unit[ij, mn]
                     for ij in range(6)
                     for mn in range(ij, 6)
                 }
@@ -351,13 +403,13 @@ class EigenstrainOperator:
         return self._stress_spectra
 
     def _deviatoric_kernels(self) -> dict:
-        """Quarter spectra for a trace-free eigenstrain: deviatoric stress and mean stress.
+        """Spectra for a trace-free eigenstrain: deviatoric stress and mean stress.
 
         Inputs are the five independent components :data:`DEVIATORIC` of a deviatoric tensor
         (``zz = -(xx + yy)``).  ``K[(a, b)]`` gives the deviatoric stress,
         ``s_a = sum_b K[a, b] * e_b`` (``K = P_out D P_in``); ``K[("mean", b)]`` the mean stress
         ``tr(sigma)/3``, for the full stress.  Each combination keeps the parity of ``a + b``
-        (xx, yy and zz share theirs), so quarters suffice.  25 products and 10 volume
+        (xx, yy and zz share theirs), so real spectra suffice.  25 products and 10 volume
         transforms per deviatoric evaluation instead of 36 and 12; 30 kernels kept instead of 21
         + 25.
         """
@@ -369,12 +421,9 @@ class EigenstrainOperator:
             mean = unit_in[:3].mean(axis=0)
             combinations = {}
             for b in DEVIATORIC:
-                parity = _parity(STRESS_COMPONENTS[b])
-                combinations["mean", b] = (mean[b], parity)
+                combinations["mean", b] = mean[b]
                 for a in DEVIATORIC:
-                    values = unit_in[a, b] - mean[b] if a in (0, 1) else unit_in[a, b]
-                    pair = _parity(STRESS_COMPONENTS[a] + STRESS_COMPONENTS[b])
-                    combinations[a, b] = (values, pair)
+                    combinations[a, b] = unit_in[a, b] - mean[b] if a in (0, 1) else unit_in[a, b]
             self._deviatoric_spectra = self._build_spectra(combinations)
         return self._deviatoric_spectra
 
@@ -624,23 +673,21 @@ class EigenstrainOperator:
         trace = np.abs(eigenstrain[0] + eigenstrain[1] + eigenstrain[2]).max()
         trace_free = deviatoric or trace <= 1e-12 * np.abs(eigenstrain).max()
         components = DEVIATORIC if trace_free else tuple(range(6))
-        # source and image in one padded column: image layers 0..nz-1 (flipped), source
-        # nz..2nz-1, zeros below (the backward transform of the last call left its output)
-        columns = plans["z"].input_array
-        columns[:, :, 2 * nz :] = 0.0
+        data = plans["layers"][..., :nz]
+        plans["layers"][..., nz:] = 0.0  # the last inverse z transforms left their output
+        shared = self.shape == self.grid.shape  # the box is the window: its layer spectra
+        if not shared:
+            plans["rows"][:, ny:] = 0.0  # the last inverse transform left its output
         inputs = {}
-        for mn in components:
-            columns[:, :, nz : 2 * nz] = eigenstrain[mn]
-            columns[:, :, :nz] = IMAGE_SIGNS[mn] * eigenstrain[mn, :, :, ::-1]
-            target = inputs[mn] = self._input_spectrum(mn)  # transformed straight into its slot
-            target[:nx, ny:] = 0.0
-            target[nx:] = 0.0
-            plans["z"].update_arrays(columns, target[:nx, :ny])
-            plans["y"].update_arrays(target[:nx], target[:nx])
-            plans["x"].update_arrays(target, target)
-            for axis in "zyx":
-                plans[axis].execute()
-        accumulator = plans["-x"].input_array
+        for b in components:
+            if shared:
+                data[...] = layers[b]
+            else:
+                plans["rows"][:, :ny] = eigenstrain[b]
+                plans["y"].execute()
+                data[nx:] = 0.0
+                plans["x"].execute()
+            inputs[b] = self._forward_z(b)
         if trace_free:
             kernels = self._deviatoric_kernels()
             outputs = [*DEVIATORIC, *([] if deviatoric else ["mean"])]
@@ -650,29 +697,32 @@ class EigenstrainOperator:
         out = np.zeros((6, nx, ny, nz))
         mean = None
         workers = self._workers()
-        for ij in outputs:
-            terms = [
-                (
-                    kernels[ij, mn] if trace_free else kernels[min(ij, mn), max(ij, mn)],
-                    inputs[mn],
-                    _parity(
-                        ("xx" if ij == "mean" else STRESS_COMPONENTS[ij]) + STRESS_COMPONENTS[mn]
-                    ),
+        for a in outputs:
+            pa = _parity3(_name(a))
+            terms = []
+            for b in components:
+                pb = _parity3(_name(b))
+                terms.append(
+                    (
+                        kernels[(a, b) if trace_free else (min(a, b), max(a, b))],
+                        inputs[b],
+                        pb[2] and not pa[2],  # odd data, odd kernel, even output: -S H
+                        (pa[0] + pb[0]) % 2,  # the kernel's parity in x (mirrored rows)
+                    )
                 )
-                for mn in components
-            ]
             if len(workers) > 1:
-                share = functools.partial(self._accumulate, accumulator, terms)
+                share = functools.partial(self._accumulate, plans["acc"], terms)
                 list(_pool(len(workers)).map(share, workers))
             else:
-                self._accumulate(accumulator, terms, workers[0])
-            for axis in ("-x", "-y", "-z"):
-                plans[axis].execute()
-            field = columns[:, :, nz : 2 * nz]
-            if ij == "mean":
+                self._accumulate(plans["acc"], terms, workers[0])
+            self._backward_z(a)
+            plans["-x"].execute()
+            plans["-y"].execute()
+            field = plans["rows"][:, :ny]
+            if a == "mean":
                 mean = field.copy()
             else:
-                out[ij] = field if trace_free else field / COMPONENT_WEIGHTS[ij]
+                out[a] = field if trace_free else field / COMPONENT_WEIGHTS[a]
         if trace_free:
             out[2] = -(out[0] + out[1])
         if mean is not None:
@@ -691,20 +741,66 @@ class EigenstrainOperator:
         out += deviator(surface) if deviatoric else surface
         return out
 
+    def _forward_z(self, component: int) -> np.ndarray:
+        """The z transform of the per-layer spectra in ``"layers"``, turned by ``i^r``: an input.
+
+        A DCT-II (component even in z: source and image add up to an even column) or DST-II
+        (odd) of the real and of the imaginary part into the component's slot
+        (:meth:`_input_spectrum`, planes real and imaginary); a component with rotation 1
+        (:func:`_rotation`) is multiplied by i, ``(re, im) -> (-im, re)``.
+        """
+        plans = self._volume_plans()
+        layers = plans["layers"]
+        target = self._input_spectrum(component)
+        m = self.length_z
+        odd = _parity3(_name(component))[2]
+        plan = plans["dst2" if odd else "dct2"]
+        window = slice(1, m + 1) if odd else slice(0, m)
+        turned = _rotation(component)
+        for part, plane in ((layers.real, turned), (layers.imag, 1 - turned)):
+            plan.update_arrays(part, target[plane, ..., window])
+            plan.execute()
+        if turned:
+            np.negative(target[0], out=target[0])
+        return target
+
+    def _backward_z(self, component) -> None:
+        """Inverse z transform of the accumulator into ``"layers"``, turned by ``i^r``.
+
+        DCT-III (output even in z) or DST-III (odd) of each plane; a component with rotation
+        1 is multiplied by i on the way: ``(A0, A1) -> (-A1, A0)``.  The first ``nz`` z slots
+        are the box's layers.
+        """
+        plans = self._volume_plans()
+        layers, acc = plans["layers"], plans["acc"]
+        m = self.length_z
+        odd = _parity3(_name(component))[2]
+        plan = plans["dst3" if odd else "dct3"]
+        window = slice(1, m + 1) if odd else slice(0, m)
+        turned = _rotation(component)
+        for plane, part in (
+            (0, layers.imag if turned else layers.real),
+            (1, layers.real if turned else layers.imag),
+        ):
+            plan.update_arrays(acc[plane, ..., window], part)
+            plan.execute()
+        if turned:
+            real = layers.real[..., : self.shape[2]]
+            np.negative(real, out=real)
+
     def _workers(self) -> list[tuple[list[tuple], np.ndarray]]:
-        """Row blocks of the padded spectrum dealt to :attr:`threads` workers, with work arrays.
+        """Row blocks of the spectrum dealt to :attr:`threads` workers, with work arrays.
 
         Each block is ``(rows, kernel_rows, mirrored)``: spectrum rows ``kx`` and the rows of the
-        stored quarter kernel that hold them (``2nx - kx`` for the mirrored half).  Blocks of
-        about :data:`CHUNK_BYTES` of spectrum keep the accumulator and the worker's own work
-        array (one block: the products are never held whole) in cache while the terms of a
+        stored kernel that hold them (``2nx - kx`` for the mirrored half).  Blocks of about
+        :data:`CHUNK_BYTES` of spectrum keep the accumulator and the worker's own work array
+        (one block: the products are never held whole) in cache while the terms of a
         component are summed.
         """
         if self._work is None:
             nx, ny, _ = self.shape
-            depth = self.length_z // 2 + 1
-            itemsize = np.dtype(self._complex).itemsize
-            size = max(1, CHUNK_BYTES // (itemsize * 2 * ny * depth))
+            row = 2 * (ny + 1) * (self.length_z + 1) * np.dtype(self._real).itemsize
+            size = max(1, CHUNK_BYTES // row)
             blocks = []
             for start in range(0, nx + 1, size):
                 stop = min(nx + 1, start + size)
@@ -714,46 +810,45 @@ class EigenstrainOperator:
                 # rows kx in [start, stop) hold kernel rows 2nx - kx, from 2nx - start down
                 blocks.append((slice(start, stop), slice(2 * nx - start, 2 * nx - stop, -1), True))
             count = max(1, min(self.threads, len(blocks)))
+            shape = (2, size, ny + 1, self.length_z + 1)
             self._work = [
-                (blocks[w::count], np.empty((size, ny + 1, depth), dtype=self._complex))
-                for w in range(count)
+                (blocks[w::count], np.empty(shape, dtype=self._real)) for w in range(count)
             ]
         return self._work
 
     def _accumulate(self, acc: np.ndarray, terms: list, worker: tuple) -> None:
-        """``acc = sum_terms kernel * input`` over a worker's row blocks (full spectrum layout).
+        """``acc = sum_terms (+-) kernel * input`` over a worker's row blocks, both planes.
 
-        ``terms`` are ``(quarter kernel, input spectrum, (px, py))``: the kernel's parity in x
-        and y gives its sign in the mirrored quadrants.  Same operations in the same order per
-        element whatever the blocks: results do not depend on the number of threads.
+        ``terms`` are ``(kernel, input, negative, px)``: a real kernel (broadcast over the
+        real and imaginary planes), the turned input, the sign of the z rule and the kernel's
+        parity in x, which gives its sign in the mirrored rows.  Same operations in the same
+        order per element whatever the blocks: results do not depend on the number of threads.
         """
         blocks, buffer = worker
-        ny = self.shape[1]
-        cols = ((slice(0, ny + 1), slice(0, ny + 1), False),
-                (slice(ny + 1, 2 * ny), slice(ny - 1, 0, -1), True))  # fmt: skip
-        for xs, kxs, mirrored_x in blocks:
-            rows = xs.stop - xs.start
-            for ys, kys, mirrored_y in cols:
-                target = acc[xs, ys]
-                work = buffer[:rows, : ys.stop - ys.start]
-                for n, (kernel, values, (px, py)) in enumerate(terms):
-                    negative = (px and mirrored_x) != (py and mirrored_y)
-                    if n == 0:
-                        np.multiply(kernel[kxs, kys], values[xs, ys], out=target)
-                        if negative:
-                            np.negative(target, out=target)
-                    else:
-                        np.multiply(kernel[kxs, kys], values[xs, ys], out=work)
-                        (np.subtract if negative else np.add)(target, work, out=target)
+        for xs, kxs, mirrored in blocks:
+            target = acc[:, xs]
+            work = buffer[:, : xs.stop - xs.start]
+            for n, (kernel, values, negative, px) in enumerate(terms):
+                minus = bool(negative) != bool(px and mirrored)
+                if n == 0:
+                    np.multiply(kernel[kxs], values[:, xs], out=target)
+                    if minus:
+                        np.negative(target, out=target)
+                else:
+                    np.multiply(kernel[kxs], values[:, xs], out=work)
+                    (np.subtract if minus else np.add)(target, work, out=target)
 
     def _input_spectrum(self, component: int) -> np.ndarray:
-        """The aligned spectrum slot of one padded eigenstrain component (kept).
+        """The aligned spectrum slot of one eigenstrain component, ``(2, 2nx, ny + 1, M + 1)``.
 
-        Made on first use: a trace-free eigenstrain needs five (zz is -(xx + yy)).
+        Kept, made on first use (a trace-free eigenstrain needs five: zz is -(xx + yy)); the
+        z slot its transform does not write (M for even components, 0 for odd) stays zero.
         """
         if component not in self._inputs:
-            shape = self._volume_plans()["-x"].input_array.shape
-            self._inputs[component] = pyfftw.empty_aligned(shape, dtype=self._complex)
+            shape = self._volume_plans()["acc"].shape
+            slot = pyfftw.empty_aligned(shape, dtype=self._real)
+            slot[...] = 0.0
+            self._inputs[component] = slot
         return self._inputs[component]
 
     def _direct_displacement(self, layers: np.ndarray, pressure: np.ndarray) -> tuple:
@@ -801,26 +896,26 @@ class EigenstrainOperator:
     ) -> int:
         """Approximate peak bytes of an operator in use (kept data plus one stress evaluation).
 
-        Kept: the quarter 3-D kernel spectra of the plastic box (30 for trace-free eigenstrains
-        with ``deviatoric``, else the 21 general ones), one padded real ``(2nx, 2ny, L)`` FFT
-        buffer and one spectrum of the box, the window's per-layer surface-traction and
-        traction-to-stress kernels (pressure, plus both shears with ``displacement``) and its
-        batched 2-D FFT buffers.  One evaluation: the transformed inputs (5 or 6), 6 per-layer
+        Kept: the real 3-D kernel spectra of the plastic box (30 for trace-free eigenstrains
+        with ``deviatoric``, else the 21 general ones, ``(nx + 1, ny + 1, M + 1)`` each), the
+        per-layer buffer ``(2nx, ny + 1, M)`` complex, the accumulator and the row buffer of
+        the box, the window's per-layer surface-traction and traction-to-stress kernels
+        (pressure, plus both shears with ``displacement``) and its batched 2-D FFT buffers.
+        One evaluation: the transformed inputs (5 or 6, the accumulator's size), 6 per-layer
         eigenstrain spectra, the output.  Setup transients (kernel construction) stay below
         the evaluation's share.  ``box``: the plastic box's cells ``(nx, ny)`` (default: the
         window's); ``precision``: of the 3-D parts (:data:`VOLUME_PRECISIONS`).
         """
         nx, ny, nz = grid.shape
         bx, by = box or (nx, ny)
-        length = fft_size(3 * nz - 1)
-        half = length // 2 + 1
+        m = fft_size(2 * nz)
         word = np.dtype(VOLUME_PRECISIONS[precision][0]).itemsize  # 8 or 4 bytes
-        spec3 = 2 * word * 4 * bx * by * half
-        quarter3 = 2 * word * (bx + 1) * (by + 1) * half
-        real3 = word * bx * by * length  # the data columns of the pruned transforms
+        spec3 = word * 2 * 2 * bx * (by + 1) * (m + 1)  # accumulator, and each input
+        kernel3 = word * (bx + 1) * (by + 1) * (m + 1)
+        buffers = 2 * word * 2 * bx * (by + 1) * m + word * bx * 2 * by * nz
         layer = 8 * 2 * nx * (ny + 1) * nz  # one float per-layer spectrum of the window
         tractions = 3 if displacement else 1
-        kept = (30 if deviatoric else 21) * quarter3 + real3 + spec3
+        kept = (30 if deviatoric else 21) * kernel3 + buffers + spec3
         kept += (6 * tractions + 6) * layer + 8 * 4 * nx * ny * nz + 2 * layer
         evaluation = (5 if deviatoric else 6) * spec3 + 12 * layer + 8 * 6 * bx * by * nz
         return kept + evaluation
