@@ -37,6 +37,7 @@ class Anderson:
         self._f = None
         self._dx: list[np.ndarray] = []
         self._df: list[np.ndarray] = []
+        self._gram = np.empty((0, 0))  # dots of the kept dF, updated as they come and go
         self._best = np.inf
         self.restarts = 0
 
@@ -46,23 +47,27 @@ class Anderson:
         if norm > RESTART_GROWTH * self._best and self._dx:
             self._dx.clear()
             self._df.clear()
+            self._gram = np.empty((0, 0))
             self.restarts += 1
         self._best = min(self._best, norm)
         if self._x is not None and self.memory > 0:
             self._dx.append(x - self._x)
             self._df.append(f - self._f)
-            if len(self._dx) > self.memory:
+            row = np.array([_dot(d, self._df[-1]) for d in self._df])
+            m = len(self._df)
+            gram = np.empty((m, m))
+            gram[:-1, :-1] = self._gram
+            gram[-1, :] = gram[:, -1] = row
+            self._gram = gram
+            if m > self.memory:
                 self._dx.pop(0)
                 self._df.pop(0)
+                self._gram = self._gram[1:, 1:]
         self._x, self._f = x.copy(), f.copy()
         if not self._dx:
             return x + f
         # least squares through the small Gram system (m x m): no tall matrix is formed
-        m = len(self._df)
-        gram = np.empty((m, m))
-        for i in range(m):
-            for j in range(i, m):
-                gram[i, j] = gram[j, i] = _dot(self._df[i], self._df[j])
+        gram = self._gram
         rhs = np.array([_dot(d, f) for d in self._df])
         gamma = np.linalg.lstsq(gram, rhs, rcond=1e-12)[0]
         out = x + f

@@ -236,6 +236,8 @@ class EigenstrainOperator:
         self._stress_spectra: dict | None = None
         self._deviatoric_spectra: dict | None = None
         self._surface_kernels: dict | None = None
+        self._surface_combinations: dict[tuple, np.ndarray] = {}
+        self._surface_work: np.ndarray | None = None
 
     # -- setup -----------------------------------------------------------------------------
 
@@ -694,6 +696,19 @@ class EigenstrainOperator:
         else:
             kernels = self._stress_kernels()
             outputs = list(range(6))
+        tractions = dict(tractions or {})
+        pressure = self._correction_pressure(layers)
+        if tractions.get("pressure") is not None:
+            pressure = pressure + tractions["pressure"]
+        tractions["pressure"] = pressure
+        spectra = {
+            name: self.surface_stress.surface_spectrum(values)
+            for name, values in tractions.items()
+            if values is not None
+        }
+        # the traction stresses join the residual ones in the layer spectra (no transforms of
+        # their own) when the box is the window; in single precision they stay double apart
+        fused = shared and self.precision == "double"
         out = np.zeros((6, nx, ny, nz))
         mean = None
         workers = self._workers()
@@ -716,6 +731,9 @@ class EigenstrainOperator:
             else:
                 self._accumulate(plans["acc"], terms, workers[0])
             self._backward_z(a)
+            if fused:
+                weight = 1.0 if trace_free else COMPONENT_WEIGHTS[a]
+                self._add_surface_stress(data, a, spectra, trace_free, weight)
             plans["-x"].execute()
             plans["-y"].execute()
             field = plans["rows"][:, :ny]
@@ -727,19 +745,41 @@ class EigenstrainOperator:
             out[2] = -(out[0] + out[1])
         if mean is not None:
             out[:3] += mean
-        tractions = dict(tractions or {})
-        pressure = self._correction_pressure(layers)
-        if tractions.get("pressure") is not None:
-            pressure = pressure + tractions["pressure"]
-        tractions["pressure"] = pressure
-        spectra = {
-            name: self.surface_stress.surface_spectrum(values)
-            for name, values in tractions.items()
-            if values is not None
-        }
-        surface = self.surface_stress.stress_from_spectra(spectra, self.box)
-        out += deviator(surface) if deviatoric else surface
+        if not fused:
+            surface = self.surface_stress.stress_from_spectra(spectra, self.box)
+            out += deviator(surface) if deviatoric else surface
         return out
+
+    def _add_surface_stress(
+        self, data: np.ndarray, component, spectra: dict, trace_free: bool, weight: float
+    ) -> None:
+        """Add the layer spectra of the traction stresses of one output component to ``data``.
+
+        ``spectra`` are the tractions' surface spectra
+        (:meth:`~solver.stress.SubsurfaceStressOperator.surface_spectrum`); the kernels those of
+        :meth:`~solver.stress.SubsurfaceStressOperator.kernel_spectra`, combined for a
+        trace-free route's outputs: the deviator for xx and yy, the mean stress for ``"mean"``
+        (kept once built).  ``weight`` multiplies the stress (the general route's outputs
+        carry their tensor weight until the end).
+        """
+        work = self._surface_work
+        if work is None:
+            work = self._surface_work = np.empty(data.shape, dtype=complex)
+        for traction, spectrum in spectra.items():
+            kernels = self.surface_stress.kernel_spectra(traction)
+            if component == "mean" or (trace_free and component in (0, 1)):
+                key = (traction, component)
+                if key not in self._surface_combinations:
+                    mean = (kernels[0] + kernels[1] + kernels[2]) / 3.0
+                    combined = mean if component == "mean" else kernels[component] - mean
+                    self._surface_combinations[key] = combined
+                kernel = self._surface_combinations[key]
+            else:
+                kernel = kernels[component]
+            px, py = kernel_parity(_name(component), traction)
+            factor = (1j * weight if (px + py) % 2 else weight) * spectrum
+            np.multiply(kernel, factor[:, :, None], out=work)
+            data += work
 
     def _forward_z(self, component: int) -> np.ndarray:
         """The z transform of the per-layer spectra in ``"layers"``, turned by ``i^r``: an input.
