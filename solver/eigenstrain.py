@@ -333,13 +333,12 @@ class EigenstrainOperator:
         lattice = pyfftw.empty_aligned((2 * nx, 2 * ny, m + 1), dtype="float64")
         along_z = pyfftw.empty_aligned((2 * nx, 2 * ny, m + 1), dtype="float64")
         spectrum = pyfftw.empty_aligned((2 * nx, ny + 1, m + 1), dtype="complex128")
+        plan = functools.partial(pyfftw.FFTW, flags=(self.planner,), threads=self.threads)
         z_plans = {
-            0: pyfftw.FFTW(lattice, along_z, axes=(2,), direction="FFTW_REDFT00"),
-            1: pyfftw.FFTW(
-                lattice[..., 1:m], along_z[..., 1:m], axes=(2,), direction="FFTW_RODFT00"
-            ),
+            0: plan(lattice, along_z, axes=(2,), direction="FFTW_REDFT00"),
+            1: plan(lattice[..., 1:m], along_z[..., 1:m], axes=(2,), direction="FFTW_RODFT00"),
         }
-        xy_plan = pyfftw.FFTW(along_z, spectrum, axes=(0, 1))
+        xy_plan = plan(along_z, spectrum, axes=(0, 1))
         scale = 1.0 / (2 * m * 4 * nx * ny)
         shape = (nx + 1, ny + 1, m + 1)
         spectra = {}
@@ -530,6 +529,8 @@ class EigenstrainOperator:
     def layer_spectra(self, eigenstrain: np.ndarray) -> np.ndarray:
         """Per-layer 2-D transforms of the zero-padded eigenstrain: ``(6, 2nx, ny + 1, nz)``.
 
+        Five transforms for a trace-free eigenstrain (zz is -(xx + yy)), else six.
+
         The plastic box's eigenstrain sits at its place in the surface window (``nx``, ``ny``
         the window's cells): the surface fields it makes are the window's.
         """
@@ -539,10 +540,15 @@ class EigenstrainOperator:
         buffer = forward.input_array
         buffer[...] = 0.0
         sx, sy, _ = self.box.slices
-        for mn in range(6):
+        trace = np.abs(eigenstrain[0] + eigenstrain[1] + eigenstrain[2]).max()
+        trace_free = trace <= 1e-12 * np.abs(eigenstrain).max()
+        for mn in DEVIATORIC if trace_free else range(6):
             buffer[sx, sy, :] = eigenstrain[mn]
             forward.execute()
             out[mn] = forward.output_array
+        if trace_free:  # a plastic strain: zz is -(xx + yy)
+            np.add(out[0], out[1], out=out[2])
+            np.negative(out[2], out=out[2])
         buffer[...] = 0.0
         return out
 
@@ -707,8 +713,8 @@ class EigenstrainOperator:
             if values is not None
         }
         # the traction stresses join the residual ones in the layer spectra (no transforms of
-        # their own) when the box is the window; in single precision they stay double apart
-        fused = shared and self.precision == "double"
+        # their own, in the volume's precision) when the box is the window
+        fused = shared
         out = np.zeros((6, nx, ny, nz))
         mean = None
         workers = self._workers()
