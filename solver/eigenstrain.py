@@ -346,16 +346,23 @@ class EigenstrainOperator:
             inside = coefficients[-1]  # nonzero only where a and b have one parity
             sign = _rotation_sign(a, b, (0, 0)) if inside else 0.0
             spectra[a, b] = np.full(shape, sign * inside * scale, dtype=self._real)
-        cx = (np.arange(-nx, nx) + 0.5) * g.dx
-        cy = (np.arange(-ny, ny) + 0.5) * g.dy
+        # offsets 0 .. n - 1 in x and y: the negative ones follow by the kernel's parity
+        cx = (np.arange(-1, nx) + 0.5) * g.dx
+        cy = (np.arange(-1, ny) + 0.5) * g.dy
         cz = (np.arange(-1, m + 1) + 0.5) * self.grid.dz  # z offsets 0 .. M
         work = np.empty(shape)
+        lattice[nx] = 0.0
+        lattice[:, ny] = 0.0  # slot n of the wrap-around order: no pair of cells has it
         for group in _base_groups(STRESS_BASE):
             sums = _lattice_corner_sums(cx, cy, cz, group)
             for name in group:
                 base = STRESS_BASE.index(name)
                 px, py, pz = _parity3(name[1:])
-                lattice[...] = wrap_layout(wrap_layout(sums.pop(name), 0), 1)
+                # wrap-around order: slot i < n holds offset i, slot 2n - i offset -i
+                half = sums.pop(name)
+                lattice[:nx, :ny] = half
+                np.multiply(half[:0:-1], (-1.0) ** px, out=lattice[nx + 1 :, :ny])
+                np.multiply(lattice[:, ny - 1 : 0 : -1], (-1.0) ** py, out=lattice[:, ny + 1 :])
                 along_z[..., 0] = along_z[..., m] = 0.0  # the DST-I leaves the ends
                 z_plans[pz].execute()
                 xy_plan.execute()
