@@ -562,11 +562,13 @@ class EigenstrainOperator:
     def _correction_pressure(self, layers: np.ndarray) -> np.ndarray:
         """Pressure ``S_zz(x, y, 0)`` (Pa) that the Boussinesq correction must carry."""
         kernels = self._surface_layer_kernels()["zz"]
-        total = None
+        # sums over the layers on the real and imaginary parts (no complex temporaries)
+        sums = np.einsum("cxyz,cxyz->cxy", layers.real, kernels) + 1j * np.einsum(
+            "cxyz,cxyz->cxy", layers.imag, kernels
+        )
+        total = 0.0
         for mn, comp in enumerate(STRESS_COMPONENTS):
-            factor = 1j if _is_imaginary("zz" + comp) else 1.0
-            term = (layers[mn] * kernels[mn]).sum(axis=-1) * factor
-            total = term if total is None else total + term
+            total = total + sums[mn] * (1j if _is_imaginary("zz" + comp) else 1.0)
         return self._inverse_surface(total)
 
     def _inverse_surface(self, spectrum: np.ndarray) -> np.ndarray:
