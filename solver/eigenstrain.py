@@ -561,15 +561,39 @@ class EigenstrainOperator:
 
     def _correction_pressure(self, layers: np.ndarray) -> np.ndarray:
         """Pressure ``S_zz(x, y, 0)`` (Pa) that the Boussinesq correction must carry."""
-        kernels = self._surface_layer_kernels()["zz"]
-        # sums over the layers on the real and imaginary parts (no complex temporaries)
-        sums = np.einsum("cxyz,cxyz->cxy", layers.real, kernels) + 1j * np.einsum(
-            "cxyz,cxyz->cxy", layers.imag, kernels
-        )
+        sums = self._layer_sums(layers, self._surface_layer_kernels()["zz"])
         total = 0.0
         for mn, comp in enumerate(STRESS_COMPONENTS):
             total = total + sums[mn] * (1j if _is_imaginary("zz" + comp) else 1.0)
         return self._inverse_surface(total)
+
+    def _by_rows(self, function, rows: int) -> None:
+        """``function(rows slice)`` over blocks of :data:`ROW_BLOCK` rows, on the threads.
+
+        The blocks do not depend on the number of threads: neither do the results.
+        """
+        blocks = [slice(s, min(rows, s + ROW_BLOCK)) for s in range(0, rows, ROW_BLOCK)]
+        if self.threads > 1 and len(blocks) > 1:
+            list(_pool(min(self.threads, len(blocks))).map(function, blocks))
+        else:
+            for block in blocks:
+                function(block)
+
+    def _layer_sums(self, layers: np.ndarray, kernels: np.ndarray) -> np.ndarray:
+        """``sums[c] = sum_z layers[c] kernels[c]``: per-layer spectra against real kernels.
+
+        On the real and imaginary parts apart (no complex temporaries), by row blocks.
+        """
+        sums = np.empty(kernels.shape[:3], dtype=complex)
+
+        def block(xs: slice) -> None:
+            real = np.einsum("cxyz,cxyz->cxy", layers.real[:, xs], kernels[:, xs])
+            imag = np.einsum("cxyz,cxyz->cxy", layers.imag[:, xs], kernels[:, xs])
+            sums.real[:, xs] = real
+            sums.imag[:, xs] = imag
+
+        self._by_rows(block, kernels.shape[1])
+        return sums
 
     def _inverse_surface(self, spectrum: np.ndarray) -> np.ndarray:
         """Backward 2-D transform of a normalised spectrum, cut to ``(nx, ny)``."""
@@ -792,9 +816,13 @@ class EigenstrainOperator:
             else:
                 kernel = kernels[component]
             px, py = kernel_parity(_name(component), traction)
-            factor = (1j * weight if (px + py) % 2 else weight) * spectrum
-            np.multiply(kernel, factor[:, :, None], out=work)
-            data += work
+            factor = ((1j * weight if (px + py) % 2 else weight) * spectrum)[:, :, None]
+
+            def block(xs: slice, kernel=kernel, factor=factor) -> None:
+                np.multiply(kernel[xs], factor[xs], out=work[xs])
+                data[xs] += work[xs]
+
+            self._by_rows(block, data.shape[0])
 
     def _forward_z(self, component: int) -> np.ndarray:
         """The z transform of the per-layer spectra in ``"layers"``, turned by ``i^r``: an input.
@@ -927,9 +955,7 @@ class EigenstrainOperator:
             kernels = self.surface_stress.kernel_spectra(traction)  # real, (6, 2nx, ny + 1, nz)
             # sum over the layers of every component at once, on the real and imaginary parts
             # (no complex temporaries): sums[c] = sum_z layers[c] kernels[c]
-            sums = np.einsum("cxyz,cxyz->cxy", layers.real, kernels) + 1j * np.einsum(
-                "cxyz,cxyz->cxy", layers.imag, kernels
-            )
+            sums = self._layer_sums(layers, kernels)
             total = 0.0
             for mn, comp in enumerate(STRESS_COMPONENTS):
                 px, py = kernel_parity(comp, traction)
@@ -979,6 +1005,8 @@ class EigenstrainOperator:
 #: Real and complex types of the 3-D eigenstrain convolution by ``solver.volume_precision``.
 VOLUME_PRECISIONS = {"double": ("float64", "complex128"), "single": ("float32", "complex64")}
 
+#: Rows (kx) per block of the per-layer sums and products split over threads.
+ROW_BLOCK = 8
 #: Bytes of spectrum per row block of the spectral products
 #: (:meth:`EigenstrainOperator._workers`).
 CHUNK_BYTES = 2**18

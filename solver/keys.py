@@ -304,9 +304,11 @@ CASE_KEYS: tuple[Key, ...] = (
         "FFTW planning (not part of the case id)."),
     Key("solver", "volume_precision", "string", "", f'"{SOLVER_DEFAULTS["volume_precision"]}"',
         f'"double" or "single" (with plastic_tolerance >= {MIN_SINGLE_PLASTIC_TOLERANCE:g})', _EP,
-        "Floating-point precision of the 3-D eigenstrain convolution (kernels, FFTs, products); "
-        '"single" halves its memory and saves 17-22 % of the CPU at 48^3-64^3 with results '
-        "within ~1e-7 of double's (part of the case id when single)."),
+        "Floating-point precision of the 3-D eigenstrain convolution (kernels, FFTs, products; "
+        "with the traction stresses it carries when the plastic box is the window); "
+        '"single" uses about half its memory and saves about 1/6 of the CPU at 48^3 '
+        "(docs/tables/plastic.md), results within ~1e-7 of double's (part of the case id when "
+        "single)."),
 )  # fmt: skip
 
 

@@ -403,8 +403,9 @@ def test_deviatoric_path_equals_the_deviator_of_the_full_stress():
 
 
 def test_threads_split_the_spectral_products_without_changing_a_bit():
-    """Two threads share the row blocks of the spectral products (and FFTW's transforms): the
-    same operations per element, so the residual stress is bit-identical to one thread's."""
+    """Two threads share the row blocks of the spectral products, of the per-layer sums (and
+    FFTW's transforms): the same operations per element, so the residual stress and the
+    surface displacement are bit-identical to one thread's."""
     grid = VolumeGrid(SurfaceGrid(40, 36, 1e-5, 1e-5), 30, 1e-5)
     rng = np.random.default_rng(3)
     e = rng.normal(size=(6,) + grid.shape) * 1e-3
@@ -417,7 +418,11 @@ def test_threads_split_the_spectral_products_without_changing_a_bit():
         assert len(op._workers()) == threads  # one share of the row blocks per thread
         layers = op.layer_spectra(e)
         results.append(
-            (op.stress(e), op.deviatoric_stress_with_tractions(e, layers, {"pressure": p}))
+            (
+                op.stress(e),
+                op.deviatoric_stress_with_tractions(e, layers, {"pressure": p}),
+                np.array(op.displacement_from_layers(layers)),
+            )
         )
     for one, two in zip(*results, strict=True):
         np.testing.assert_array_equal(one, two)
