@@ -29,10 +29,15 @@ class Anderson:
     ----------
     memory : int
         Number of past differences kept (0: plain fixed-point iteration).
+    history_dtype : numpy dtype
+        Type the differences are kept in: float32 halves the history's memory; the mixing
+        coefficients then carry ~1e-7 relative rounding, which changes the next iterate, not
+        the fixed point a converged iteration settles to.
     """
 
-    def __init__(self, memory: int = 5):
+    def __init__(self, memory: int = 5, history_dtype=np.float64):
         self.memory = memory
+        self.history_dtype = np.dtype(history_dtype)
         self._x = None
         self._f = None
         self._dx: list[np.ndarray] = []
@@ -51,8 +56,8 @@ class Anderson:
             self.restarts += 1
         self._best = min(self._best, norm)
         if self._x is not None and self.memory > 0:
-            self._dx.append(x - self._x)
-            self._df.append(f - self._f)
+            self._dx.append(np.subtract(x, self._x, dtype=self.history_dtype))
+            self._df.append(np.subtract(f, self._f, dtype=self.history_dtype))
             row = np.array([_dot(d, self._df[-1]) for d in self._df])
             m = len(self._df)
             gram = np.empty((m, m))

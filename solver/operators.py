@@ -146,7 +146,8 @@ class CaseOperators:
             total += bodies * EigenstrainOperator.memory_bytes(
                 volume, deviatoric=True, box=box, precision=case.solver.volume_precision
             )
-            total += bodies * plastic_work_arrays(case.solver) * cells
+            work = plastic_work_arrays(case.solver, box=case.plastic_box is not None)
+            total += int(bodies * work * cells)
             pair = (case.body1, case.body2)
             kinematic = sum(b.hardening is not None and b.hardening.kinematic for b in pair)
             total += 2 * kinematic * cells  # back stress before and after the increment
@@ -161,20 +162,25 @@ class CaseOperators:
 #: (118 MiB on 2026-11-25: Linux, Python 3.11.7, numpy 2).
 PROCESS_BYTES = 118 * 2**20
 #: Six-component volume fields the plasticity loop holds at once besides Anderson's: previous
-#: strain, increment, strain, trial stress, change and its stack, the returned stress and
-#: increment, the best iterate's two, the new strain, the residual stress evaluation's output,
-#: surface stress and its deviator, and the return mapping's temporaries (4).
-PLASTIC_LOOP_ARRAYS = 17
+#: strain, increment, strain, trial stress, change, the returned stress and increment, the best
+#: iterate's two, the new strain, the residual stress evaluation's output, and the return
+#: mapping's temporaries (3).
+PLASTIC_LOOP_ARRAYS = 14
+#: More when the plastic box is narrower than the window: the traction stress and its deviator
+#: (with the box as the window they join the residual stress's layer spectra).
+BOX_SURFACE_ARRAYS = 2
 
 
-def plastic_work_arrays(options: SolverOptions) -> int:
-    """Six-component volume fields held at once by the plasticity loop of one plastic body.
+def plastic_work_arrays(options: SolverOptions, box: bool = False) -> float:
+    """Six-component float64 volume fields held at once by the plasticity loop of one body.
 
-    :data:`PLASTIC_LOOP_ARRAYS` plus Anderson's history: the differences of ``memory`` iterates
-    and residuals, the last iterate and residual, and the pair appended before the oldest is
-    dropped.
+    :data:`PLASTIC_LOOP_ARRAYS` (plus :data:`BOX_SURFACE_ARRAYS` with a plastic ``box``) and
+    Anderson's share, on the five independent components of the increment (5/6 of a field
+    each): its last iterate and residual, the differences of ``memory + 1`` iterates and
+    residuals in float32 (half a field each), and the mixing's two inputs and its output.
     """
-    return PLASTIC_LOOP_ARRAYS + 2 * (options.anderson_memory + 2)
+    anderson = 5 / 6 * (2 + (options.anderson_memory + 1) + 3)
+    return PLASTIC_LOOP_ARRAYS + (BOX_SURFACE_ARRAYS if box else 0) + anderson
 
 
 def memory_estimate(case: Case) -> int:

@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .anderson import Anderson
+from .eigenstrain import DEVIATORIC
 from .plasticity import return_mapping
 from .steps import ContactState, ResidualDisplacement, StepResult
 
@@ -150,6 +151,21 @@ def body_tractions(state: ContactState, body: int) -> dict[str, np.ndarray]:
     return tractions
 
 
+def _mix(mixer: Anderson, increment: np.ndarray, change: np.ndarray) -> np.ndarray:
+    """Anderson's next increment, mixed on the five independent deviatoric components.
+
+    Plastic strain increments are deviatoric (zz = -(xx + yy)): the mixer sees five of the six
+    components (its history 5/6 the size) and zz follows.
+    """
+    free = list(DEVIATORIC)
+    mixed = mixer(increment[:, free], change[:, free])
+    out = np.empty_like(increment)
+    out[:, free] = mixed
+    np.add(mixed[:, 0], mixed[:, 1], out=out[:, 2])
+    np.negative(out[:, 2], out=out[:, 2])
+    return out
+
+
 def plastic_step(
     operators: CaseOperators,
     contact_step: Callable[..., StepResult],
@@ -191,7 +207,7 @@ def plastic_step(
 
     previous_strain = np.stack([p.strain for p in previous_plastic])
     increment = np.zeros_like(previous_strain) if guess is None else guess.copy()
-    mixer = Anderson(options.anderson_memory)
+    mixer = Anderson(options.anderson_memory, history_dtype=np.float32)
     contact_guess: ContactState | None = None
     totals = {"normal": 0, "slip": 0, "coupling": 0}
     residual, converged, iterations = np.inf, False, 0
@@ -237,7 +253,8 @@ def plastic_step(
                     back_stress=previous_plastic[i].back_stress,
                 )
             )
-        change = np.stack([m.plastic_strain_increment for m in mapped]) - increment
+        change = np.stack([m.plastic_strain_increment for m in mapped])
+        change -= increment
         residual = max(float(np.abs(change[i]).max()) / scale for i, scale in enumerate(scales))
         if best is None or residual < best[0]:
             best = (residual, contact, mapped, displacements)
@@ -247,7 +264,7 @@ def plastic_step(
         if residual <= options.plastic_tolerance:
             converged = contact.converged and not failed
             break  # settled; an unconverged inner solve is reported, not iterated on
-        increment = mixer(increment, change)
+        increment = _mix(mixer, increment, change)
     if not converged:  # keep the best iterate
         residual, contact, mapped, displacements = best
     if not converged and not message:
