@@ -475,7 +475,7 @@ class EigenstrainOperator:
             return part * scale
 
         if "zz" not in kernels:
-            kernels["zz"] = np.empty((6, 2 * nx, ny + 1, nz))
+            kernels["zz"] = np.empty((6, 2 * nx, ny + 1, nz), dtype=self._real)
             for mn, comp in enumerate(STRESS_COMPONENTS):
                 field = 2.0 * sum(
                     coef[zz, mn, STRESS_BASE.index(n)] * sums[n]
@@ -981,7 +981,8 @@ class EigenstrainOperator:
         with ``deviatoric``, else the 21 general ones, ``(nx + 1, ny + 1, M + 1)`` each), the
         per-layer buffer ``(2nx, ny + 1, M)`` complex, the accumulator and the row buffer of
         the box, the window's per-layer surface-traction and traction-to-stress kernels
-        (pressure, plus both shears with ``displacement``) and its batched 2-D FFT buffers.
+        (pressure, plus both shears with ``displacement``; in the volume's precision) and its
+        batched 2-D FFT buffers.
         One evaluation: the transformed inputs (5 or 6, the accumulator's size), 6 per-layer
         eigenstrain spectra, the output.  Setup transients (kernel construction) stay below
         the evaluation's share.  ``box``: the plastic box's cells ``(nx, ny)`` (default: the
@@ -994,10 +995,12 @@ class EigenstrainOperator:
         spec3 = word * 2 * 2 * bx * (by + 1) * (m + 1)  # accumulator, and each input
         kernel3 = word * (bx + 1) * (by + 1) * (m + 1)
         buffers = 2 * word * 2 * bx * (by + 1) * m + word * bx * 2 * by * nz
-        layer = 8 * 2 * nx * (ny + 1) * nz  # one float per-layer spectrum of the window
+        layer = 8 * 2 * nx * (ny + 1) * nz  # one float64 per-layer spectrum of the window
         tractions = 3 if displacement else 1
         kept = (30 if deviatoric else 21) * kernel3 + buffers + spec3
-        kept += (6 * tractions + 6) * layer + 8 * 4 * nx * ny * nz + 2 * layer
+        # per-layer kernels in the volume's precision: the tractions' (6 each), the surface
+        # S_zz's (6), the pressure's deviator in xx and yy (2)
+        kept += (6 * tractions + 6 + 2) * layer * word // 8 + 8 * 4 * nx * ny * nz + 2 * layer
         evaluation = (5 if deviatoric else 6) * spec3 + 12 * layer + 8 * 6 * bx * by * nz
         return kept + evaluation
 

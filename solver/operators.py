@@ -17,7 +17,7 @@ import numpy as np
 
 from .case import Case, SolverOptions
 from .convolution import SurfaceOperator, surface_operator
-from .eigenstrain import EigenstrainOperator
+from .eigenstrain import VOLUME_PRECISIONS, EigenstrainOperator
 from .materials import Pair
 from .stress import SubsurfaceStressOperator
 
@@ -48,7 +48,10 @@ def _volume_operators(keys: list[tuple]) -> list[tuple]:
     for key in keys:
         if key not in _VOLUME_OPERATORS:
             grid, body, threads, planner, eigenstrain, box, precision = key
-            stress = SubsurfaceStressOperator(grid, body.nu, threads=threads, planner=planner)
+            real = VOLUME_PRECISIONS[precision][0]  # kernels kept in the volume's precision
+            stress = SubsurfaceStressOperator(
+                grid, body.nu, threads=threads, planner=planner, dtype=real
+            )
             plastic = None
             if eigenstrain:
                 plastic = EigenstrainOperator(
@@ -162,10 +165,10 @@ class CaseOperators:
 #: (118 MiB on 2026-11-25: Linux, Python 3.11.7, numpy 2).
 PROCESS_BYTES = 118 * 2**20
 #: Six-component volume fields the plasticity loop holds at once besides Anderson's: previous
-#: strain, increment, strain, trial stress, change, the returned stress and increment, the best
-#: iterate's two, the new strain, the residual stress evaluation's output, and the return
-#: mapping's temporaries (3).
-PLASTIC_LOOP_ARRAYS = 14
+#: strain, increment, strain, trial stress (returned in place), change, the returned
+#: increment, the best iterate's two, the new strain, the residual stress evaluation's output,
+#: and the return mapping's temporaries (2).
+PLASTIC_LOOP_ARRAYS = 12
 #: More when the plastic box is narrower than the window: the traction stress and its deviator
 #: (with the box as the window they join the residual stress's layer spectra).
 BOX_SURFACE_ARRAYS = 2

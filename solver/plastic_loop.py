@@ -38,6 +38,7 @@ from .anderson import Anderson
 from .eigenstrain import DEVIATORIC
 from .plasticity import return_mapping
 from .steps import ContactState, ResidualDisplacement, StepResult
+from .tensor import deviator
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -240,7 +241,7 @@ def plastic_step(
                     strain[i], layers[i], tractions
                 )
             elif tractions["pressure"].any() or len(tractions) > 1:
-                trial = stress_operator.stress(**tractions, box=eigenstrain.box)
+                trial = deviator(stress_operator.stress(**tractions, box=eigenstrain.box))
             else:
                 trial = np.zeros_like(strain[i])
             trial += 2.0 * material.shear_modulus * increment[i]
@@ -251,6 +252,7 @@ def plastic_step(
                     material.hardening,
                     material.shear_modulus,
                     back_stress=previous_plastic[i].back_stress,
+                    reuse_trial=True,  # deviatoric, and not used after
                 )
             )
         change = np.stack([m.plastic_strain_increment for m in mapped])

@@ -173,6 +173,7 @@ def return_mapping(
     back_stress: np.ndarray | None = None,
     tolerance: float = RETURN_TOLERANCE,
     max_iterations: int = RETURN_MAX_ITERATIONS,
+    reuse_trial: bool = False,
 ) -> ReturnMapping:
     """Radial return of trial stresses onto the von Mises yield surface.
 
@@ -190,6 +191,9 @@ def return_mapping(
         ``(6, ...)`` back stress before the increment (Pa; kinematic hardening, default zero).
     tolerance, max_iterations
         Stopping rule of the scalar Newton solve (:func:`equivalent_increment`).
+    reuse_trial : bool
+        The trial stress is deviatoric and the caller gives it up: it serves as its own
+        deviator and becomes the returned stress (two fields fewer; isotropic hardening).
 
     Returns
     -------
@@ -202,14 +206,14 @@ def return_mapping(
         )  # fmt: skip
     trial_stress = np.asarray(trial_stress, dtype=float)
     shape = trial_stress.shape[1:]
-    s = deviator(trial_stress)
+    s = trial_stress if reuse_trial else deviator(trial_stress)
     q = np.sqrt(1.5) * norm(s)
     e0 = np.broadcast_to(np.asarray(plastic_strain, dtype=float), shape)
     # a yield tolerance of round-off size: a stress returned onto the surface stays elastic
     plastic = q > hardening.flow_stress(e0) * (1.0 + tolerance)
     dp = np.zeros(shape)
     increment = np.zeros_like(trial_stress)
-    stress = trial_stress.copy()
+    stress = trial_stress if reuse_trial else trial_stress.copy()
     iterations, residual, converged = 0, 0.0, True
     if plastic.any():
         qp = q[plastic]

@@ -470,6 +470,9 @@ class SubsurfaceStressOperator:
         FFTW threads.
     planner : str
         FFTW planner effort (``"FFTW_MEASURE"`` or ``"FFTW_ESTIMATE"``).
+    dtype : str
+        Float type the kernel spectra are kept in (``"float32"`` halves them: the single
+        precision of an elastic-plastic case's volume parts).
 
     Notes
     -----
@@ -482,10 +485,16 @@ class SubsurfaceStressOperator:
     """
 
     def __init__(
-        self, grid: VolumeGrid, nu: float, threads: int = 1, planner: str = "FFTW_ESTIMATE"
+        self,
+        grid: VolumeGrid,
+        nu: float,
+        threads: int = 1,
+        planner: str = "FFTW_ESTIMATE",
+        dtype: str = "float64",
     ):
         self.grid = grid
         self.nu = float(nu)
+        self.dtype = np.dtype(dtype)
         self.threads = threads
         self.planner = planner
         nx, ny = grid.surface.shape
@@ -521,7 +530,7 @@ class SubsurfaceStressOperator:
                 raise ValueError(f"unknown traction {traction!r}; use one of {TRACTIONS}")
             g = self.grid.surface
             nz = self.grid.nz
-            spectra = np.empty((6, 2 * g.nx, g.ny + 1, nz))
+            spectra = np.empty((6, 2 * g.nx, g.ny + 1, nz), dtype=self.dtype)
             scale = 1.0 / (4 * g.nx * g.ny)
             chunk = max(1, min(nz, 2**22 // (4 * g.nx * g.ny)))
             for k0 in range(0, nz, chunk):
@@ -641,10 +650,10 @@ class SubsurfaceStressOperator:
         return self.stress_from_spectra(spectra, box)
 
     @staticmethod
-    def memory_bytes(grid: VolumeGrid, tractions: int = 3) -> int:
+    def memory_bytes(grid: VolumeGrid, tractions: int = 3, dtype: str = "float64") -> int:
         """Bytes of the kernel cache for ``tractions`` traction types, plus FFT buffers."""
         nx, ny, nz = grid.shape
-        spectra = tractions * 6 * 8 * 2 * nx * (ny + 1) * nz
+        spectra = tractions * 6 * np.dtype(dtype).itemsize * 2 * nx * (ny + 1) * nz
         buffers = 8 * 4 * nx * ny * nz + 16 * 2 * nx * (ny + 1) * nz + 8 * 2 * nx * (ny + 1) * nz
         return spectra + buffers
 
