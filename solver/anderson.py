@@ -76,6 +76,9 @@ class Anderson:
         rhs = np.array([_dot(d, f) for d in self._df])
         gamma = np.linalg.lstsq(gram, rhs, rcond=1e-12)[0]
         out = x + f
+        work = np.empty_like(self._dx[0])  # in the history's type: no full-size float64 temporary
         for g, dx, dfi in zip(gamma, self._dx, self._df, strict=True):
-            out -= g * (dx + dfi)
+            np.add(dx, dfi, out=work)
+            work *= g
+            out -= work
         return out
