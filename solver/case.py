@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from .fftw import PLANNER_FLAGS
 from .grid import IndexBox, SurfaceGrid, VolumeGrid
 from .keys import (
     DEFAULT_DEPTH,
@@ -476,7 +477,9 @@ class SolverOptions:
     ``fft_planner = "estimate"`` gives FFTW plans that do not depend on timing, so a case gives
     bit-identical results in any process; ``"measure"`` plans by timing (about 15 % faster
     solves, 0.5 s more set-up per grid) and results then agree only to round-off, which
-    path-dependent coupled friction cases can amplify to ~1e-4.
+    path-dependent coupled friction cases can amplify to ~1e-4.  ``"wisdom"`` takes measured
+    plans from the wisdom imported into the process (:mod:`solver.fftw`), estimate plans where
+    it has none: processes with the same wisdom give bit-identical results.
     """
 
     normal_tolerance: float = SOLVER_DEFAULTS["normal_tolerance"]
@@ -530,8 +533,12 @@ def _parse_solver(table: Any) -> SolverOptions:
             if values[key] <= 1.0:
                 _fail(path, f'must be > 1 (or "inf" to disable sub-stepping), got {value}')
         elif rule == "planner":
-            if value not in ("estimate", "measure"):
-                _fail(path, f'must be "estimate" (reproducible) or "measure", got {value!r}')
+            if value not in PLANNER_FLAGS:
+                _fail(
+                    path,
+                    f'must be "estimate" (reproducible), "measure" or "wisdom" (measured plans '
+                    f"saved per machine, reproducible), got {value!r}",
+                )
             values[key] = value
         elif rule == "precision":
             if value not in ("double", "single"):
@@ -578,6 +585,8 @@ class GridSpec:
     plastic_half_width: float | None = None
 
 
+#: Solver keys of how a case is computed, not what: kept in the table, not in the case id.
+EXECUTION_KEYS = ("fft_threads", "fft_planner")
 #: Field outputs a case may request.
 FIELD_OUTPUTS = OPTIONAL_FIELDS
 #: Version of the physical model: part of every case id, so that files computed by an older
@@ -778,13 +787,13 @@ class Case:
                     else {}
                 ),
             },
-            # FFT threads and planner change no result beyond round-off: not in the case id;
-            # the volume precision only when single (the ids of double cases stay as they were)
+            # FFT threads and planner are kept (a campaign's cases are solved from this table)
+            # but change no result beyond round-off: not in the case id (EXECUTION_KEYS); the
+            # volume precision only when single (the ids of double cases stay as they were)
             "solver": {
                 k: _json_number(getattr(solver, k))
                 for k in _SOLVER_RULES
-                if k not in ("fft_threads", "fft_planner", "volume_precision")
-                or (k == "volume_precision" and solver.volume_precision != "double")
+                if k != "volume_precision" or solver.volume_precision != "double"
             },
             "output": {"fields": sorted(fields)},
         }
@@ -981,8 +990,13 @@ class Case:
 
     @property
     def case_id(self) -> str:
-        """Content hash of the normalised specification (16 hex digits)."""
-        text = json.dumps(self.spec, sort_keys=True, separators=(",", ":"))
+        """Content hash of the normalised specification (16 hex digits).
+
+        Without :data:`EXECUTION_KEYS`, which change no result beyond round-off.
+        """
+        spec = dict(self.spec)
+        spec["solver"] = {k: v for k, v in spec["solver"].items() if k not in EXECUTION_KEYS}
+        text = json.dumps(spec, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
     def to_dict(self) -> dict:

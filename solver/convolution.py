@@ -20,6 +20,7 @@ import functools
 import numpy as np
 import pyfftw
 
+from .fftw import plan
 from .grid import SurfaceGrid, fft_length
 from .influence import surface_kernels
 from .materials import Pair
@@ -60,17 +61,17 @@ class SurfaceOperator:
         self._spectrum = pyfftw.empty_aligned((lx, ly // 2 + 1), dtype="complex128")
         self._output = pyfftw.empty_aligned((lx, ly), dtype="float64")
         self._padded[...] = 0.0
-        flags = (planner,)
-        self._forward = pyfftw.FFTW(
-            self._padded, self._spectrum, axes=(0, 1), flags=flags, threads=threads
+        self._forward = plan(
+            self._padded, self._spectrum, axes=(0, 1), planner=planner, threads=threads
         )
-        self._backward = pyfftw.FFTW(
+        self._backward = plan(
             self._spectrum,
             self._output,
             axes=(0, 1),
             direction="FFTW_BACKWARD",
-            flags=(*flags, "FFTW_DESTROY_INPUT"),
+            planner=planner,
             threads=threads,
+            extra=("FFTW_DESTROY_INPUT",),
         )
         self._padded[...] = 0.0
         self._kernels: dict[str, np.ndarray] = {}
@@ -164,10 +165,10 @@ class SurfaceOperator:
         axes = (len(batch), len(batch) + 1)
         real = pyfftw.empty_aligned((*batch, nx, ny), dtype="float64")
         spectrum = pyfftw.empty_aligned((*batch, nx, ny // 2 + 1), dtype="complex128")
-        forward = pyfftw.FFTW(real, spectrum, axes=axes, flags=(self._planner,))
-        backward = pyfftw.FFTW(
-            spectrum, real, axes=axes, direction="FFTW_BACKWARD",
-            flags=(self._planner, "FFTW_DESTROY_INPUT"),
+        forward = plan(real, spectrum, axes=axes, planner=self._planner)
+        backward = plan(
+            spectrum, real, axes=axes, direction="FFTW_BACKWARD", planner=self._planner,
+            extra=("FFTW_DESTROY_INPUT",),
         )  # fmt: skip
         kx = 2 * np.pi * np.fft.fftfreq(nx, self.grid.dx)[:, None]
         ky = 2 * np.pi * np.fft.rfftfreq(ny, self.grid.dy)[None, :]
@@ -243,11 +244,10 @@ class SurfaceOperator:
             work = pyfftw.empty_aligned((2, lx, ly // 2 + 1), dtype="complex128")
             output = pyfftw.empty_aligned((2, lx, ly), dtype="float64")
             padded[...] = 0.0  # only the (nx, ny) corner is ever written: the padding stays 0
-            flags = (self._planner,)
-            forward = pyfftw.FFTW(padded, spectrum, axes=(1, 2), flags=flags)
-            backward = pyfftw.FFTW(
-                spectrum, output, axes=(1, 2), direction="FFTW_BACKWARD",
-                flags=(*flags, "FFTW_DESTROY_INPUT"),
+            forward = plan(padded, spectrum, axes=(1, 2), planner=self._planner)
+            backward = plan(
+                spectrum, output, axes=(1, 2), direction="FFTW_BACKWARD", planner=self._planner,
+                extra=("FFTW_DESTROY_INPUT",),
             )  # fmt: skip
             self._pair = (padded, spectrum, work, output, forward, backward)
         padded, spectrum, work, output, forward, backward = self._pair

@@ -68,6 +68,7 @@ from .cuboid import (
     displacement_coefficients,
     stress_coefficients,
 )
+from .fftw import plan
 from .grid import VolumeGrid
 from .influence import cell_integral
 from .stress import (
@@ -287,23 +288,22 @@ class EigenstrainOperator:
             layers[...] = 0.0
             rows[...] = 0.0
             acc[...] = 0.0
-            plan = functools.partial(pyfftw.FFTW, threads=self.threads)
-            flags = (self.planner,)
-            r2r = functools.partial(plan, axes=(2,), flags=(self.planner, "FFTW_UNALIGNED"))
+            make = functools.partial(plan, planner=self.planner, threads=self.threads)
+            r2r = functools.partial(make, axes=(2,), extra=("FFTW_UNALIGNED",))
             data = layers[..., :nz]
             self._volume = {
                 "layers": layers,
                 "rows": rows,
                 "acc": acc,
-                "y": plan(rows, data[:nx], axes=(1,), flags=flags),
-                "x": plan(data, data, axes=(0,), flags=flags),
-                "-x": plan(data, data, axes=(0,), direction="FFTW_BACKWARD", flags=flags),
-                "-y": plan(
+                "y": make(rows, data[:nx], axes=(1,)),
+                "x": make(data, data, axes=(0,)),
+                "-x": make(data, data, axes=(0,), direction="FFTW_BACKWARD"),
+                "-y": make(
                     data[:nx],
                     rows,
                     axes=(1,),
                     direction="FFTW_BACKWARD",
-                    flags=(self.planner, "FFTW_DESTROY_INPUT"),
+                    extra=("FFTW_DESTROY_INPUT",),
                 ),
                 "dct2": r2r(layers.real, acc[0, ..., :m], direction="FFTW_REDFT10"),
                 "dst2": r2r(layers.real, acc[0, ..., 1:], direction="FFTW_RODFT10"),
@@ -330,15 +330,7 @@ class EigenstrainOperator:
         g = self.grid.surface
         nx, ny, nz = self.shape
         m = self.length_z
-        lattice = pyfftw.empty_aligned((2 * nx, 2 * ny, m + 1), dtype="float64")
-        along_z = pyfftw.empty_aligned((2 * nx, 2 * ny, m + 1), dtype="float64")
-        spectrum = pyfftw.empty_aligned((2 * nx, ny + 1, m + 1), dtype="complex128")
-        plan = functools.partial(pyfftw.FFTW, flags=(self.planner,), threads=self.threads)
-        z_plans = {
-            0: plan(lattice, along_z, axes=(2,), direction="FFTW_REDFT00"),
-            1: plan(lattice[..., 1:m], along_z[..., 1:m], axes=(2,), direction="FFTW_RODFT00"),
-        }
-        xy_plan = plan(along_z, spectrum, axes=(0, 1))
+        lattice, along_z, spectrum, z_plans, xy_plan = self._kernel_plans()
         scale = 1.0 / (2 * m * 4 * nx * ny)
         shape = (nx + 1, ny + 1, m + 1)
         spectra = {}
@@ -377,6 +369,33 @@ class EigenstrainOperator:
                     np.multiply(real, c * scale * _rotation_sign(a, b, (px, py)), out=work)
                     spectra[a, b] += work
         return spectra
+
+    def _kernel_plans(self) -> tuple:
+        """Buffers and plans of the kernel transforms (:meth:`_build_spectra`; freed after).
+
+        ``(lattice, along_z, spectrum, {parity in z: DCT-I or DST-I plan}, x-y plan)``.
+        """
+        nx, ny, _ = self.shape
+        m = self.length_z
+        lattice = pyfftw.empty_aligned((2 * nx, 2 * ny, m + 1), dtype="float64")
+        along_z = pyfftw.empty_aligned((2 * nx, 2 * ny, m + 1), dtype="float64")
+        spectrum = pyfftw.empty_aligned((2 * nx, ny + 1, m + 1), dtype="complex128")
+        make = functools.partial(plan, planner=self.planner, threads=self.threads)
+        z_plans = {
+            0: make(lattice, along_z, axes=(2,), direction="FFTW_REDFT00"),
+            1: make(lattice[..., 1:m], along_z[..., 1:m], axes=(2,), direction="FFTW_RODFT00"),
+        }
+        return lattice, along_z, spectrum, z_plans, make(along_z, spectrum, axes=(0, 1))
+
+    def make_plans(self) -> None:
+        """Make every FFT plan a solve uses, without building kernels.
+
+        With the ``"FFTW_MEASURE"`` planner this measures them into FFTW's wisdom
+        (:mod:`solver.fftw`), which ``solver.fft_planner = "wisdom"`` then reuses.
+        """
+        self._volume_plans()
+        self._kernel_plans()
+        self.surface_stress.make_plans()
 
     def _unit_stress_coefficients(self) -> np.ndarray:
         """``D[ij, mn]``: stress ij of a unit eigenstrain mn, over the base functions and inside.

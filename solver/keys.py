@@ -300,8 +300,12 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("solver", "fft_threads", "integer", "1", str(SOLVER_DEFAULTS["fft_threads"]),
         f"[1, {MAX_FFT_THREADS}]", "every case", "FFTW threads (not part of the case id)."),
     Key("solver", "fft_planner", "string", "", f'"{SOLVER_DEFAULTS["fft_planner"]}"',
-        '"estimate" (reproducible) or "measure"', "every case",
-        "FFTW planning (not part of the case id)."),
+        '"estimate" (reproducible), "measure" or "wisdom"', "every case",
+        "FFTW planning (not part of the case id): \"measure\" times the candidates in every "
+        "process (faster, may round differently between processes); \"wisdom\" takes "
+        "measured plans saved per machine (python -m study run measures the missing ones once, "
+        "on rank 0, and hands them to every rank), the estimate plan where none is saved: "
+        "reproducible."),
     Key("solver", "volume_precision", "string", "", f'"{SOLVER_DEFAULTS["volume_precision"]}"',
         f'"double" or "single" (with plastic_tolerance >= {MIN_SINGLE_PLASTIC_TOLERANCE:g})', _EP,
         "Floating-point precision of the 3-D eigenstrain convolution (kernels, FFTs, products; "

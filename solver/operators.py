@@ -18,13 +18,14 @@ import numpy as np
 from .case import Case, SolverOptions
 from .convolution import SurfaceOperator, surface_operator
 from .eigenstrain import VOLUME_PRECISIONS, EigenstrainOperator
+from .fftw import PLANNER_FLAGS
 from .materials import Pair
 from .stress import SubsurfaceStressOperator
 
 
 def planner_flag(options: SolverOptions) -> str:
-    """FFTW planner flag of ``solver.fft_planner``."""
-    return "FFTW_MEASURE" if options.fft_planner == "measure" else "FFTW_ESTIMATE"
+    """FFTW planner flag of ``solver.fft_planner`` (:data:`solver.fftw.PLANNER_FLAGS`)."""
+    return PLANNER_FLAGS[options.fft_planner]
 
 
 def initial_gap(case: Case) -> np.ndarray:

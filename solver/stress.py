@@ -64,6 +64,7 @@ import math
 import numpy as np
 import pyfftw
 
+from .fftw import plan
 from .grid import IndexBox, VolumeGrid  # noqa: F401  (IndexBox: re-exported)
 from .tensor import COMPONENTS, von_mises  # noqa: F401  (von_mises: re-exported)
 
@@ -500,19 +501,20 @@ class SubsurfaceStressOperator:
         nx, ny = grid.surface.shape
         self._surface_in = pyfftw.empty_aligned((2 * nx, 2 * ny), dtype="float64")
         self._surface_out = pyfftw.empty_aligned((2 * nx, ny + 1), dtype="complex128")
-        self._surface_fft = pyfftw.FFTW(
-            self._surface_in, self._surface_out, axes=(0, 1), flags=(planner,), threads=threads
+        self._surface_fft = plan(
+            self._surface_in, self._surface_out, axes=(0, 1), planner=planner, threads=threads
         )
         self._surface_in[...] = 0.0
         self._surface_spec = pyfftw.empty_aligned((2 * nx, ny + 1), dtype="complex128")
         self._surface_real = pyfftw.empty_aligned((2 * nx, 2 * ny), dtype="float64")
-        self._surface_ifft = pyfftw.FFTW(
+        self._surface_ifft = plan(
             self._surface_spec,
             self._surface_real,
             axes=(0, 1),
             direction="FFTW_BACKWARD",
-            flags=(planner, "FFTW_DESTROY_INPUT"),
+            planner=planner,
             threads=threads,
+            extra=("FFTW_DESTROY_INPUT",),
         )
         self._spectra: dict[str, np.ndarray] = {}
         self._batched: dict[int, tuple] = {}
@@ -532,7 +534,7 @@ class SubsurfaceStressOperator:
             nz = self.grid.nz
             spectra = np.empty((6, 2 * g.nx, g.ny + 1, nz), dtype=self.dtype)
             scale = 1.0 / (4 * g.nx * g.ny)
-            chunk = max(1, min(nz, 2**22 // (4 * g.nx * g.ny)))
+            chunk = self._kernel_chunk()
             for k0 in range(0, nz, chunk):
                 layers = range(k0, min(nz, k0 + chunk))
                 kernels = layer_kernels(self.grid, self.nu, traction, layers)
@@ -546,6 +548,17 @@ class SubsurfaceStressOperator:
             self._spectra[traction] = spectra
         return self._spectra[traction]
 
+    def _kernel_chunk(self) -> int:
+        """Layers per batch of the kernel transforms (about 32 MiB of kernels at once)."""
+        g = self.grid.surface
+        return max(1, min(self.grid.nz, 2**22 // (4 * g.nx * g.ny)))
+
+    def make_plans(self) -> None:
+        """Make every FFT plan this operator uses (see :mod:`solver.fftw`), nothing else."""
+        nz, chunk = self.grid.nz, self._kernel_chunk()
+        for nlayers in {nz, chunk, nz % chunk or chunk}:
+            self.batched_transforms(nlayers)
+
     def batched_transforms(self, nlayers: int) -> tuple[pyfftw.FFTW, pyfftw.FFTW]:
         """Batched forward and backward 2-D transforms over ``nlayers`` layers (cached).
 
@@ -556,15 +569,15 @@ class SubsurfaceStressOperator:
             nx, ny = self.grid.surface.shape
             real = pyfftw.empty_aligned((2 * nx, 2 * ny, nlayers), dtype="float64")
             spec = pyfftw.empty_aligned((2 * nx, ny + 1, nlayers), dtype="complex128")
-            flags = (self.planner,)
-            forward = pyfftw.FFTW(real, spec, axes=(0, 1), flags=flags, threads=self.threads)
-            backward = pyfftw.FFTW(
+            options = {"planner": self.planner, "threads": self.threads}
+            forward = plan(real, spec, axes=(0, 1), **options)
+            backward = plan(
                 spec,
                 real,
                 axes=(0, 1),
                 direction="FFTW_BACKWARD",
-                flags=(*flags, "FFTW_DESTROY_INPUT"),
-                threads=self.threads,
+                extra=("FFTW_DESTROY_INPUT",),
+                **options,
             )
             self._batched[nlayers] = (forward, backward)
         return self._batched[nlayers]

@@ -41,9 +41,10 @@ from typing import Any
 import numpy as np
 
 import solver
+from solver import fftw
 
 from ..campaign import MAX_CASE_TIMEOUT, Campaign, CampaignCase, CampaignError
-from . import storage
+from . import storage, wisdom
 from .progress import LOGGER_NAME, Progress, format_duration
 
 _REQUEST, _TASK = 71, 72
@@ -262,6 +263,16 @@ def broadcast_campaign(load: Callable[[], Campaign], comm=None) -> Campaign:
 
 
 # -- one case ------------------------------------------------------------------------------------
+def solver_case(case: CampaignCase, fft_threads: int | None = None) -> solver.Case:
+    """The case to solve: the campaign case with the run's FFT threads (when given)."""
+    spec = case.spec
+    threads = fft_threads or spec["solver"].get("fft_threads", 1)
+    if threads != spec["solver"].get("fft_threads", 1):
+        spec = copy.deepcopy(spec)
+        spec["solver"]["fft_threads"] = threads
+    return solver.Case.from_dict(spec)
+
+
 def _non_finite(result: solver.Result) -> list[str]:
     arrays = {
         "pressure": result.pressure,
@@ -323,14 +334,10 @@ def run_case(
     logger.debug("case %s [%s] starts", case.case_id, case.label)
     storage.reset_peak_rss()  # peak_rss: this case's peak, not the rank's earlier cases
     try:
-        spec = case.spec
-        threads = fft_threads or spec["solver"].get("fft_threads", 1)
-        if threads != spec["solver"].get("fft_threads", 1):
-            spec = copy.deepcopy(spec)
-            spec["solver"]["fft_threads"] = threads
         with warnings.catch_warnings(record=True) as caught, _time_limit(timeout):
             warnings.simplefilter("default")  # each warning once per place and case
-            result = (solve or solver.solve)(solver.Case.from_dict(spec))
+            to_solve = solver_case(case, fft_threads)
+            result = (solve or solver.solve)(to_solve)
         bad = _non_finite(result)
         if bad:
             raise NonFiniteResult(f"NaN or inf in the result: {', '.join(bad)}")
@@ -345,7 +352,7 @@ def run_case(
             finished=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
             solve_time=float(result.wall_time),
             time_before_write=time.perf_counter() - start,
-            fft_threads=int(threads),
+            fft_threads=int(to_solve.solver.fft_threads),
             peak_rss=storage.peak_rss_bytes(),
             normal_iterations_total=_total(history, "normal_iterations"),
             slip_iterations_total=_total(history, "slip_iterations"),
@@ -560,6 +567,7 @@ def run_campaign(
         message = comm.bcast(message, root=0)
     if message[0] == "error":
         raise CampaignError(message[1])
+    _share_wisdom(comm, scheduler, fft_threads, logger)
 
     def compute(case: CampaignCase) -> dict:
         return run_case(
@@ -593,6 +601,26 @@ def run_campaign(
     if rank == 0:
         logger.info("%s", summary.describe())
     return summary
+
+
+def _share_wisdom(comm, scheduler, fft_threads: int | None, logger: logging.Logger) -> None:
+    """Every rank imports the same FFTW wisdom before its first case (``fft_planner = "wisdom"``).
+
+    Rank 0 loads this machine's, measures the plans of the grids it lacks and saves it
+    (:func:`.wisdom.prepare`), then hands it to the others.  A failure costs the measured plans
+    (estimate ones everywhere instead), never the campaign.
+    """
+    data = None
+    if scheduler is not None:  # rank 0
+        try:
+            cases = [solver_case(case, fft_threads) for case in scheduler.queue]
+            data = wisdom.prepare(cases, logger)
+        except Exception as error:  # noqa: BLE001 - the plans are an optimisation
+            logger.warning("FFT plans not measured (%s): estimate plans instead", error)
+    if comm is not None and comm.Get_size() > 1:
+        data = comm.bcast(data, root=0)
+        if comm.Get_rank() != 0 and data is not None:
+            fftw.import_wisdom(data)
 
 
 def _quarantine_corrupt(campaign: Campaign, out: Path, logger: logging.Logger) -> None:
