@@ -31,14 +31,15 @@ SCENE = {
 }
 
 
-def scene_table(n: int, precision: str = "double") -> dict:
+def scene_table(n: int, precision: str = "double", planner: str = "estimate") -> dict:
     """The case table of the scene on an n^3 volume grid (depth sized from the yield region).
 
-    ``precision``: ``solver.volume_precision`` of the 3-D eigenstrain convolution.
+    ``precision``: ``solver.volume_precision`` of the 3-D eigenstrain convolution;
+    ``planner``: ``solver.fft_planner``.
     """
     s = SCENE
     return {
-        "solver": {"volume_precision": precision},
+        "solver": {"volume_precision": precision, "fft_planner": planner},
         "body1": {"behaviour": "rigid", "radius": s["radius"]},
         "body2": {
             "behaviour": "elastic-plastic",
@@ -61,11 +62,18 @@ def scene_table(n: int, precision: str = "double") -> dict:
     }
 
 
-def _ours(n: int, precision: str = "double") -> dict:
+def _ours(n: int, precision: str = "double", planner: str = "estimate") -> dict:
     import solver
     from solver.operators import PROCESS_BYTES, CaseOperators
 
-    case = solver.Case.from_dict(scene_table(n, precision))
+    case = solver.Case.from_dict(scene_table(n, precision, planner))
+    plans = 0.0
+    if planner == "wisdom":  # the machine's saved plans; measured here once if missing
+        from study.run import wisdom
+
+        plans = time.process_time()
+        wisdom.prepare([case])
+        plans = time.process_time() - plans
     with peak_memory() as memory:
         setup, setup_cpu = time.perf_counter(), time.process_time()
         CaseOperators.build(case).eigenstrain.prepare()  # kernels and plans, cached per grid
@@ -90,6 +98,7 @@ def _ours(n: int, precision: str = "double") -> dict:
         "residual_depth": h["residual_depth"][-1],
         "iterations": int(h["plastic_iterations"].sum()),
         "status": result.status,
+        "plans": plans,
     }
 
 
@@ -151,7 +160,12 @@ def run_plastic(sizes: list[int], peers: bool = False, error: bool = False) -> i
     reference = Case.from_dict(scene_table(sizes[0])).hertz
     rows, failures = [], 0
     for n in sizes:
-        codes = [("slipstick", _ours, ()), ("slipstick (single)", _ours, ("single",))]
+        codes = [
+            ("slipstick", _ours, ()),
+            ("slipstick (single)", _ours, ("single",)),
+            ("slipstick (wisdom)", _ours, ("double", "wisdom")),
+            ("slipstick (single, wisdom)", _ours, ("single", "wisdom")),
+        ]
         codes += [("tamaas", _tamaas, ())] if peers else []
         for code, target, args in codes:
             status, out = isolated(target, n, *args, timeout=3600.0)
@@ -164,6 +178,12 @@ def run_plastic(sizes: list[int], peers: bool = False, error: bool = False) -> i
                 print(
                     f"{code} n={n}: {out['status']}, memory estimate beyond the process "
                     f"baseline {out['estimate_MB']:.0f} MB, measured growth {out['memory']:.0f} MB"
+                    + (
+                        f"; plans measured into the machine's wisdom first: {out['plans']:.1f} s "
+                        "CPU (once per machine and grid, not in cpu_s)"
+                        if out["plans"] > 0.05
+                        else ""
+                    )
                 )
             elif out.get("notes"):
                 print(f"tamaas n={n}: {out['notes']}")
@@ -171,7 +191,8 @@ def run_plastic(sizes: list[int], peers: bool = False, error: bool = False) -> i
         "Elastic-plastic: rigid sphere R = 15 mm, E = 210 GPa, nu = 0.3, linear hardening "
         "sigma_Y0 = 1.3579 GPa, H = 152.3 GPa, W = 4716 N in 6 steps then unloaded; "
         "one thread.  pmax, a, ep, depths at the maximum load; dent after unloading.  "
-        '"single": solver.volume_precision = "single" (the 3-D eigenstrain convolution).'
+        '"single": solver.volume_precision = "single" (the 3-D eigenstrain convolution); '
+        '"wisdom": solver.fft_planner = "wisdom" (FFT plans measured once per machine).'
     )
     print(format_table(rows))
     ours = [row for row in rows if row["code"] == "slipstick"]
