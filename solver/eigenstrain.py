@@ -555,14 +555,16 @@ class EigenstrainOperator:
     def layer_spectra(self, eigenstrain: np.ndarray) -> np.ndarray:
         """Per-layer 2-D transforms of the zero-padded eigenstrain: ``(6, 2nx, ny + 1, nz)``.
 
-        Five transforms for a trace-free eigenstrain (zz is -(xx + yy)), else six.
+        Five transforms for a trace-free eigenstrain (zz is -(xx + yy)), else six; complex64
+        in single precision.
 
         The plastic box's eigenstrain sits at its place in the surface window (``nx``, ``ny``
         the window's cells): the surface fields it makes are the window's.
         """
         eigenstrain = self._check(eigenstrain)
         forward, _ = self.surface_stress.batched_transforms(self.grid.nz)
-        out = np.empty((6,) + forward.output_array.shape, dtype=complex)
+        # kept in the volume's precision (the transform itself is double)
+        out = np.empty((6,) + forward.output_array.shape, dtype=self._complex)
         buffer = forward.input_array
         buffer[...] = 0.0
         sx, sy, _ = self.box.slices
@@ -1015,12 +1017,13 @@ class EigenstrainOperator:
         kernel3 = word * (bx + 1) * (by + 1) * (m + 1)
         buffers = 2 * word * 2 * bx * (by + 1) * m + word * bx * 2 * by * nz
         layer = 8 * 2 * nx * (ny + 1) * nz  # one float64 per-layer spectrum of the window
+        layers = 12 * layer * word // 8  # the six complex layer spectra, volume's precision
         tractions = 3 if displacement else 1
         kept = (30 if deviatoric else 21) * kernel3 + buffers + spec3
         # per-layer kernels in the volume's precision: the tractions' (6 each), the surface
         # S_zz's (6), the pressure's deviator in xx and yy (2)
         kept += (6 * tractions + 6 + 2) * layer * word // 8 + 8 * 4 * nx * ny * nz + 2 * layer
-        evaluation = (5 if deviatoric else 6) * spec3 + 12 * layer + 8 * 6 * bx * by * nz
+        evaluation = (5 if deviatoric else 6) * spec3 + layers + 8 * 6 * bx * by * nz
         return kept + evaluation
 
 
