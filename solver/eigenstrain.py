@@ -475,16 +475,13 @@ class EigenstrainOperator:
         coef, inside = stress_coefficients(gmod, nu)
         ucoef = displacement_coefficients(gmod, nu)
         zz = STRESS_COMPONENTS.index("zz")
-        names = []
-        if "zz" not in kernels:
-            names += [n for n in STRESS_BASE if np.any(coef[zz, :, STRESS_BASE.index(n)] != 0.0)]
-        if displacement:
-            names += list(DISPLACEMENT_BASE)
-        sums = _lattice_corner_sums(cx, cy, cz, names)
-        # z offsets ascending: -(nz - 1/2) dz .. -dz/2, i.e. layers nz-1 .. 0: flip to layer order
-        sums = {k: v[:, :, ::-1] for k, v in sums.items()}
         forward, _ = self.surface_stress.batched_transforms(nz)
         scale = 1.0 / (4 * nx * ny)
+
+        def lattice_sums(names: list[str]) -> dict:
+            sums = _lattice_corner_sums(cx, cy, cz, names)
+            # z offsets ascending: -(nz - 1/2) dz .. -dz/2, layers nz-1 .. 0: to layer order
+            return {k: v[:, :, ::-1] for k, v in sums.items()}
 
         def spectrum_of(field: np.ndarray, indices: str) -> np.ndarray:
             forward.input_array[...] = wrap_layout(wrap_layout(field, 0), 1)
@@ -494,17 +491,27 @@ class EigenstrainOperator:
             return part * scale
 
         if "zz" not in kernels:
-            kernels["zz"] = np.empty((6, 2 * nx, ny + 1, nz), dtype=self._real)
+            # S_zz of every component, one base function at a time (each transformed once and
+            # added where it enters: the lattices of all of them are never held at once)
+            field = kernels["zz"] = np.zeros((6, 2 * nx, ny + 1, nz), dtype=self._real)
+            used = [n for n in STRESS_BASE if np.any(coef[zz, :, STRESS_BASE.index(n)] != 0.0)]
+            for group in _base_groups(used):
+                sums = lattice_sums(group)
+                for name in group:
+                    b = STRESS_BASE.index(name)
+                    # its parity is that of S_zz of each component it enters
+                    spectrum = spectrum_of(sums.pop(name), name[1:])
+                    for mn in range(6):
+                        if coef[zz, mn, b] != 0.0:
+                            field[mn] += 2.0 * coef[zz, mn, b] * spectrum
             for mn, comp in enumerate(STRESS_COMPONENTS):
-                field = 2.0 * sum(
-                    coef[zz, mn, STRESS_BASE.index(n)] * sums[n]
-                    for n in STRESS_BASE
-                    if n in sums and coef[zz, mn, STRESS_BASE.index(n)] != 0.0
-                )
-                # the field point z = 0+ lies inside the first layer's source cell
-                field[nx - 1, ny - 1, 0] -= 2.0 * inside[zz, mn]
-                kernels["zz"][mn] = spectrum_of(field, "zz" + comp)
+                # the field point z = 0+ lies inside the first layer's source cell: a delta at
+                # offset 0 of layer 0, a flat (real) spectrum
+                if inside[zz, mn] != 0.0:
+                    assert not _is_imaginary("zz" + comp)
+                    field[mn, :, :, 0] -= 2.0 * inside[zz, mn] * scale
         if displacement:
+            sums = lattice_sums(list(DISPLACEMENT_BASE))
             for i, axis in enumerate("xy"):
                 kernels[axis] = np.empty((6, 2 * nx, ny + 1, nz))
                 for mn, comp in enumerate(STRESS_COMPONENTS):
@@ -769,7 +776,7 @@ class EigenstrainOperator:
         # the traction stresses join the residual ones in the layer spectra (no transforms of
         # their own, in the volume's precision) when the box is the window
         fused = shared
-        out = np.zeros((6, nx, ny, nz))
+        out = np.zeros((6, nx, ny, nz), dtype=self._real)  # float32 when single
         mean = None
         workers = self._workers()
         for a in outputs:

@@ -165,11 +165,13 @@ class CaseOperators:
 #: Resident memory of a Python process that imported the solver (numpy, pyfftw), measured here
 #: (118 MiB on 2026-11-25: Linux, Python 3.11.7, numpy 2).
 PROCESS_BYTES = 118 * 2**20
-#: Six-component volume fields the plasticity loop holds at once besides Anderson's: previous
-#: strain, increment, strain, trial stress (returned in place), change, the returned
-#: increment, the best iterate's two, the new strain, the residual stress evaluation's output,
-#: and the return mapping's temporaries (2).
-PLASTIC_LOOP_ARRAYS = 12
+#: Six-component float64 volume fields the plasticity loop holds at once besides Anderson's:
+#: previous strain, increment, strain, the new strain, and the return mapping's temporaries (2).
+PLASTIC_LOOP_ARRAYS = 6
+#: Six-component fields in the volume's precision (half a field each when single): the trial
+#: stress (returned in place), the residual stress evaluation's output, the returned
+#: increment, the change, and the best iterate's stress and increment.
+PLASTIC_VOLUME_ARRAYS = 6
 #: More when the plastic box is narrower than the window: the traction stress and its deviator
 #: (with the box as the window they join the residual stress's layer spectra).
 BOX_SURFACE_ARRAYS = 2
@@ -178,13 +180,16 @@ BOX_SURFACE_ARRAYS = 2
 def plastic_work_arrays(options: SolverOptions, box: bool = False) -> float:
     """Six-component float64 volume fields held at once by the plasticity loop of one body.
 
-    :data:`PLASTIC_LOOP_ARRAYS` (plus :data:`BOX_SURFACE_ARRAYS` with a plastic ``box``) and
-    Anderson's share, on the five independent components of the increment (5/6 of a field
-    each): its last iterate and residual, the differences of ``memory + 1`` iterates and
-    residuals in float32 (half a field each), and the mixing's two inputs and its output.
+    :data:`PLASTIC_LOOP_ARRAYS`, :data:`PLASTIC_VOLUME_ARRAYS` (halves in single precision),
+    :data:`BOX_SURFACE_ARRAYS` with a plastic ``box``, and Anderson's share, on the five
+    independent components of the increment (5/6 of a field each): its last iterate and
+    residual, the differences of ``memory + 1`` iterates and residuals in float32 (half a field
+    each), and the mixing's two inputs and its output.
     """
     anderson = 5 / 6 * (2 + (options.anderson_memory + 1) + 3)
-    return PLASTIC_LOOP_ARRAYS + (BOX_SURFACE_ARRAYS if box else 0) + anderson
+    volume = PLASTIC_VOLUME_ARRAYS * (0.5 if options.volume_precision == "single" else 1.0)
+    surface = BOX_SURFACE_ARRAYS if box else 0
+    return PLASTIC_LOOP_ARRAYS + volume + surface + anderson
 
 
 def memory_estimate(case: Case) -> int:

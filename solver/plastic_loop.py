@@ -244,7 +244,8 @@ def plastic_step(
                 trial = deviator(stress_operator.stress(**tractions, box=eigenstrain.box))
             else:
                 trial = np.zeros_like(strain[i])
-            trial += 2.0 * material.shear_modulus * increment[i]
+            for component, values in zip(trial, increment[i], strict=True):  # no full temporary
+                component += 2.0 * material.shear_modulus * values
             mapped.append(
                 return_mapping(
                     trial,

@@ -194,6 +194,8 @@ def return_mapping(
     reuse_trial : bool
         The trial stress is deviatoric and the caller gives it up: it serves as its own
         deviator and becomes the returned stress (two fields fewer; isotropic hardening).
+        A float32 trial stress (a single-precision volume) gives float32 stress and plastic
+        strain increments; the equivalent increment is solved in float64.
 
     Returns
     -------
@@ -204,7 +206,9 @@ def return_mapping(
             trial_stress, plastic_strain, back_stress, hardening, shear_modulus,
             tolerance, max_iterations,
         )  # fmt: skip
-    trial_stress = np.asarray(trial_stress, dtype=float)
+    trial_stress = np.asarray(trial_stress)
+    if trial_stress.dtype not in (np.float32, np.float64):
+        trial_stress = trial_stress.astype(float)
     shape = trial_stress.shape[1:]
     s = trial_stress if reuse_trial else deviator(trial_stress)
     q = np.sqrt(1.5) * norm(s)
@@ -216,7 +220,7 @@ def return_mapping(
     stress = trial_stress if reuse_trial else trial_stress.copy()
     iterations, residual, converged = 0, 0.0, True
     if plastic.any():
-        qp = q[plastic]
+        qp = q[plastic].astype(float)
         dpp, iterations, residual, converged = equivalent_increment(
             qp,
             e0[plastic],
