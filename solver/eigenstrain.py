@@ -225,6 +225,7 @@ class EigenstrainOperator:
         self.shear_modulus = self.E / (2.0 * (1.0 + self.nu))
         self.threads = threads
         self.planner = planner
+        #: M, the half period of the symmetric depth convolution (>= 2 nz; module docstring)
         self.length_z = fft_size(2 * grid.nz)
         if surface_stress is None:
             surface_stress = SubsurfaceStressOperator(grid, nu, threads=threads, planner=planner)
