@@ -68,7 +68,7 @@ from .cuboid import (
     displacement_coefficients,
     stress_coefficients,
 )
-from .fftw import plan
+from .fftw import fft_size, plan
 from .grid import VolumeGrid
 from .influence import cell_integral
 from .stress import (
@@ -90,19 +90,6 @@ IMAGE_SIGNS = np.array([1.0, 1.0, 1.0, -1.0, -1.0, 1.0])
 #: Names of the output components (the mean stress "mean" has the parity of a normal one).
 _OUTPUT_NAME = dict(enumerate(STRESS_COMPONENTS))
 _TRACTION_OF_DIRECTION = {"x": "shear_x", "y": "shear_y", "z": "pressure"}
-
-
-def fft_size(n: int) -> int:
-    """Smallest integer >= n whose prime factors are 2, 3, 5 and 7 (fast FFTW sizes)."""
-    m = max(1, n)
-    while True:
-        k = m
-        for p in (2, 3, 5, 7):
-            while k % p == 0:
-                k //= p
-        if k == 1:
-            return m
-        m += 1
 
 
 def _parity(indices: str) -> tuple[int, int]:

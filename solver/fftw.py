@@ -25,6 +25,19 @@ PLANNER_FLAGS = {
 }
 
 
+def fft_size(n: int) -> int:
+    """Smallest integer >= n whose prime factors are 2, 3, 5 and 7 (fast FFTW sizes)."""
+    m = max(1, n)
+    while True:
+        k = m
+        for p in (2, 3, 5, 7):
+            while k % p == 0:
+                k //= p
+        if k == 1:
+            return m
+        m += 1
+
+
 def plan(
     input_array,
     output_array,

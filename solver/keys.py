@@ -56,6 +56,8 @@ MIN_PLASTIC_HALF_WIDTH = 0.25
 MIN_YIELD_CELLS = 2
 #: Thickest volume cell (units of a_H) of an elastic-plastic body (``solver.case``).
 MAX_CELL_DEPTH = 0.25
+#: Margin on the elastic yield region's half width that sizes the plastic box laterally.
+PLASTIC_WIDTH_MARGIN = 1.25
 #: Volume depth (units of the largest Hertz semi-axis) when none is given for elastic cases.
 DEFAULT_DEPTH = 1.2
 #: Margin on the elastic yield depth that sizes an elastic-plastic case's volume grid.
@@ -255,11 +257,16 @@ CASE_KEYS: tuple[Key, ...] = (
         f"<= {MAX_CELL_DEPTH:g} a_H, the box reaches where yield starts, >= {MIN_YIELD_CELLS} "
         "cells across the Hertz yield region", "volume grids",
         "Depth of the volume grid (the plastic box)."),
-    Key("grid", "plastic_half_width", "number", "a_H", "half_width (the whole window)",
+    Key("grid", "plastic_half_width", "number", "a_H",
+        f"{PLASTIC_WIDTH_MARGIN:g} x the half width of the elastic yield region at the maximum "
+        f"load (>= {MIN_PLASTIC_HALF_WIDTH:g}, <= half_width)",
         f"[{MIN_PLASTIC_HALF_WIDTH:g}, half_width]", "elastic-plastic bodies",
         "Half side of the plastic box: plastic strain lives, and the volume convolutions run, on "
         "the cells within this distance of the axis along x and y (the surface window stays "
-        "half_width); a plastic zone reaching its sides is a note and the status truncated."),
+        "half_width; half_width itself: the whole window).  By default sized from the Hertz "
+        "stress (with a sliding shear of the path's largest |Q|/W) where it exceeds the initial "
+        "yield stress, its cell count rounded up to a fast FFT size; a plastic zone reaching "
+        "its sides is a note and the status truncated."),
     Key("grid", "depth_body1", "number", "a_H", "depth if given, else body 1's yield depth",
         "as grid.depth", "two different elastic-plastic bodies",
         "Depth of body 1's own volume grid."),

@@ -6,6 +6,7 @@ Sources: Johnson, *Contact Mechanics* (1985), §3.9 and §4.2.  Composite compli
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -242,6 +243,60 @@ def hertz_yield_depth(max_pressure: float, yield_stress: float, nu: float) -> fl
         Poisson's ratio.
     """
     return hertz_yield_region(max_pressure, yield_stress, nu)[1]
+
+
+def hertz_yield_half_width(
+    max_pressure: float,
+    yield_stress: float,
+    nu: float,
+    traction_ratio: float = 0.0,
+    depth: float = 3.0,
+    reach: float = 3.0,
+) -> float:
+    """Largest lateral distance x / a or y / a where the elastic von Mises stress yields.
+
+    The elastic prediction of the plastic zone's half width: the stress of a Hertz pressure
+    with a sliding shear ``q_x = traction_ratio p`` (:func:`solver.stress.hamilton_stress`,
+    closed form) is sampled every 0.02 a in the planes ``y = 0`` and ``x = 0`` for ``0 < z <=
+    depth``, ``|x|, |y| <= reach``; the largest ``|x|`` or ``|y|`` where the von Mises stress
+    reaches ``yield_stress`` is returned (0 when nothing yields, ``reach`` when the region
+    reaches the sampled edge).
+
+    Parameters
+    ----------
+    max_pressure : float
+        Hertz peak pressure p_0 (Pa).
+    yield_stress : float
+        Initial yield stress sigma_Y0 (Pa).
+    nu : float
+        Poisson's ratio.
+    traction_ratio : float
+        Shear over pressure of the sliding traction (dimensionless; 0: frictionless).
+    depth, reach : float
+        Sampled depth and half width (units of the contact radius a).
+    """
+    return _yield_half_width(
+        round(yield_stress / max_pressure, 12), nu, traction_ratio, depth, reach
+    )
+
+
+@functools.lru_cache(maxsize=256)
+def _yield_half_width(ratio: float, nu: float, traction: float, depth: float, reach: float):
+    import numpy as np
+
+    from .stress import hamilton_stress
+    from .tensor import von_mises
+
+    step = 0.02
+    lateral = np.linspace(-reach, reach, 2 * math.ceil(reach / step) + 1)
+    z = np.arange(step / 2, depth + step / 2, step)
+    across, down = np.meshgrid(lateral, z, indexing="ij")
+    extent = 0.0
+    for x, y in ((across, 0.0 * across), (0.0 * across, across)):
+        yielded = von_mises(hamilton_stress(x, y, down, 1.0, 1.0, nu, traction)) >= ratio
+        if yielded.any():
+            extent = max(extent, float(np.abs(across[yielded]).max()))
+    return min(extent, reach)
 
 
 def first_yield_pressure(yield_stress: float, nu: float) -> tuple[float, float]:

@@ -31,7 +31,8 @@ def test_shear_plastic_layer_shifts_the_surface_and_friction_resists_it():
     by u_x = -2 h e_xz there (tests/test_eigenstrain.py); in full stick (beta = 0, mu = 2) the
     friction traction resists it: K_t q + u^r - Delta = 0 on the stick cells, q_x > 0 where
     the surface moved towards -x, no net force."""
-    case = e_on_ep(2.0)
+    # the patch is set on the whole volume grid: the plastic box is the window
+    case = e_on_ep(2.0, grid={"n": [32, 32, 10], "plastic_half_width": 1.5})
     assert case.pair.dundurs_beta == 0.0
     operators = CaseOperators.build(case)
     volume = case.volume_grid

@@ -33,12 +33,16 @@ def indentation(box=None, n=32, half_width=2.0, mu=0.0, plastic_body=2, fields=(
     )
 
 
-@pytest.mark.parametrize("mu", [0.0, 0.3])
-def test_a_box_that_holds_the_plastic_zone_gives_the_windows_answer(mu):
-    window = solver.solve(indentation(mu=mu, fields=["residual_stress"]))
-    case = indentation(box=1.4, mu=mu, fields=["residual_stress"])
+@pytest.mark.parametrize("mu, box", [(0.0, 1.4), (0.3, 1.4), (0.3, None)])
+def test_a_box_that_holds_the_plastic_zone_gives_the_windows_answer(mu, box):
+    """A box given (1.4 a_H) or sized from the yield region (None)."""
+    window = solver.solve(indentation(box=2.0, mu=mu, fields=["residual_stress"]))
+    case = indentation(box=box, mu=mu, fields=["residual_stress"])
     box = case.plastic_box
-    assert box.shape == (24, 24, 16)  # 1.4 a_H of a 2 a_H window: 24 of 32 cells
+    if case.grid.plastic_half_width == 1.4:
+        assert box.shape == (24, 24, 16)  # 1.4 a_H of a 2 a_H window: 24 of 32 cells
+    else:  # automatic: narrower than the window, padded to a fast FFT size
+        assert box.shape[0] < 32 and solver.fftw.fft_size(2 * box.shape[0]) == 2 * box.shape[0]
     boxed = solver.solve(case)
     assert window.status == boxed.status == "converged", boxed.notes
     # the same fixed point: within the plasticity loop's tolerance (of the yield strain)
@@ -71,10 +75,76 @@ def test_a_box_too_small_for_the_zone_is_truncated_and_names_its_key():
     assert any("side x (grid.plastic_half_width)" in note for note in result.notes)
 
 
-def test_a_box_as_wide_as_the_window_is_the_same_case():
-    assert indentation(box=2.0).case_id == indentation().case_id
-    assert indentation(box=2.0).plastic_box is None
-    assert indentation(box=1.4).case_id != indentation().case_id
+def test_the_whole_window_given_is_kept_apart_from_the_automatic_box():
+    whole, auto = indentation(box=2.0), indentation()
+    assert whole.plastic_box is None and auto.plastic_box is not None
+    assert whole.case_id != auto.case_id != indentation(box=1.4).case_id
+    for case in (whole, auto):  # a campaign solves its cases from their spec: the same box
+        again = solver.Case.from_dict(case.to_dict())
+        assert again.case_id == case.case_id and again.plastic_box == case.plastic_box
+
+
+def test_a_box_as_wide_as_the_window_is_the_same_case_when_the_zone_fills_it():
+    """Where the automatic box is the window, giving the window is the same case (same id)."""
+    assert indentation(half_width=1.2).plastic_box is None
+    assert indentation(box=1.2, half_width=1.2).case_id == indentation(half_width=1.2).case_id
+
+
+@pytest.mark.parametrize("ratio, traction", [(1.8, 0.0), (2.5, 0.0), (2.5, 0.3)])
+def test_the_yield_region_half_width_matches_the_numerical_stress_field(ratio, traction):
+    """The closed-form (Hamilton) estimate against the DC-FFT stress of the same tractions.
+
+    The numerical field's yield region, on the cell centres of two meshes, is within a cell
+    of the sampled closed form, and closer on the finer mesh.
+    """
+    from solver.grid import SurfaceGrid, VolumeGrid
+    from solver.reference import hertz_yield_half_width
+    from solver.stress import SubsurfaceStressOperator
+    from solver.tensor import von_mises
+
+    expected = hertz_yield_half_width(1.0, 1.0 / ratio, 0.3, traction, depth=1.5)
+    errors = []
+    for n in (32, 64):
+        surface = SurfaceGrid.centred(n, n, 2.0, 2.0)  # a = 1, window 2 a
+        grid = VolumeGrid(surface, n // 2, 1.5 / (n // 2))
+        x, y = np.meshgrid(surface.x, surface.y, indexing="ij")
+        pressure = np.sqrt(np.clip(1.0 - x * x - y * y, 0.0, None))  # p_0 = 1
+        stress = SubsurfaceStressOperator(grid, 0.3).stress(pressure, traction * pressure)
+        yielded = von_mises(stress) >= 1.0 / ratio
+        lateral = np.broadcast_to(np.maximum(np.abs(x), np.abs(y))[..., None], yielded.shape)
+        errors.append(abs(lateral[yielded].max() - expected))
+        assert errors[-1] <= surface.dx, (n, lateral[yielded].max(), expected)
+    assert errors[1] <= errors[0] + 0.02  # the closed form is sampled every 0.02 a
+
+
+@pytest.mark.parametrize("law", ["linear", "perfect"])
+@pytest.mark.parametrize("ratio, mu", [(1.8, 0.5), (3.5, 0.5), (2.5, 0.0)])
+def test_the_automatic_box_holds_the_plastic_zone(law, ratio, mu):
+    """Plastic flow spreads the zone beyond the elastic yield region: the margin covers it.
+
+    Hard scenes: perfect plasticity, far past first yield, partial slip with mu = 0.5.
+    """
+    y0 = 1.3579e9
+    hardening = {"law": law, "yield_stress": y0} | ({"modulus": 152.3e9} if law == "linear" else {})
+    case = solver.Case.from_dict(
+        {
+            "body1": {"behaviour": "rigid", "radius": 0.015},
+            "body2": {
+                "behaviour": "elastic-plastic",
+                "radius": "inf",
+                "E": 210e9,
+                "nu": 0.3,
+                "hardening": hardening,
+            },  # fmt: skip
+            "load": {"hertz_pressure": ratio * y0, "steps": 6},
+            "friction": {"coefficient": mu},
+            "grid": {"n": [32, 32, 32], "half_width": 2.0},
+        }
+    )
+    assert case.plastic_box is not None  # narrower than the window
+    result = solver.solve(case)
+    assert result.status == "converged", result.notes
+    assert result.fields["plastic_strain"].max() > 0.0
 
 
 def test_plastic_body_one_in_a_box_mirrors_body_two():

@@ -407,6 +407,78 @@ def fretting_ii(
     return rows
 
 
+def _box_case(n: int, ratio: float, mu: float, whole: bool) -> dict:
+    """The scene's material to p_H = ``ratio`` sigma_Y0 (6 steps, unloaded), friction ``mu``.
+
+    Solved with the automatic plastic box, or with the whole window (``whole``).
+    """
+    import solver
+
+    table = scene_table(n)
+    load = {"hertz_pressure": ratio * SCENE["yield_stress"], "steps": SCENE["steps"]}
+    table["load"]["path"][0] = load
+    table["friction"] = {"coefficient": mu}
+    if whole:
+        table["grid"]["plastic_half_width"] = 1.5  # the default window's half width
+    case = solver.Case.from_dict(table)
+    wall, cpu = time.perf_counter(), time.process_time()
+    result = solver.solve(case)
+    wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    h, loaded = result.history, SCENE["steps"] - 1
+    box = case.plastic_box
+    return {
+        "cells": box.shape[0] if box is not None else n,
+        "status": result.status,
+        "ep": h["max_plastic_strain"][loaded],
+        "dent": h["residual_depth"][-1],
+        "iterations": int(h["plastic_iterations"].sum()),
+        "wall": wall,
+        "cpu": cpu,
+    }
+
+
+def box_sweep(n: int, ratios=(1.8, 2.5, 3.5, 4.42), mus=(0.0, 0.5)) -> list[dict]:
+    """The automatic plastic box against the whole window, over the load, in one run.
+
+    Tamaas' scene material (linear hardening) to p_H / sigma_Y0 = ``ratios``, each case twice in
+    fresh processes: with the default (automatic) box and with ``grid.plastic_half_width`` =
+    the window.  Prints the box's cells across, both answers (e_p,max at the maximum load and
+    the dent after unloading), their relative difference, and both CPU times (solve only).
+    """
+    rows = []
+    for ratio in ratios:
+        for mu in mus:
+            out = {}
+            for label, whole in (("box", False), ("window", True)):
+                status, out[label] = isolated(_box_case, n, ratio, mu, whole, timeout=3600.0)
+                if status != "ok":
+                    raise RuntimeError(f"p_H/sigma_Y0 = {ratio}, mu = {mu}, {label}: {out[label]}")
+            box, window = out["box"], out["window"]
+            rows.append(
+                {
+                    "pH/sY0": ratio,
+                    "mu": mu,
+                    "n": n,
+                    "box_cells": box["cells"],
+                    "status": box["status"],
+                    "ep_max_%": 100 * box["ep"],
+                    "ep_rel_diff": abs(box["ep"] / window["ep"] - 1.0),
+                    "dent_rel_diff": abs(box["dent"] / window["dent"] - 1.0),
+                    "plastic_it": box["iterations"],
+                    "cpu_window_s": window["cpu"],
+                    "cpu_box_s": box["cpu"],
+                    "speed_up": window["cpu"] / box["cpu"],
+                }
+            )
+            print(format_table(rows[-1:]), flush=True)
+    print(
+        f"Automatic plastic box against the whole window (half_width 1.5 a_H), n = {n}: rigid "
+        "sphere on Tamaas' linear-hardening steel, 6 steps and unloaded; one thread, solve CPU"
+    )
+    print(format_table(rows))
+    return rows
+
+
 if __name__ == "__main__":  # pragma: no cover
     import argparse
 
@@ -419,7 +491,11 @@ if __name__ == "__main__":  # pragma: no cover
     parser.add_argument("--depth", type=float, help="volume depth over a_H (--fretting)")
     parser.add_argument("--mu", type=float, nargs="+", default=[0.0, 0.1, 0.2, 0.3, 0.5])
     parser.add_argument("--planner", choices=["estimate", "measure"], default="estimate")
+    parser.add_argument("--box", type=int, metavar="N", help="automatic box vs window at N^3")
     args = parser.parse_args()
+    if args.box:
+        box_sweep(args.box)
+        raise SystemExit(0)
     if args.fretting:
         fretting_ii(args.fretting, args.steps, args.mu, args.depth, args.planner)
         raise SystemExit(0)
