@@ -57,6 +57,7 @@ import concurrent.futures
 import functools
 import itertools
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import pyfftw
@@ -220,13 +221,12 @@ class EigenstrainOperator:
             raise ValueError("surface_stress must be built on the same grid and Poisson's ratio")
         self.surface_stress = surface_stress
         self._volume: tuple | None = None
-        self._inputs: dict[int, np.ndarray] = {}
         self._work: list | None = None
         self._stress_spectra: dict | None = None
         self._deviatoric_spectra: dict | None = None
         self._surface_kernels: dict | None = None
         self._surface_combinations: dict[tuple, np.ndarray] = {}
-        self._surface_work: np.ndarray | None = None
+        self._box_spectra: np.ndarray | None = None
 
     # -- setup -----------------------------------------------------------------------------
 
@@ -255,34 +255,22 @@ class EigenstrainOperator:
             self._surface_layer_kernels(displacement=True)
 
     def _volume_plans(self) -> dict:
-        """FFT plans and buffers of the volume convolution (built once; module docstring).
+        """FFT plans and buffers of the per-layer 2-D transforms of the box (built once).
 
-        ``"layers"`` ``(2nx, ny + 1, M)`` complex holds per-layer 2-D spectra of the box in
-        its first ``nz`` z slots (zeros after them on the way in): the forward 2-D transform
-        of the data rows (``"y"`` on the box's ``nx`` rows of ``"rows"``, then ``"x"``) writes
-        there, the z transforms read its real and imaginary parts; on the way back the
-        inverse z transforms write there and ``"-x"``, ``"-y"`` bring the first ``nz`` slots
-        back to the box's cells in ``"rows"`` ``(nx, 2ny, nz)``.  ``"acc"`` ``(2, 2nx, ny +
-        1, M + 1)`` is the product accumulator, real and imaginary planes apart (real kernels
-        multiply both).  z plans: ``"dct2"``/``"dst2"`` (data even or odd in z), ``"dct3"``/
-        ``"dst3"`` (outputs), pointed at each plane in turn.
+        ``"data"`` ``(2nx, ny + 1, nz)`` complex holds per-layer 2-D spectra of the box: the
+        forward transform of the data rows (``"y"`` on the box's ``nx`` rows of ``"rows"``,
+        then ``"x"``) writes there; on the way back ``"-x"``, ``"-y"`` bring a stress
+        component's spectra back to the box's cells in ``"rows"`` ``(nx, 2ny, nz)``.  The
+        depth convolution between them runs by row blocks (:meth:`_workers`).
         """
         if self._volume is None:
             nx, ny, nz = self.shape
-            m = self.length_z
-            layers = pyfftw.empty_aligned((2 * nx, ny + 1, m), dtype=self._complex)
+            data = pyfftw.empty_aligned((2 * nx, ny + 1, nz), dtype=self._complex)
             rows = pyfftw.empty_aligned((nx, 2 * ny, nz), dtype=self._real)
-            acc = pyfftw.empty_aligned((2, 2 * nx, ny + 1, m + 1), dtype=self._real)
-            layers[...] = 0.0
-            rows[...] = 0.0
-            acc[...] = 0.0
             make = functools.partial(plan, planner=self.planner, threads=self.threads)
-            r2r = functools.partial(make, axes=(2,), extra=("FFTW_UNALIGNED",))
-            data = layers[..., :nz]
             self._volume = {
-                "layers": layers,
+                "data": data,
                 "rows": rows,
-                "acc": acc,
                 "y": make(rows, data[:nx], axes=(1,)),
                 "x": make(data, data, axes=(0,)),
                 "-x": make(data, data, axes=(0,), direction="FFTW_BACKWARD"),
@@ -293,12 +281,9 @@ class EigenstrainOperator:
                     direction="FFTW_BACKWARD",
                     extra=("FFTW_DESTROY_INPUT",),
                 ),
-                "dct2": r2r(layers.real, acc[0, ..., :m], direction="FFTW_REDFT10"),
-                "dst2": r2r(layers.real, acc[0, ..., 1:], direction="FFTW_RODFT10"),
-                "dct3": r2r(acc[0, ..., :m], layers.real, direction="FFTW_REDFT01"),
-                "dst3": r2r(acc[0, ..., 1:], layers.real, direction="FFTW_RODFT01"),
             }
-            layers[...] = 0.0
+            data[...] = 0.0
+            rows[...] = 0.0
         return self._volume
 
     def _build_spectra(self, combinations: dict) -> dict:
@@ -382,6 +367,7 @@ class EigenstrainOperator:
         (:mod:`solver.fftw`), which ``solver.fft_planner = "wisdom"`` then reuses.
         """
         self._volume_plans()
+        self._workers()
         self._kernel_plans()
         self.surface_stress.make_plans()
 
@@ -630,7 +616,7 @@ class EigenstrainOperator:
             ``(6, nx, ny, nz)`` residual stress (Pa), same component order.
         """
         eigenstrain = self._check(eigenstrain)
-        return self._stress(eigenstrain, self.layer_spectra(eigenstrain))
+        return self._stress(eigenstrain, self.layer_spectra(eigenstrain), consume=True)
 
     def surface_displacement(
         self, eigenstrain: np.ndarray, method: str = "reciprocal"
@@ -675,14 +661,19 @@ class EigenstrainOperator:
         """
         eigenstrain = self._check(eigenstrain)
         layers = self.layer_spectra(eigenstrain)
-        return self._stress(eigenstrain, layers), self._reciprocal_displacement(layers)
+        displacement = self._reciprocal_displacement(layers)
+        return self._stress(eigenstrain, layers, consume=True), displacement
 
     def displacement_from_layers(self, layers: np.ndarray) -> tuple:
         """Surface displacements (reciprocal route) from :meth:`layer_spectra` (m)."""
         return self._reciprocal_displacement(layers)
 
     def stress_with_tractions(
-        self, eigenstrain: np.ndarray, layers: np.ndarray, tractions: dict[str, np.ndarray]
+        self,
+        eigenstrain: np.ndarray,
+        layers: np.ndarray,
+        tractions: dict[str, np.ndarray],
+        consume: bool = False,
     ) -> np.ndarray:
         """Residual stress plus the stress of surface tractions on the half-space (Pa).
 
@@ -698,19 +689,27 @@ class EigenstrainOperator:
             Its :meth:`layer_spectra`.
         tractions : dict
             Surface tractions on the half-space.
+        consume : bool
+            ``layers`` may be overwritten (saves a copy of them; they are garbage after).
         """
-        return self._stress(self._check(eigenstrain), layers, tractions)
+        return self._stress(self._check(eigenstrain), layers, tractions, consume=consume)
 
     def deviatoric_stress_with_tractions(
-        self, eigenstrain: np.ndarray, layers: np.ndarray, tractions: dict[str, np.ndarray]
+        self,
+        eigenstrain: np.ndarray,
+        layers: np.ndarray,
+        tractions: dict[str, np.ndarray],
+        consume: bool = False,
     ) -> np.ndarray:
         """Deviator of :meth:`stress_with_tractions` for a deviatoric (plastic) eigenstrain (Pa).
 
         What a von Mises return mapping needs, at about 70 % of the cost: five components in
         and out of the volume convolution (:meth:`_deviatoric_kernels`).  ``eigenstrain`` must
-        be trace-free (its zz component is taken as ``-(xx + yy)``).
+        be trace-free (its zz component is taken as ``-(xx + yy)``); ``consume`` as there.
         """
-        return self._stress(self._check(eigenstrain), layers, tractions, deviatoric=True)
+        return self._stress(
+            self._check(eigenstrain), layers, tractions, deviatoric=True, consume=consume
+        )
 
     def _stress(
         self,
@@ -718,41 +717,29 @@ class EigenstrainOperator:
         layers: np.ndarray,
         tractions: dict | None = None,
         deviatoric: bool = False,
+        consume: bool = False,
     ) -> np.ndarray:
         """Residual stress (plus the stress of ``tractions``); its deviator with ``deviatoric``.
 
         A trace-free eigenstrain (every plastic strain) goes through the five deviatoric
         components and the :meth:`_deviatoric_kernels`; one with a trace through all six and
         the :meth:`_stress_kernels`.  Evaluated on the plastic box's cells.
+
+        The box's per-layer spectra (``layers`` when the box is the window, else transformed
+        here) go through the depth convolution by row blocks (:meth:`_convolve`): each
+        block's inputs are transformed in z, multiplied and transformed back, and its output
+        spectra replace its inputs in place, so no 3-D spectrum is ever held whole.
+        ``consume``: ``layers`` may be overwritten (else copied first).
         """
         nx, ny, nz = self.shape
         plans = self._volume_plans()
         trace = np.abs(eigenstrain[0] + eigenstrain[1] + eigenstrain[2]).max()
         trace_free = deviatoric or trace <= 1e-12 * np.abs(eigenstrain).max()
         components = DEVIATORIC if trace_free else tuple(range(6))
-        data = plans["layers"][..., :nz]
-        plans["layers"][..., nz:] = 0.0  # the last inverse z transforms left their output
+        data = plans["data"]
         shared = self.shape == self.grid.shape  # the box is the window: its layer spectra
-        if not shared:
-            plans["rows"][:, ny:] = 0.0  # the last inverse transform left its output
-        inputs = {}
-        for b in components:
-            if shared:
-                data[...] = layers[b]
-            else:
-                plans["rows"][:, :ny] = eigenstrain[b]
-                plans["y"].execute()
-                data[nx:] = 0.0
-                plans["x"].execute()
-            inputs[b] = self._forward_z(b)
-        if trace_free:
-            kernels = self._deviatoric_kernels()
-            outputs = [*DEVIATORIC, *([] if deviatoric else ["mean"])]
-        else:
-            kernels = self._stress_kernels()
-            outputs = list(range(6))
         tractions = dict(tractions or {})
-        pressure = self._correction_pressure(layers)
+        pressure = self._correction_pressure(layers)  # before the layers are overwritten
         if tractions.get("pressure") is not None:
             pressure = pressure + tractions["pressure"]
         tractions["pressure"] = pressure
@@ -761,34 +748,50 @@ class EigenstrainOperator:
             for name, values in tractions.items()
             if values is not None
         }
-        # the traction stresses join the residual ones in the layer spectra (no transforms of
-        # their own, in the volume's precision) when the box is the window
-        fused = shared
-        out = np.zeros((6, nx, ny, nz), dtype=self._real)  # float32 when single
-        mean = None
-        workers = self._workers()
+        if shared:
+            spectral = layers if consume else layers.copy()
+        else:
+            spectral = self._box_layers()
+            plans["rows"][:, ny:] = 0.0  # the last inverse transform left its output
+            for b in components:
+                plans["rows"][:, :ny] = eigenstrain[b]
+                plans["y"].execute()
+                data[nx:] = 0.0
+                plans["x"].execute()
+                spectral[b] = data
+        if trace_free:
+            kernels = self._deviatoric_kernels()
+            outputs = [*DEVIATORIC, *([] if deviatoric else ["mean"])]
+        else:
+            kernels = self._stress_kernels()
+            outputs = list(range(6))
+        terms = {}
         for a in outputs:
             pa = _parity3(_name(a))
-            terms = []
+            terms[a] = []
             for b in components:
                 pb = _parity3(_name(b))
-                terms.append(
+                terms[a].append(
                     (
                         kernels[(a, b) if trace_free else (min(a, b), max(a, b))],
-                        inputs[b],
+                        b,
                         pb[2] and not pa[2],  # odd data, odd kernel, even output: -S H
                         (pa[0] + pb[0]) % 2,  # the kernel's parity in x (mirrored rows)
                     )
                 )
-            if len(workers) > 1:
-                share = functools.partial(self._accumulate, plans["acc"], terms)
-                list(_pool(len(workers)).map(share, workers))
-            else:
-                self._accumulate(plans["acc"], terms, workers[0])
-            self._backward_z(a)
-            if fused:
-                weight = 1.0 if trace_free else COMPONENT_WEIGHTS[a]
-                self._add_surface_stress(data, a, spectra, trace_free, weight)
+        # the traction stresses join the residual ones in the layer spectra (no transforms of
+        # their own, in the volume's precision) when the box is the window
+        surface = self._surface_terms(outputs, spectra, trace_free) if shared else {}
+        job = functools.partial(self._convolve, spectral, components, terms, surface)
+        workers = self._workers()
+        if len(workers) > 1:
+            list(_pool(len(workers)).map(job, workers))
+        else:
+            job(workers[0])
+        out = np.zeros((6, nx, ny, nz), dtype=self._real)  # float32 when single
+        mean = None
+        for a in outputs:
+            data[...] = spectral[_SLOT[a]]
             plans["-x"].execute()
             plans["-y"].execute()
             field = plans["rows"][:, :ny]
@@ -800,106 +803,135 @@ class EigenstrainOperator:
             out[2] = -(out[0] + out[1])
         if mean is not None:
             out[:3] += mean
-        if not fused:
-            surface = self.surface_stress.stress_from_spectra(spectra, self.box)
-            out += deviator(surface) if deviatoric else surface
+        if not shared:
+            stress = self.surface_stress.stress_from_spectra(spectra, self.box)
+            out += deviator(stress) if deviatoric else stress
         return out
 
-    def _add_surface_stress(
-        self, data: np.ndarray, component, spectra: dict, trace_free: bool, weight: float
-    ) -> None:
-        """Add the layer spectra of the traction stresses of one output component to ``data``.
+    def _box_layers(self) -> np.ndarray:
+        """Per-layer spectra ``(6, 2nx, ny + 1, nz)`` of a box narrower than the window (kept)."""
+        if self._box_spectra is None:
+            nx, ny, nz = self.shape
+            self._box_spectra = np.zeros((6, 2 * nx, ny + 1, nz), dtype=self._complex)
+        return self._box_spectra
+
+    def _surface_terms(self, outputs: list, spectra: dict, trace_free: bool) -> dict:
+        """Per output component, the traction stresses' terms ``[(kernel, factor)]``.
 
         ``spectra`` are the tractions' surface spectra
         (:meth:`~solver.stress.SubsurfaceStressOperator.surface_spectrum`); the kernels those of
         :meth:`~solver.stress.SubsurfaceStressOperator.kernel_spectra`, combined for a
         trace-free route's outputs: the deviator for xx and yy, the mean stress for ``"mean"``
-        (kept once built).  ``weight`` multiplies the stress (the general route's outputs
-        carry their tensor weight until the end).
+        (kept once built).  ``kernel[rows] * factor[rows]`` is the layer spectra of the
+        component's stress (the general route's outputs carry their tensor weight until the
+        end).
         """
-        work = self._surface_work
-        if work is None:
-            work = self._surface_work = np.empty(data.shape, dtype=complex)
-        for traction, spectrum in spectra.items():
-            kernels = self.surface_stress.kernel_spectra(traction)
-            if component == "mean" or (trace_free and component in (0, 1)):
-                key = (traction, component)
-                if key not in self._surface_combinations:
-                    mean = (kernels[0] + kernels[1] + kernels[2]) / 3.0
-                    combined = mean if component == "mean" else kernels[component] - mean
-                    self._surface_combinations[key] = combined
-                kernel = self._surface_combinations[key]
-            else:
-                kernel = kernels[component]
-            px, py = kernel_parity(_name(component), traction)
-            factor = ((1j * weight if (px + py) % 2 else weight) * spectrum)[:, :, None]
+        terms = {}
+        for component in outputs:
+            weight = 1.0 if trace_free else COMPONENT_WEIGHTS[component]
+            terms[component] = []
+            for traction, spectrum in spectra.items():
+                kernels = self.surface_stress.kernel_spectra(traction)
+                if component == "mean" or (trace_free and component in (0, 1)):
+                    key = (traction, component)
+                    if key not in self._surface_combinations:
+                        mean = (kernels[0] + kernels[1] + kernels[2]) / 3.0
+                        combined = mean if component == "mean" else kernels[component] - mean
+                        self._surface_combinations[key] = combined
+                    kernel = self._surface_combinations[key]
+                else:
+                    kernel = kernels[component]
+                px, py = kernel_parity(_name(component), traction)
+                factor = ((1j * weight if (px + py) % 2 else weight) * spectrum)[:, :, None]
+                terms[component].append((kernel, factor))
+        return terms
 
-            def block(xs: slice, kernel=kernel, factor=factor) -> None:
-                np.multiply(kernel[xs], factor[xs], out=work[xs])
-                data[xs] += work[xs]
+    def _convolve(
+        self, spectral: np.ndarray, components, terms: dict, surface: dict, worker: _Worker
+    ) -> None:
+        """The depth convolution of a worker's row blocks, in place in ``spectral``.
 
-            self._by_rows(block, data.shape[0])
+        Per block: the DCT-II/DST-II of every input component's real and imaginary parts
+        (turned by ``i^r``, :meth:`_forward_z`), then per output component the products with
+        the real kernels (:meth:`_accumulate`), the DCT-III/DST-III back (:meth:`_backward_z`),
+        the traction stresses' terms (``surface``), into the output's slot of ``spectral``
+        (:data:`_SLOT`).  The same operations in the same order per element whatever the
+        blocks and threads: results do not depend on the number of threads.
+        """
+        nz = self.shape[2]
+        for xs, kxs, mirrored in worker.blocks:
+            r = xs.stop - xs.start
+            plans = worker.plans[r]
+            for b in components:
+                worker.zin[:r, :, :nz] = spectral[b, xs]
+                self._forward_z(b, plans, worker.zin[:r], worker.inputs[b, :, :r])
+            for a, products in terms.items():
+                acc = worker.acc[:, :r]
+                self._accumulate(acc, worker.work[:, :r], products, worker.inputs, r, kxs, mirrored)
+                self._backward_z(a, plans, acc, worker.zout[:r])
+                target = spectral[_SLOT[a], xs]
+                target[...] = worker.zout[:r, :, :nz]
+                for kernel, factor in surface.get(a, ()):
+                    work = worker.surface[:r]
+                    np.multiply(kernel[xs], factor[xs], out=work)
+                    target += work
 
-    def _forward_z(self, component: int) -> np.ndarray:
-        """The z transform of the per-layer spectra in ``"layers"``, turned by ``i^r``: an input.
+    def _forward_z(self, component: int, plans: dict, zin: np.ndarray, target: np.ndarray) -> None:
+        """The z transform of a block's per-layer spectra ``zin``, turned by ``i^r``: an input.
 
         A DCT-II (component even in z: source and image add up to an even column) or DST-II
-        (odd) of the real and of the imaginary part into the component's slot
-        (:meth:`_input_spectrum`, planes real and imaginary); a component with rotation 1
-        (:func:`_rotation`) is multiplied by i, ``(re, im) -> (-im, re)``.
+        (odd) of the real and of the imaginary part into ``target`` ``(2, rows, ny + 1, M +
+        1)``, planes real and imaginary; a component with rotation 1 (:func:`_rotation`) is
+        multiplied by i, ``(re, im) -> (-im, re)``.  The z slot the transform does not write
+        (M for even components, 0 for odd) stays zero.
         """
-        plans = self._volume_plans()
-        layers = plans["layers"]
-        target = self._input_spectrum(component)
         m = self.length_z
         odd = _parity3(_name(component))[2]
         plan = plans["dst2" if odd else "dct2"]
         window = slice(1, m + 1) if odd else slice(0, m)
         turned = _rotation(component)
-        for part, plane in ((layers.real, turned), (layers.imag, 1 - turned)):
+        for part, plane in ((zin.real, turned), (zin.imag, 1 - turned)):
             plan.update_arrays(part, target[plane, ..., window])
             plan.execute()
         if turned:
             np.negative(target[0], out=target[0])
-        return target
 
-    def _backward_z(self, component) -> None:
-        """Inverse z transform of the accumulator into ``"layers"``, turned by ``i^r``.
+    def _backward_z(self, component, plans: dict, acc: np.ndarray, zout: np.ndarray) -> None:
+        """Inverse z transform of a block's accumulator into ``zout``, turned by ``i^r``.
 
         DCT-III (output even in z) or DST-III (odd) of each plane; a component with rotation
         1 is multiplied by i on the way: ``(A0, A1) -> (-A1, A0)``.  The first ``nz`` z slots
         are the box's layers.
         """
-        plans = self._volume_plans()
-        layers, acc = plans["layers"], plans["acc"]
         m = self.length_z
         odd = _parity3(_name(component))[2]
         plan = plans["dst3" if odd else "dct3"]
         window = slice(1, m + 1) if odd else slice(0, m)
         turned = _rotation(component)
         for plane, part in (
-            (0, layers.imag if turned else layers.real),
-            (1, layers.real if turned else layers.imag),
+            (0, zout.imag if turned else zout.real),
+            (1, zout.real if turned else zout.imag),
         ):
             plan.update_arrays(acc[plane, ..., window], part)
             plan.execute()
         if turned:
-            real = layers.real[..., : self.shape[2]]
+            real = zout.real[..., : self.shape[2]]
             np.negative(real, out=real)
 
-    def _workers(self) -> list[tuple[list[tuple], np.ndarray]]:
-        """Row blocks of the spectrum dealt to :attr:`threads` workers, with work arrays.
+    def _workers(self) -> list[_Worker]:
+        """Row blocks of the spectrum dealt to :attr:`threads` workers, with their buffers.
 
         Each block is ``(rows, kernel_rows, mirrored)``: spectrum rows ``kx`` and the rows of the
         stored kernel that hold them (``2nx - kx`` for the mirrored half).  Blocks of about
-        :data:`CHUNK_BYTES` of spectrum keep the accumulator and the worker's own work array
-        (one block: the products are never held whole) in cache while the terms of a
-        component are summed.
+        :data:`CHUNK_BYTES` of spectrum per plane keep a block's z transforms, products and
+        accumulator in cache; every worker has its own buffers and z plans (one thread each:
+        the workers are the parallelism), made here, before any thread runs.
         """
         if self._work is None:
             nx, ny, _ = self.shape
-            row = 2 * (ny + 1) * (self.length_z + 1) * np.dtype(self._real).itemsize
-            size = max(1, CHUNK_BYTES // row)
+            m = self.length_z
+            row = (ny + 1) * (m + 1) * np.dtype(self._real).itemsize
+            size = max(1, min(nx, CHUNK_BYTES // row))
             blocks = []
             for start in range(0, nx + 1, size):
                 stop = min(nx + 1, start + size)
@@ -909,46 +941,61 @@ class EigenstrainOperator:
                 # rows kx in [start, stop) hold kernel rows 2nx - kx, from 2nx - start down
                 blocks.append((slice(start, stop), slice(2 * nx - start, 2 * nx - stop, -1), True))
             count = max(1, min(self.threads, len(blocks)))
-            shape = (2, size, ny + 1, self.length_z + 1)
-            self._work = [
-                (blocks[w::count], np.empty(shape, dtype=self._real)) for w in range(count)
-            ]
+            self._work = [self._worker(blocks[w::count], size) for w in range(count)]
         return self._work
 
-    def _accumulate(self, acc: np.ndarray, terms: list, worker: tuple) -> None:
-        """``acc = sum_terms (+-) kernel * input`` over a worker's row blocks, both planes.
+    def _worker(self, blocks: list, size: int) -> _Worker:
+        """A worker's buffers and z plans for blocks of at most ``size`` rows."""
+        _, ny, nz = self.shape
+        m = self.length_z
+        empty = functools.partial(pyfftw.empty_aligned, dtype=self._real)
+        zin = pyfftw.empty_aligned((size, ny + 1, m), dtype=self._complex)
+        zout = pyfftw.empty_aligned((size, ny + 1, m), dtype=self._complex)
+        inputs = empty((6, 2, size, ny + 1, m + 1))
+        acc = empty((2, size, ny + 1, m + 1))
+        make = functools.partial(
+            plan, planner=self.planner, threads=1, axes=(2,), extra=("FFTW_UNALIGNED",)
+        )
+        plans = {}
+        for r in sorted({xs.stop - xs.start for xs, _, _ in blocks}):
+            plans[r] = {
+                "dct2": make(zin.real[:r], inputs[0, 0, :r, ..., :m], direction="FFTW_REDFT10"),
+                "dst2": make(zin.real[:r], inputs[0, 0, :r, ..., 1:], direction="FFTW_RODFT10"),
+                "dct3": make(acc[0, :r, ..., :m], zout.real[:r], direction="FFTW_REDFT01"),
+                "dst3": make(acc[0, :r, ..., 1:], zout.real[:r], direction="FFTW_RODFT01"),
+            }
+        zin[...] = 0.0  # the z slots after the box's layers stay zero
+        inputs[...] = 0.0
+        surface = np.empty((size, ny + 1, nz), dtype=complex)
+        return _Worker(blocks, plans, zin, zout, inputs, acc, empty(acc.shape), surface)
 
-        ``terms`` are ``(kernel, input, negative, px)``: a real kernel (broadcast over the
-        real and imaginary planes), the turned input, the sign of the z rule and the kernel's
-        parity in x, which gives its sign in the mirrored rows.  Same operations in the same
-        order per element whatever the blocks: results do not depend on the number of threads.
+    def _accumulate(
+        self,
+        acc: np.ndarray,
+        work: np.ndarray,
+        products: list,
+        inputs: np.ndarray,
+        rows: int,
+        kxs: slice,
+        mirrored: bool,
+    ) -> None:
+        """``acc = sum (+-) kernel * input`` over one block's rows, both planes.
+
+        ``products`` are ``(kernel, component, negative, px)``: a real kernel (broadcast over
+        the real and imaginary planes), the input component (its turned transform in
+        ``inputs``, one slot per component), the sign of the z rule and the kernel's parity
+        in x, which gives its sign in the mirrored rows.
         """
-        blocks, buffer = worker
-        for xs, kxs, mirrored in blocks:
-            target = acc[:, xs]
-            work = buffer[:, : xs.stop - xs.start]
-            for n, (kernel, values, negative, px) in enumerate(terms):
-                minus = bool(negative) != bool(px and mirrored)
-                if n == 0:
-                    np.multiply(kernel[kxs], values[:, xs], out=target)
-                    if minus:
-                        np.negative(target, out=target)
-                else:
-                    np.multiply(kernel[kxs], values[:, xs], out=work)
-                    (np.subtract if minus else np.add)(target, work, out=target)
-
-    def _input_spectrum(self, component: int) -> np.ndarray:
-        """The aligned spectrum slot of one eigenstrain component, ``(2, 2nx, ny + 1, M + 1)``.
-
-        Kept, made on first use (a trace-free eigenstrain needs five: zz is -(xx + yy)); the
-        z slot its transform does not write (M for even components, 0 for odd) stays zero.
-        """
-        if component not in self._inputs:
-            shape = self._volume_plans()["acc"].shape
-            slot = pyfftw.empty_aligned(shape, dtype=self._real)
-            slot[...] = 0.0
-            self._inputs[component] = slot
-        return self._inputs[component]
+        for n, (kernel, b, negative, px) in enumerate(products):
+            values = inputs[b, :, :rows]
+            minus = bool(negative) != bool(px and mirrored)
+            if n == 0:
+                np.multiply(kernel[kxs], values, out=acc)
+                if minus:
+                    np.negative(acc, out=acc)
+            else:
+                np.multiply(kernel[kxs], values, out=work)
+                (np.subtract if minus else np.add)(acc, work, out=acc)
 
     def _direct_displacement(self, layers: np.ndarray, pressure: np.ndarray) -> tuple:
         kernels = self._surface_layer_kernels(displacement=True)
@@ -990,40 +1037,71 @@ class EigenstrainOperator:
         deviatoric: bool = False,
         box: tuple[int, int] | None = None,
         precision: str = "double",
+        threads: int = 1,
     ) -> int:
         """Approximate peak bytes of an operator in use (kept data plus one stress evaluation).
 
         Kept: the real 3-D kernel spectra of the plastic box (30 for trace-free eigenstrains
         with ``deviatoric``, else the 21 general ones, ``(nx + 1, ny + 1, M + 1)`` each), the
-        per-layer buffer ``(2nx, ny + 1, M)`` complex, the accumulator and the row buffer of
-        the box, the window's per-layer surface-traction and traction-to-stress kernels
+        per-layer 2-D transform buffers of the box, a box narrower than the window's own six
+        layer spectra, the row-block workers' buffers (about 20 :data:`CHUNK_BYTES` each, one
+        per thread), the window's per-layer surface-traction and traction-to-stress kernels
         (pressure, plus both shears with ``displacement``; in the volume's precision) and its
         batched 2-D FFT buffers.
-        One evaluation: the transformed inputs (5 or 6, the accumulator's size), 6 per-layer
-        eigenstrain spectra, the output.  Setup transients (kernel construction) stay below
-        the evaluation's share.  ``box``: the plastic box's cells ``(nx, ny)`` (default: the
-        window's); ``precision``: of the 3-D parts (:data:`VOLUME_PRECISIONS`).
+        One evaluation: the six per-layer eigenstrain spectra of the window (the depth
+        convolution writes its outputs over them), the output.  Setup transients (kernel
+        construction) stay below the evaluation's share.  ``box``: the plastic box's cells
+        ``(nx, ny)`` (default: the window's); ``precision``: of the 3-D parts
+        (:data:`VOLUME_PRECISIONS`).
         """
         nx, ny, nz = grid.shape
         bx, by = box or (nx, ny)
         m = fft_size(2 * nz)
         word = np.dtype(VOLUME_PRECISIONS[precision][0]).itemsize  # 8 or 4 bytes
-        spec3 = word * 2 * 2 * bx * (by + 1) * (m + 1)  # accumulator, and each input
         kernel3 = word * (bx + 1) * (by + 1) * (m + 1)
-        buffers = 2 * word * 2 * bx * (by + 1) * m + word * bx * 2 * by * nz
+        box_layer = word * 2 * 2 * bx * (by + 1) * nz  # one complex per-layer spectrum
+        buffers = box_layer + word * bx * 2 * by * nz + 20 * CHUNK_BYTES * max(1, threads)
+        if (bx, by) != (nx, ny):
+            buffers += 6 * box_layer
         layer = 8 * 2 * nx * (ny + 1) * nz  # one float64 per-layer spectrum of the window
         layers = 12 * layer * word // 8  # the six complex layer spectra, volume's precision
         tractions = 3 if displacement else 1
-        kept = (30 if deviatoric else 21) * kernel3 + buffers + spec3
+        kept = (30 if deviatoric else 21) * kernel3 + buffers
         # per-layer kernels in the volume's precision: the tractions' (6 each), the surface
         # S_zz's (6), the pressure's deviator in xx and yy (2)
         kept += (6 * tractions + 6 + 2) * layer * word // 8 + 8 * 4 * nx * ny * nz + 2 * layer
-        evaluation = (5 if deviatoric else 6) * spec3 + layers + 8 * 6 * bx * by * nz
+        evaluation = layers + 8 * 6 * bx * by * nz
         return kept + evaluation
 
 
 #: Real and complex types of the 3-D eigenstrain convolution by ``solver.volume_precision``.
 VOLUME_PRECISIONS = {"double": ("float64", "complex128"), "single": ("float32", "complex64")}
+
+#: Slot of each output component in the per-layer spectra it replaces (the mean stress takes
+#: zz's, which a trace-free route does not transform).
+_SLOT = {0: 0, 1: 1, 2: 2, 3: 3, 4: 4, 5: 5, "mean": 2}
+
+
+@dataclass
+class _Worker:
+    """One worker of the depth convolution: its row blocks, z plans (by rows) and buffers.
+
+    ``zin``, ``zout`` ``(rows, ny + 1, M)`` complex: a block's per-layer spectra on the way in
+    (zero after the box's layers) and out; ``inputs`` ``(6, 2, rows, ny + 1, M + 1)``: the
+    turned z transforms of each component, planes real and imaginary; ``acc`` and ``work``
+    ``(2, rows, ny + 1, M + 1)``; ``surface`` ``(rows, ny + 1, nz)`` complex: the traction
+    terms.
+    """
+
+    blocks: list
+    plans: dict
+    zin: np.ndarray
+    zout: np.ndarray
+    inputs: np.ndarray
+    acc: np.ndarray
+    work: np.ndarray
+    surface: np.ndarray
+
 
 #: Rows (kx) per block of the per-layer sums and products split over threads.
 ROW_BLOCK = 8

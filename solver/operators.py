@@ -148,7 +148,11 @@ class CaseOperators:
             cells = 8 * 6 * box[0] * box[1] * volume.nz
             bodies = len(case.plastic_bodies)
             total += bodies * EigenstrainOperator.memory_bytes(
-                volume, deviatoric=True, box=box, precision=case.solver.volume_precision
+                volume,
+                deviatoric=True,
+                box=box,
+                precision=case.solver.volume_precision,
+                threads=case.solver.fft_threads,
             )
             work = plastic_work_arrays(case.solver, box=case.plastic_box is not None)
             total += int(bodies * work * cells)

@@ -238,7 +238,10 @@ def plastic_step(
             tractions = body_tractions(contact.state, body)
             if layers[i] is not None:  # residual and traction stress in one pass, deviators
                 trial = eigenstrain.deviatoric_stress_with_tractions(
-                    strain[i], layers[i], tractions
+                    strain[i],
+                    layers[i],
+                    tractions,
+                    consume=True,  # their last use
                 )
             elif tractions["pressure"].any() or len(tractions) > 1:
                 trial = deviator(stress_operator.stress(**tractions, box=eigenstrain.box))
