@@ -27,8 +27,10 @@ or odd in x and y too, so its spectrum is real up to a power of i: stored real, 
 nx``, ``ky <= ny`` (the mirrored kx by parity), ``(nx + 1, ny + 1, M + 1)``, and multiplied
 with the real and imaginary planes of the inputs apart.  Per output component: 5 (trace-free)
 or 6 real multiply-adds per frequency and plane; the spectrum has ``2nx (ny + 1) (M + 1)``
-frequencies.  The 21 general kernels (``w_ij D_ij,mn`` is symmetric) or the 30 of a trace-free
-eigenstrain are kept.
+frequencies.  The 21 general kernels (``w_ij D_ij,mn`` is symmetric) or the 20 of a trace-free
+eigenstrain (15 of a symmetric 5 x 5 deviatoric operator and 5 of the mean stress) are kept.
+The convolution runs by blocks of kx rows: each block's inputs are transformed in z,
+multiplied and transformed back while they are in cache, and its outputs replace its inputs.
 
 Surface residual displacements (body-2 frame, z into the body; a uniform layer of thickness h
 with ``e_zz > 0`` gives ``u_z = -h e_zz``), two routes:
@@ -176,7 +178,7 @@ class EigenstrainOperator:
 
     Notes
     -----
-    Kernels are built on first use (:meth:`prepare` builds them explicitly): 30 (trace-free)
+    Kernels are built on first use (:meth:`prepare` builds them explicitly): 20 (trace-free)
     or 21 real 3-D spectra ``(nx + 1, ny + 1, M + 1)`` for the stress, float per-layer 2-D
     spectra for the surface traction (6), the
     :class:`~solver.stress.SubsurfaceStressOperator` kernels (pressure for the correction, both
@@ -407,12 +409,16 @@ class EigenstrainOperator:
         """Spectra for a trace-free eigenstrain: deviatoric stress and mean stress.
 
         Inputs are the five independent components :data:`DEVIATORIC` of a deviatoric tensor
-        (``zz = -(xx + yy)``).  ``K[(a, b)]`` gives the deviatoric stress,
-        ``s_a = sum_b K[a, b] * e_b`` (``K = P_out D P_in``); ``K[("mean", b)]`` the mean stress
-        ``tr(sigma)/3``, for the full stress.  Each combination keeps the parity of ``a + b``
-        (xx, yy and zz share theirs), so real spectra suffice.  25 products and 10 volume
-        transforms per deviatoric evaluation instead of 36 and 12; 30 kernels kept instead of 21
-        + 25.
+        (``zz = -(xx + yy)``).  Outputs ``u_a = w_a t_a`` with ``t_xx = sigma_xx - sigma_zz``,
+        ``t_yy = sigma_yy - sigma_zz`` and the shear stresses for the others (``w_a`` the
+        tensor weight, 2 for shear): ``u_a = sum_b K[a, b] e_b`` has a symmetric matrix
+        (``sigma : e`` is a symmetric bilinear form, and ``t`` with ``w`` are its components
+        conjugate to the five ``e_b``), so the 15 kernels ``a <= b`` serve all 25 products; the
+        deviator follows as ``s_xx = t_xx - (t_xx + t_yy)/3``, ``s_yy = t_yy - (t_xx + t_yy)/3``,
+        ``s_zz = -(t_xx + t_yy)/3``.  ``K[("mean", b)]`` gives the mean stress ``tr(sigma)/3``,
+        for the full stress.  Each combination keeps the parity of ``a + b`` (xx, yy and zz
+        share theirs), so real spectra suffice.  25 products and 10 volume transforms per
+        deviatoric evaluation instead of 36 and 12; 20 kernels kept instead of 21 + 25.
         """
         if self._deviatoric_spectra is None:
             unit = self._unit_stress_coefficients()
@@ -421,10 +427,11 @@ class EigenstrainOperator:
             unit_in[:, :2] -= unit[:, 2:3]
             mean = unit_in[:3].mean(axis=0)
             combinations = {}
-            for b in DEVIATORIC:
-                combinations["mean", b] = mean[b]
-                for a in DEVIATORIC:
-                    combinations[a, b] = unit_in[a, b] - mean[b] if a in (0, 1) else unit_in[a, b]
+            for i, a in enumerate(DEVIATORIC):
+                combinations["mean", a] = mean[a]
+                t = unit_in[a] - unit_in[2] if a in (0, 1) else unit_in[a]
+                for b in DEVIATORIC[i:]:
+                    combinations[a, b] = COMPONENT_WEIGHTS[a] * t[b]
             self._deviatoric_spectra = self._build_spectra(combinations)
         return self._deviatoric_spectra
 
@@ -773,7 +780,7 @@ class EigenstrainOperator:
                 pb = _parity3(_name(b))
                 terms[a].append(
                     (
-                        kernels[(a, b) if trace_free else (min(a, b), max(a, b))],
+                        kernels[(a, b) if a == "mean" else (min(a, b), max(a, b))],
                         b,
                         pb[2] and not pa[2],  # odd data, odd kernel, even output: -S H
                         (pa[0] + pb[0]) % 2,  # the kernel's parity in x (mirrored rows)
@@ -797,10 +804,13 @@ class EigenstrainOperator:
             field = plans["rows"][:, :ny]
             if a == "mean":
                 mean = field.copy()
-            else:
-                out[a] = field if trace_free else field / COMPONENT_WEIGHTS[a]
-        if trace_free:
-            out[2] = -(out[0] + out[1])
+            else:  # u_a = w_a t_a (trace-free) or w_a sigma_a (general)
+                out[a] = field / COMPONENT_WEIGHTS[a]
+        if trace_free:  # the deviator from t_xx, t_yy (:meth:`_deviatoric_kernels`)
+            np.add(out[0], out[1], out=out[2])
+            out[2] /= -3.0
+            out[0] += out[2]
+            out[1] += out[2]
         if mean is not None:
             out[:3] += mean
         if not shared:
@@ -821,22 +831,24 @@ class EigenstrainOperator:
         ``spectra`` are the tractions' surface spectra
         (:meth:`~solver.stress.SubsurfaceStressOperator.surface_spectrum`); the kernels those of
         :meth:`~solver.stress.SubsurfaceStressOperator.kernel_spectra`, combined for a
-        trace-free route's outputs: the deviator for xx and yy, the mean stress for ``"mean"``
-        (kept once built).  ``kernel[rows] * factor[rows]`` is the layer spectra of the
-        component's stress (the general route's outputs carry their tensor weight until the
-        end).
+        trace-free route's outputs: ``sigma_xx - sigma_zz`` and ``sigma_yy - sigma_zz`` for xx
+        and yy, the mean stress for ``"mean"`` (kept once built).  ``kernel[rows] *
+        factor[rows]`` is the layer spectra of the component's output (every output but the
+        mean carries its tensor weight until the end).
         """
         terms = {}
         for component in outputs:
-            weight = 1.0 if trace_free else COMPONENT_WEIGHTS[component]
+            weight = 1.0 if component == "mean" else COMPONENT_WEIGHTS[component]
             terms[component] = []
             for traction, spectrum in spectra.items():
                 kernels = self.surface_stress.kernel_spectra(traction)
                 if component == "mean" or (trace_free and component in (0, 1)):
                     key = (traction, component)
                     if key not in self._surface_combinations:
-                        mean = (kernels[0] + kernels[1] + kernels[2]) / 3.0
-                        combined = mean if component == "mean" else kernels[component] - mean
+                        if component == "mean":
+                            combined = (kernels[0] + kernels[1] + kernels[2]) / 3.0
+                        else:
+                            combined = kernels[component] - kernels[2]
                         self._surface_combinations[key] = combined
                     kernel = self._surface_combinations[key]
                 else:
@@ -1041,7 +1053,7 @@ class EigenstrainOperator:
     ) -> int:
         """Approximate peak bytes of an operator in use (kept data plus one stress evaluation).
 
-        Kept: the real 3-D kernel spectra of the plastic box (30 for trace-free eigenstrains
+        Kept: the real 3-D kernel spectra of the plastic box (20 for trace-free eigenstrains
         with ``deviatoric``, else the 21 general ones, ``(nx + 1, ny + 1, M + 1)`` each), the
         per-layer 2-D transform buffers of the box, a box narrower than the window's own six
         layer spectra, the row-block workers' buffers (about 20 :data:`CHUNK_BYTES` each, one
@@ -1066,7 +1078,7 @@ class EigenstrainOperator:
         layer = 8 * 2 * nx * (ny + 1) * nz  # one float64 per-layer spectrum of the window
         layers = 12 * layer * word // 8  # the six complex layer spectra, volume's precision
         tractions = 3 if displacement else 1
-        kept = (30 if deviatoric else 21) * kernel3 + buffers
+        kept = (20 if deviatoric else 21) * kernel3 + buffers
         # per-layer kernels in the volume's precision: the tractions' (6 each), the surface
         # S_zz's (6), the pressure's deviator in xx and yy (2)
         kept += (6 * tractions + 6 + 2) * layer * word // 8 + 8 * 4 * nx * ny * nz + 2 * layer
