@@ -524,7 +524,8 @@ def describe_campaign(campaign: Campaign, list_cases: bool = False) -> str:
     costs = [c.cost for c in cases]
     memory = [c.memory for c in cases]
     lines.append(
-        f"estimated cost per case (relative FFT work, ~ n^2 log n x steps x 4 with friction): "
+        "estimated cost per case (relative FFT work ~ n^2 log n x steps x 4 with friction, to "
+        "order and compare cases, not seconds: time one case for that): "
         f"min {min(costs):.3g}, max {max(costs):.3g}, total {sum(costs):.3g}"
     )
     lines.append(

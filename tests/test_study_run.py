@@ -175,7 +175,15 @@ def test_non_convergence_is_a_result(tmp_path):
     out = tmp_path / "out"
     summary = run_campaign(campaign, out)
     assert summary.not_converged == 4 and summary.failed == 0 and summary.exit_status == 0
-    assert (assemble(out).status == STATUS_FLAGS["not_converged"]).all()
+    ds = assemble(out)
+    assert (ds.status == STATUS_FLAGS["not_converged"]).all()
+    # the solver's notes reach the campaign dataset (not only the case files)
+    for case in campaign.cases:
+        with xr.open_dataset(storage.case_path(out, case.case_id)) as one:
+            assert "not converged" in one.attrs["notes"]
+            index = dict(zip(campaign.dims, case.index, strict=True))
+            assert ds.notes.isel(index).item() == one.attrs["notes"]
+            assert ds.loops.isel(index).item() == one.attrs["loops"]
 
 
 def test_time_limit_leaves_cases_pending(small):

@@ -94,6 +94,9 @@ BOOKKEEPING = {
     "status": "case status",
     "case_id": "case id (file cases/<id>.nc)",
     "error": "error of a failed case",
+    "notes": "the solver's notes on the case ('; '-separated: warnings, path dependence, "
+    "non-convergence, truncation)",
+    "loops": "loops that ran (space-separated)",
 }
 _ATTRS = (
     "hertz_radius",
@@ -172,6 +175,7 @@ def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
     scalars["mpi_rank"] = float(attrs.get("rank", -1))
     return {
         "status": attrs.get("status", "converged"),
+        "text": {name: str(attrs.get(name, "")) for name in ("notes", "loops")},
         "scalars": scalars,
         "histories": histories,
         "cycles": cycles,
@@ -224,6 +228,7 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     status = np.zeros(shape, dtype=np.int8)
     case_ids = np.empty(shape, dtype=object)
     errors = np.full(shape, "", dtype=object)
+    texts = {name: np.full(shape, "", dtype=object) for name in ("notes", "loops")}
     scalars = {name: np.full(shape, np.nan) for name in SCALARS}
     histories: dict[str, np.ndarray] = {}
     cycle_count = max(solver.case.path_cycles(case.spec["load"]["path"]) for case in campaign.cases)
@@ -254,6 +259,8 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
             )
         elif data is not None:
             status[index] = STATUS_FLAGS.get(data["status"], STATUS_FLAGS["converged"])
+            for name, text in data["text"].items():
+                texts[name][index] = text
             for name, value in data["scalars"].items():
                 scalars[name][index] = value
             for name, values in data["histories"].items():
@@ -303,6 +310,10 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
         ),
         "case_id": (dims, case_ids.astype(str), {"long_name": BOOKKEEPING["case_id"]}),
         "error": (dims, errors.astype(str), {"long_name": BOOKKEEPING["error"]}),
+        **{
+            name: (dims, values.astype(str), {"long_name": BOOKKEEPING[name]})
+            for name, values in texts.items()
+        },
         "mpi_rank": (dims, rank, {"units": "1", "long_name": SCALARS["mpi_rank"][1]}),
         "grid_cells": (dims, cells, {"units": "1", "long_name": SCALARS["grid_cells"][1]}),
     }

@@ -369,6 +369,7 @@ def run_case(
             message = f"result not written to cases/{case.case_id}.nc: {reason}"
             raise CaseWriteError(message) from error
         report["status"] = result.status
+        report["notes"] = "; ".join(result.notes)
     except Exception as error:
         report["status"] = "failed"
         report["error"] = f"{type(error).__name__}: {error}".splitlines()[0][:500]

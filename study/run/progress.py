@@ -108,7 +108,7 @@ class Progress:
             detail += f" ({report.get('error', '')})"
         self.logger.info(
             "%d/%d done, %d failed, %d running | elapsed %s, ETA %s | case %s [%s] %s "
-            "in %.2fs on rank %s",
+            "in %.2fs on rank %s%s",
             self.done,
             self.total,
             self.failed,
@@ -120,4 +120,6 @@ class Progress:
             detail,
             report.get("case_time", float("nan")),
             report.get("rank", "?"),
+            # the solver's notes (warnings, path dependence): shown, not only in the case file
+            f" | notes: {report['notes']}" if report.get("notes") else "",
         )
