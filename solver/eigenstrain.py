@@ -305,7 +305,7 @@ class EigenstrainOperator:
         g = self.grid.surface
         nx, ny, nz = self.shape
         m = self.length_z
-        lattice, along_z, spectrum, z_plans, xy_plan = self._kernel_plans()
+        lattice, along_z, spectrum, z_plans, xy_plans = self._kernel_plans()
         scale = 1.0 / (2 * m * 4 * nx * ny)
         shape = (nx + 1, ny + 1, m + 1)
         spectra = {}
@@ -319,48 +319,56 @@ class EigenstrainOperator:
         cz = (np.arange(-1, m + 1) + 0.5) * self.grid.dz  # z offsets 0 .. M
         work = np.empty(shape)
         lattice[nx] = 0.0
-        lattice[:, ny] = 0.0  # slot n of the wrap-around order: no pair of cells has it
+        lattice[:, ny] = 0.0  # offset n: no pair of cells has it
         for group in _base_groups(STRESS_BASE):
             sums = _lattice_corner_sums(cx, cy, cz, group)
             for name in group:
                 base = STRESS_BASE.index(name)
                 px, py, pz = _parity3(name[1:])
-                # wrap-around order: slot i < n holds offset i, slot 2n - i offset -i
-                half = sums.pop(name)
-                lattice[:nx, :ny] = half
-                np.multiply(half[:0:-1], (-1.0) ** px, out=lattice[nx + 1 :, :ny])
-                np.multiply(lattice[:, ny - 1 : 0 : -1], (-1.0) ** py, out=lattice[:, ny + 1 :])
+                lattice[:nx, :ny] = sums.pop(name)
                 along_z[..., 0] = along_z[..., m] = 0.0  # the DST-I leaves the ends
                 z_plans[pz].execute()
-                xy_plan.execute()
-                # the 2-D transform of a kernel of parity (px, py) is (-i)^(px + py) x real
-                real = (spectrum[: nx + 1] * 1j ** (px + py)).real
+                # the 2-D DFT (period 2n) of a kernel of parity (px, py) is (-i)^(px + py)
+                # times its DCT-I (even) / DST-I (odd) along x and y: that real array is kept
+                spectrum[...] = 0.0  # a DST-I leaves the frequencies 0 and n
+                xy_plans[px, py].execute()
                 for (a, b), coefficients in combinations.items():
                     c = coefficients[base]
                     if abs(c) <= 1e-14 * np.abs(coefficients[:-1]).max():
                         continue  # zero, or zero up to the round-off of a combination
                     if _parity3(_name(a) + _name(b)) != (px, py, pz):
                         raise AssertionError("cuboid kernel of mixed parity")  # pragma: no cover
-                    np.multiply(real, c * scale * _rotation_sign(a, b, (px, py)), out=work)
+                    np.multiply(spectrum, c * scale * _rotation_sign(a, b, (px, py)), out=work)
                     spectra[a, b] += work
         return spectra
 
     def _kernel_plans(self) -> tuple:
         """Buffers and plans of the kernel transforms (:meth:`_build_spectra`; freed after).
 
-        ``(lattice, along_z, spectrum, {parity in z: DCT-I or DST-I plan}, x-y plan)``.
+        ``(lattice, along_z, spectrum, {parity in z: DCT-I or DST-I plan}, {(parity in x,
+        parity in y): DCT-I / DST-I plan along x and y})``, every buffer ``(nx + 1, ny + 1, M +
+        1)`` real: offsets (then frequencies) ``0 .. n`` of the kernels' even or odd halves.
         """
         nx, ny, _ = self.shape
         m = self.length_z
-        lattice = pyfftw.empty_aligned((2 * nx, 2 * ny, m + 1), dtype="float64")
-        along_z = pyfftw.empty_aligned((2 * nx, 2 * ny, m + 1), dtype="float64")
-        spectrum = pyfftw.empty_aligned((2 * nx, ny + 1, m + 1), dtype="complex128")
+        lattice, along_z, spectrum = (
+            pyfftw.empty_aligned((nx + 1, ny + 1, m + 1), dtype="float64") for _ in range(3)
+        )
         make = functools.partial(plan, planner=self.planner, threads=self.threads)
         z_plans = {
             0: make(lattice, along_z, axes=(2,), direction="FFTW_REDFT00"),
             1: make(lattice[..., 1:m], along_z[..., 1:m], axes=(2,), direction="FFTW_RODFT00"),
         }
-        return lattice, along_z, spectrum, z_plans, make(along_z, spectrum, axes=(0, 1))
+        kinds = {0: (slice(None), "FFTW_REDFT00"), 1: (slice(1, None), "FFTW_RODFT00")}
+        xy_plans = {}
+        for px, py in itertools.product((0, 1), repeat=2):
+            (sx, kx), (sy, ky) = kinds[px], kinds[py]
+            sx = slice(sx.start, nx if px else None)
+            sy = slice(sy.start, ny if py else None)
+            xy_plans[px, py] = make(
+                along_z[sx, sy], spectrum[sx, sy], axes=(0, 1), direction=[kx, ky]
+            )
+        return lattice, along_z, spectrum, z_plans, xy_plans
 
     def make_plans(self) -> None:
         """Make every FFT plan a solve uses, without building kernels.
