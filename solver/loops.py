@@ -304,14 +304,17 @@ def solve(case: Case) -> Result:
         messages = []
         if plastic:
             load_step = np.subtract(target, previous_target)
-            predicted = guess
+            before_last = None
             if (
                 guess is not None
                 and previous is not None
                 and np.allclose(load_step, previous[1], rtol=1e-9, atol=0.0)
             ):  # the same load increment again: extrapolate the plastic increment linearly
-                predicted = 2.0 * guess - previous[0]
-            step = plastic_step(operators, contact_step, state, plastic_state, target, predicted)
+                before_last = previous[0]
+            previous = None  # its increment is before_last now, or not needed
+            step = plastic_step(
+                operators, contact_step, state, plastic_state, target, guess, before_last
+            )
             previous = (guess, load_step) if guess is not None else None
             outcome, plastic_state, guess = step.contact, step.plastic, step.increment
             step_ok = step.converged

@@ -174,6 +174,7 @@ def plastic_step(
     previous_plastic: tuple[PlasticState, ...],
     target: tuple[float, float, float],
     guess: np.ndarray | None = None,
+    before_guess: np.ndarray | None = None,
 ) -> PlasticStepResult:
     """One load increment of elastic-plastic contact (module docstring).
 
@@ -192,6 +193,9 @@ def plastic_step(
     guess : ndarray, optional
         Starting plastic strain increments, stacked over the plastic bodies (e.g. the previous
         increment's); zero if omitted.
+    before_guess : ndarray, optional
+        The increments of the increment before ``guess``'s, for the same load increment: the
+        start is then extrapolated linearly, ``2 guess - before_guess``.
 
     Returns
     -------
@@ -206,8 +210,19 @@ def plastic_step(
     tiny = np.finfo(float).tiny
     scales = [max(m.hardening.initial_yield_stress / m.E, tiny) for m in materials]
 
-    previous_strain = np.stack([p.strain for p in previous_plastic])
-    increment = np.zeros_like(previous_strain) if guess is None else guess.copy()
+    if len(previous_plastic) == 1:  # a view: no copy of the plastic strain
+        previous_strain = previous_plastic[0].strain[np.newaxis]
+    else:
+        previous_strain = np.stack([p.strain for p in previous_plastic])
+    if guess is None:
+        increment = np.zeros_like(previous_strain)
+    elif before_guess is None:
+        increment = guess.copy()
+    else:  # 2 guess - before_guess, no further temporary
+        increment = np.multiply(guess, 2.0)
+        increment -= before_guess
+    strain = np.empty_like(previous_strain)  # eps_p of the iterate, rewritten in place
+    change = np.empty_like(previous_strain)  # G(d) - d, rewritten in place
     mixer = Anderson(options.anderson_memory, history_dtype=np.float32)
     contact_guess: ContactState | None = None
     totals = {"normal": 0, "slip": 0, "coupling": 0}
@@ -216,7 +231,7 @@ def plastic_step(
     message = ""
     while iterations < options.plastic_max_iterations:
         iterations += 1
-        strain = previous_strain + increment
+        np.add(previous_strain, increment, out=strain)
         layers, displacements = [], {}
         for i, body in enumerate(bodies):
             eigenstrain = operators.volume(body)[1]
@@ -243,6 +258,7 @@ def plastic_step(
                     tractions,
                     consume=True,  # their last use
                 )
+                layers[i] = None  # consumed: freed before the return mapping
             elif tractions["pressure"].any() or len(tractions) > 1:
                 trial = deviator(stress_operator.stress(**tractions, box=eigenstrain.box))
             else:
@@ -259,9 +275,12 @@ def plastic_step(
                     reuse_trial=True,  # deviatoric, and not used after
                 )
             )
-        change = np.stack([m.plastic_strain_increment for m in mapped])
-        change -= increment
-        residual = max(float(np.abs(change[i]).max()) / scale for i, scale in enumerate(scales))
+        for i, m in enumerate(mapped):
+            np.subtract(m.plastic_strain_increment, increment[i], out=change[i])
+        residual = max(  # max |change| without a full-size temporary
+            max(float(change[i].max()), -float(change[i].min())) / scale
+            for i, scale in enumerate(scales)
+        )
         if best is None or residual < best[0]:
             best = (residual, contact, mapped, displacements)
         failed = [m for m in mapped if not m.converged]
