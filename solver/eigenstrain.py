@@ -558,27 +558,43 @@ class EigenstrainOperator:
         the window's cells): the surface fields it makes are the window's.
         """
         eigenstrain = self._check(eigenstrain)
-        forward, _ = self.surface_stress.batched_transforms(self.grid.nz)
-        # kept in the volume's precision (the transform itself is double)
-        out = np.empty((6,) + forward.output_array.shape, dtype=self._complex)
-        buffer = forward.input_array
-        buffer[...] = 0.0
-        sx, sy, _ = self.box.slices
         trace = np.abs(eigenstrain[0] + eigenstrain[1] + eigenstrain[2]).max()
         trace_free = trace <= 1e-12 * np.abs(eigenstrain).max()
-        for mn in DEVIATORIC if trace_free else range(6):
-            buffer[sx, sy, :] = eigenstrain[mn]
-            forward.execute()
-            out[mn] = forward.output_array
+        components = DEVIATORIC if trace_free else range(6)
+        nx, ny, _ = self.shape
+        if self.shape == self.grid.shape and self.precision == "double":
+            # the box is the window: the volume's own transforms, which skip the zero rows
+            # (y on the nx data rows, then x)
+            plans = self._volume_plans()
+            rows, data = plans["rows"], plans["data"]
+            out = np.empty((6,) + data.shape, dtype=self._complex)
+            rows[:, ny:] = 0.0
+            for mn in components:
+                rows[:, :ny] = eigenstrain[mn]
+                plans["y"].execute()
+                data[nx:] = 0.0
+                plans["x"].execute()
+                out[mn] = data
+        else:
+            forward, _ = self.surface_stress.batched_transforms(self.grid.nz)
+            # kept in the volume's precision (the transform itself is double)
+            out = np.empty((6,) + forward.output_array.shape, dtype=self._complex)
+            buffer = forward.input_array
+            buffer[...] = 0.0
+            sx, sy, _ = self.box.slices
+            for mn in components:
+                buffer[sx, sy, :] = eigenstrain[mn]
+                forward.execute()
+                out[mn] = forward.output_array
+            buffer[...] = 0.0
         if trace_free:  # a plastic strain: zz is -(xx + yy)
             np.add(out[0], out[1], out=out[2])
             np.negative(out[2], out=out[2])
-        buffer[...] = 0.0
         return out
 
     def _correction_pressure(self, layers: np.ndarray) -> np.ndarray:
         """Pressure ``S_zz(x, y, 0)`` (Pa) that the Boussinesq correction must carry."""
-        sums = self._layer_sums(layers, self._surface_layer_kernels()["zz"])
+        (sums,) = self._layer_sums(layers, self._surface_layer_kernels()["zz"])
         total = 0.0
         for mn, comp in enumerate(STRESS_COMPONENTS):
             total = total + sums[mn] * (1j if _is_imaginary("zz" + comp) else 1.0)
@@ -596,21 +612,23 @@ class EigenstrainOperator:
             for block in blocks:
                 function(block)
 
-    def _layer_sums(self, layers: np.ndarray, kernels: np.ndarray) -> np.ndarray:
-        """``sums[c] = sum_z layers[c] kernels[c]``: per-layer spectra against real kernels.
+    def _layer_sums(self, layers: np.ndarray, *kernel_sets: np.ndarray) -> list[np.ndarray]:
+        """``sums[c] = sum_z layers[c] kernels[c]`` for each set of real kernels.
 
-        On the real and imaginary parts apart (no complex temporaries), by row blocks.
+        On the real and imaginary parts apart (no complex temporaries), by row blocks; every
+        set is summed while a block of ``layers`` is in cache (one pass over them).
         """
-        sums = np.empty(kernels.shape[:3], dtype=complex)
+        shape = kernel_sets[0].shape[:3]
+        out = [np.empty(shape, dtype=complex) for _ in kernel_sets]
 
         def block(xs: slice) -> None:
-            real = np.einsum("cxyz,cxyz->cxy", layers.real[:, xs], kernels[:, xs])
-            imag = np.einsum("cxyz,cxyz->cxy", layers.imag[:, xs], kernels[:, xs])
-            sums.real[:, xs] = real
-            sums.imag[:, xs] = imag
+            real, imag = layers.real[:, xs], layers.imag[:, xs]
+            for sums, kernels in zip(out, kernel_sets, strict=True):
+                sums.real[:, xs] = np.einsum("cxyz,cxyz->cxy", real, kernels[:, xs])
+                sums.imag[:, xs] = np.einsum("cxyz,cxyz->cxy", imag, kernels[:, xs])
 
-        self._by_rows(block, kernels.shape[1])
-        return sums
+        self._by_rows(block, shape[1])
+        return out
 
     def _inverse_surface(self, spectrum: np.ndarray) -> np.ndarray:
         """Backward 2-D transform of a normalised spectrum, cut to ``(nx, ny)``."""
@@ -1032,13 +1050,14 @@ class EigenstrainOperator:
 
     def _reciprocal_displacement(self, layers: np.ndarray) -> tuple:
         dz = self.grid.dz
+        tractions = [_TRACTION_OF_DIRECTION[axis] for axis in "xyz"]
+        # sum over the layers of every component of every traction's kernels (real, (6, 2nx,
+        # ny + 1, nz)) in one pass over the layers: sums[c] = sum_z layers[c] kernels[c]
+        all_sums = self._layer_sums(
+            layers, *(self.surface_stress.kernel_spectra(t) for t in tractions)
+        )
         result = []
-        for axis in "xyz":
-            traction = _TRACTION_OF_DIRECTION[axis]
-            kernels = self.surface_stress.kernel_spectra(traction)  # real, (6, 2nx, ny + 1, nz)
-            # sum over the layers of every component at once, on the real and imaginary parts
-            # (no complex temporaries): sums[c] = sum_z layers[c] kernels[c]
-            sums = self._layer_sums(layers, kernels)
+        for traction, sums in zip(tractions, all_sums, strict=True):
             total = 0.0
             for mn, comp in enumerate(STRESS_COMPONENTS):
                 px, py = kernel_parity(comp, traction)
