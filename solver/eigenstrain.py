@@ -55,7 +55,6 @@ FFT normalisation as :mod:`solver.convolution`: forward transforms unnormalised,
 
 from __future__ import annotations
 
-import concurrent.futures
 import functools
 import itertools
 import math
@@ -82,6 +81,7 @@ from .stress import (
     wrap_layout,
 )
 from .tensor import WEIGHTS, deviator
+from .threads import each
 
 #: Tensor weights of the six components in ``sigma : e`` (off-diagonal terms count twice).
 COMPONENT_WEIGHTS = WEIGHTS
@@ -133,17 +133,18 @@ def _rotation_sign(a, b, parity_xy: tuple[int, int]) -> float:
     return value.real
 
 
-def _lattice_corner_sums(cx, cy, cz, names, chunk: int = 16) -> dict:
+def _lattice_corner_sums(cx, cy, cz, names, chunk: int = 16, threads: int = 1) -> dict:
     """Corner sums of the cuboid corner functions over a lattice of corner coordinates.
 
     ``cx``, ``cy``, ``cz`` are increasing 1-D corner coordinates ``x - x'_corner``.  Entry
     ``(i, j, k)`` of each result, shape ``(len(cx) - 1, len(cy) - 1, len(cz) - 1)``, is the
     alternating sum over the corners ``(cx[i:i+2], cy[j:j+2], cz[k:k+2])``: the field of a
     cuboid of one lattice cell at the offset of that cell's centre.  Computed in slabs of
-    ``chunk`` x-rows to bound the temporaries.
+    ``chunk`` x-rows to bound the temporaries, shared by ``threads`` threads.
     """
     out = {name: np.empty((len(cx) - 1, len(cy) - 1, len(cz) - 1)) for name in names}
-    for i0 in range(0, len(cx) - 1, chunk):
+
+    def slab(i0: int) -> None:
         i1 = min(len(cx) - 1, i0 + chunk)
         f = corner_functions(
             cx[i0 : i1 + 1, None, None], cy[None, :, None], cz[None, None, :], names
@@ -151,6 +152,8 @@ def _lattice_corner_sums(cx, cy, cz, names, chunk: int = 16) -> dict:
         for name in names:
             v = f[name]
             out[name][i0:i1] = np.diff(np.diff(np.diff(v, axis=0), axis=1), axis=2)
+
+    each(slab, range(0, len(cx) - 1, chunk), threads)
     return out
 
 
@@ -256,37 +259,73 @@ class EigenstrainOperator:
         if direct:
             self._surface_layer_kernels(displacement=True)
 
-    def _volume_plans(self) -> dict:
-        """FFT plans and buffers of the per-layer 2-D transforms of the box (built once).
+    def _volume_plans(self) -> list[dict]:
+        """FFT plans and buffers of the per-layer 2-D transforms of the box, one set per thread.
 
         ``"data"`` ``(2nx, ny + 1, nz)`` complex holds per-layer 2-D spectra of the box: the
         forward transform of the data rows (``"y"`` on the box's ``nx`` rows of ``"rows"``,
         then ``"x"``) writes there; on the way back ``"-x"``, ``"-y"`` bring a stress
         component's spectra back to the box's cells in ``"rows"`` ``(nx, 2ny, nz)``.  The
-        depth convolution between them runs by row blocks (:meth:`_workers`).
+        depth convolution between them runs by row blocks (:meth:`_workers`).  With several
+        threads each set (single-threaded plans: the same plans as one thread's) transforms
+        its share of the components (:meth:`_each_component`).
         """
         if self._volume is None:
             nx, ny, nz = self.shape
-            data = pyfftw.empty_aligned((2 * nx, ny + 1, nz), dtype=self._complex)
-            rows = pyfftw.empty_aligned((nx, 2 * ny, nz), dtype=self._real)
-            make = functools.partial(plan, planner=self.planner, threads=self.threads)
-            self._volume = {
-                "data": data,
-                "rows": rows,
-                "y": make(rows, data[:nx], axes=(1,)),
-                "x": make(data, data, axes=(0,)),
-                "-x": make(data, data, axes=(0,), direction="FFTW_BACKWARD"),
-                "-y": make(
-                    data[:nx],
-                    rows,
-                    axes=(1,),
-                    direction="FFTW_BACKWARD",
-                    extra=("FFTW_DESTROY_INPUT",),
-                ),
-            }
-            data[...] = 0.0
-            rows[...] = 0.0
+            make = functools.partial(plan, planner=self.planner, threads=1)
+            self._volume = []
+            for _ in range(max(1, self.threads)):
+                data = pyfftw.empty_aligned((2 * nx, ny + 1, nz), dtype=self._complex)
+                rows = pyfftw.empty_aligned((nx, 2 * ny, nz), dtype=self._real)
+                self._volume.append(
+                    {
+                        "data": data,
+                        "rows": rows,
+                        "y": make(rows, data[:nx], axes=(1,)),
+                        "x": make(data, data, axes=(0,)),
+                        "-x": make(data, data, axes=(0,), direction="FFTW_BACKWARD"),
+                        "-y": make(
+                            data[:nx],
+                            rows,
+                            axes=(1,),
+                            direction="FFTW_BACKWARD",
+                            extra=("FFTW_DESTROY_INPUT",),
+                        ),
+                    }
+                )
+                data[...] = 0.0
+                rows[...] = 0.0
         return self._volume
+
+    def _each_component(self, components, job) -> None:
+        """``job(component, plans)`` for every component, on the plan sets of the threads.
+
+        The components are dealt to the sets of :meth:`_volume_plans` (one thread each); which
+        set transforms a component changes no bit.
+        """
+        sets = self._volume_plans()
+        components = list(components)
+
+        def share(w: int) -> None:
+            for component in components[w :: len(sets)]:
+                job(component, sets[w])
+
+        each(share, range(min(len(sets), len(components))), len(sets))
+
+    def _forward_layers(self, eigenstrain: np.ndarray, components, out: np.ndarray) -> None:
+        """``out[c]``: the per-layer 2-D spectra of the box's ``eigenstrain[c]`` (zero-padded)."""
+        nx, ny, _ = self.shape
+
+        def job(c, plans: dict) -> None:
+            rows, data = plans["rows"], plans["data"]
+            rows[:, ny:] = 0.0  # the last inverse transform left its output
+            rows[:, :ny] = eigenstrain[c]
+            plans["y"].execute()
+            data[nx:] = 0.0
+            plans["x"].execute()
+            out[c] = data
+
+        self._each_component(components, job)
 
     def _build_spectra(self, combinations: dict) -> dict:
         """Real spectra of linear combinations of the cuboid kernels (normalised).
@@ -321,7 +360,7 @@ class EigenstrainOperator:
         lattice[nx] = 0.0
         lattice[:, ny] = 0.0  # offset n: no pair of cells has it
         for group in _base_groups(STRESS_BASE):
-            sums = _lattice_corner_sums(cx, cy, cz, group)
+            sums = _lattice_corner_sums(cx, cy, cz, group, threads=self.threads)
             for name in group:
                 base = STRESS_BASE.index(name)
                 px, py, pz = _parity3(name[1:])
@@ -468,7 +507,7 @@ class EigenstrainOperator:
         scale = 1.0 / (4 * nx * ny)
 
         def lattice_sums(names: list[str]) -> dict:
-            sums = _lattice_corner_sums(cx, cy, cz, names)
+            sums = _lattice_corner_sums(cx, cy, cz, names, threads=self.threads)
             # z offsets ascending: -(nz - 1/2) dz .. -dz/2, layers nz-1 .. 0: to layer order
             return {k: v[:, :, ::-1] for k, v in sums.items()}
 
@@ -565,16 +604,8 @@ class EigenstrainOperator:
         if self.shape == self.grid.shape and self.precision == "double":
             # the box is the window: the volume's own transforms, which skip the zero rows
             # (y on the nx data rows, then x)
-            plans = self._volume_plans()
-            rows, data = plans["rows"], plans["data"]
-            out = np.empty((6,) + data.shape, dtype=self._complex)
-            rows[:, ny:] = 0.0
-            for mn in components:
-                rows[:, :ny] = eigenstrain[mn]
-                plans["y"].execute()
-                data[nx:] = 0.0
-                plans["x"].execute()
-                out[mn] = data
+            out = np.empty((6, 2 * nx, ny + 1, self.shape[2]), dtype=self._complex)
+            self._forward_layers(eigenstrain, components, out)
         else:
             forward, _ = self.surface_stress.batched_transforms(self.grid.nz)
             # kept in the volume's precision (the transform itself is double)
@@ -606,11 +637,7 @@ class EigenstrainOperator:
         The blocks do not depend on the number of threads: neither do the results.
         """
         blocks = [slice(s, min(rows, s + ROW_BLOCK)) for s in range(0, rows, ROW_BLOCK)]
-        if self.threads > 1 and len(blocks) > 1:
-            list(_pool(min(self.threads, len(blocks))).map(function, blocks))
-        else:
-            for block in blocks:
-                function(block)
+        each(function, blocks, self.threads)
 
     def _layer_sums(self, layers: np.ndarray, *kernel_sets: np.ndarray) -> list[np.ndarray]:
         """``sums[c] = sum_z layers[c] kernels[c]`` for each set of real kernels.
@@ -765,11 +792,9 @@ class EigenstrainOperator:
         ``consume``: ``layers`` may be overwritten (else copied first).
         """
         nx, ny, nz = self.shape
-        plans = self._volume_plans()
         trace = np.abs(eigenstrain[0] + eigenstrain[1] + eigenstrain[2]).max()
         trace_free = deviatoric or trace <= 1e-12 * np.abs(eigenstrain).max()
         components = DEVIATORIC if trace_free else tuple(range(6))
-        data = plans["data"]
         shared = self.shape == self.grid.shape  # the box is the window: its layer spectra
         tractions = dict(tractions or {})
         pressure = self._correction_pressure(layers)  # before the layers are overwritten
@@ -785,13 +810,7 @@ class EigenstrainOperator:
             spectral = layers if consume else layers.copy()
         else:
             spectral = self._box_layers()
-            plans["rows"][:, ny:] = 0.0  # the last inverse transform left its output
-            for b in components:
-                plans["rows"][:, :ny] = eigenstrain[b]
-                plans["y"].execute()
-                data[nx:] = 0.0
-                plans["x"].execute()
-                spectral[b] = data
+            self._forward_layers(eigenstrain, components, spectral)
         if trace_free:
             kernels = self._deviatoric_kernels()
             outputs = [*DEVIATORIC, *([] if deviatoric else ["mean"])]
@@ -817,21 +836,22 @@ class EigenstrainOperator:
         surface = self._surface_terms(outputs, spectra, trace_free) if shared else {}
         job = functools.partial(self._convolve, spectral, components, terms, surface)
         workers = self._workers()
-        if len(workers) > 1:
-            list(_pool(len(workers)).map(job, workers))
-        else:
-            job(workers[0])
+        each(job, workers, len(workers))
         out = np.zeros((6, nx, ny, nz), dtype=self._real)  # float32 when single
-        mean = None
-        for a in outputs:
-            data[...] = spectral[_SLOT[a]]
+        means = {}
+
+        def inverse(a, plans: dict) -> None:
+            plans["data"][...] = spectral[_SLOT[a]]
             plans["-x"].execute()
             plans["-y"].execute()
             field = plans["rows"][:, :ny]
             if a == "mean":
-                mean = field.copy()
+                means[a] = field.copy()
             else:  # u_a = w_a t_a (trace-free) or w_a sigma_a (general)
-                out[a] = field / COMPONENT_WEIGHTS[a]
+                np.divide(field, COMPONENT_WEIGHTS[a], out=out[a])
+
+        self._each_component(outputs, inverse)
+        mean = means.get("mean")
         if trace_free:  # the deviator from t_xx, t_yy (:meth:`_deviatoric_kernels`)
             np.add(out[0], out[1], out=out[2])
             out[2] /= -3.0
@@ -1099,7 +1119,8 @@ class EigenstrainOperator:
         word = np.dtype(VOLUME_PRECISIONS[precision][0]).itemsize  # 8 or 4 bytes
         kernel3 = word * (bx + 1) * (by + 1) * (m + 1)
         box_layer = word * 2 * 2 * bx * (by + 1) * nz  # one complex per-layer spectrum
-        buffers = box_layer + word * bx * 2 * by * nz + 20 * CHUNK_BYTES * max(1, threads)
+        threads = max(1, threads)  # a 2-D transform set and a row-block worker each
+        buffers = threads * (box_layer + word * bx * 2 * by * nz + 20 * CHUNK_BYTES)
         if (bx, by) != (nx, ny):
             buffers += 6 * box_layer
         layer = 8 * 2 * nx * (ny + 1) * nz  # one float64 per-layer spectrum of the window
@@ -1147,12 +1168,6 @@ ROW_BLOCK = 8
 #: Bytes of spectrum per row block of the spectral products
 #: (:meth:`EigenstrainOperator._workers`).
 CHUNK_BYTES = 2**18
-
-
-@functools.lru_cache(maxsize=4)
-def _pool(workers: int) -> concurrent.futures.ThreadPoolExecutor:
-    """Worker threads for the spectral products (numpy releases the GIL in its loops)."""
-    return concurrent.futures.ThreadPoolExecutor(workers, thread_name_prefix="eigenstrain")
 
 
 def _base_groups(names) -> list[list[str]]:

@@ -36,7 +36,7 @@ import numpy as np
 
 from .anderson import Anderson
 from .eigenstrain import DEVIATORIC
-from .plasticity import return_mapping
+from .plasticity import return_mapping_by_blocks
 from .steps import ContactState, ResidualDisplacement, StepResult
 from .tensor import deviator
 
@@ -223,7 +223,7 @@ def plastic_step(
         increment -= before_guess
     strain = np.empty_like(previous_strain)  # eps_p of the iterate, rewritten in place
     change = np.empty_like(previous_strain)  # G(d) - d, rewritten in place
-    mixer = Anderson(options.anderson_memory, history_dtype=np.float32)
+    mixer = Anderson(options.anderson_memory, history_dtype=np.float32, threads=options.fft_threads)
     contact_guess: ContactState | None = None
     totals = {"normal": 0, "slip": 0, "coupling": 0}
     residual, converged, iterations = np.inf, False, 0
@@ -266,13 +266,14 @@ def plastic_step(
             for component, values in zip(trial, increment[i], strict=True):  # no full temporary
                 component += 2.0 * material.shear_modulus * values
             mapped.append(
-                return_mapping(
+                return_mapping_by_blocks(
                     trial,
                     previous_plastic[i].equivalent,
                     material.hardening,
                     material.shear_modulus,
                     back_stress=previous_plastic[i].back_stress,
                     reuse_trial=True,  # deviatoric, and not used after
+                    threads=options.fft_threads,
                 )
             )
         for i, m in enumerate(mapped):

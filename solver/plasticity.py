@@ -30,11 +30,14 @@ import numpy as np
 
 from .materials import Hardening
 from .tensor import contract, deviator, norm
+from .threads import each
 
 #: Relative tolerance of the consistency equation (on |r| / sigma_Y).
 RETURN_TOLERANCE = 1e-12
 #: Newton iteration cap; bisection alone would need ~60 steps to reach round-off.
 RETURN_MAX_ITERATIONS = 200
+#: Rows (first cell axis) per block of :func:`return_mapping_by_blocks`.
+RETURN_BLOCK_ROWS = 8
 
 
 @dataclass(frozen=True)
@@ -234,6 +237,63 @@ def return_mapping(
         increment[:, plastic] = flow
         stress[:, plastic] -= 2.0 * shear_modulus * flow
     return ReturnMapping(increment, dp, stress, plastic, iterations, residual, converged)
+
+
+def return_mapping_by_blocks(
+    trial_stress: np.ndarray,
+    plastic_strain: np.ndarray,
+    hardening: Hardening,
+    shear_modulus: float,
+    *,
+    back_stress: np.ndarray | None = None,
+    reuse_trial: bool = False,
+    threads: int = 1,
+) -> ReturnMapping:
+    """:func:`return_mapping` by blocks of rows shared by ``threads`` threads.
+
+    Blocks of :data:`RETURN_BLOCK_ROWS` rows (the first cell axis).  Every cell returns on its
+    own (the scalar Newton solve of a cell depends on that cell only), so the blocks give the
+    bits of one call whatever the number of threads; one thread makes that one call.
+    """
+    rows = trial_stress.shape[1]
+    if threads <= 1 or rows <= RETURN_BLOCK_ROWS:
+        return return_mapping(
+            trial_stress, plastic_strain, hardening, shear_modulus,
+            back_stress=back_stress, reuse_trial=reuse_trial,
+        )  # fmt: skip
+    blocks = [slice(s, min(rows, s + RETURN_BLOCK_ROWS)) for s in range(0, rows, RETURN_BLOCK_ROWS)]
+    plastic_strain = np.broadcast_to(plastic_strain, trial_stress.shape[1:])
+
+    def block(xs: slice) -> ReturnMapping:
+        return return_mapping(
+            trial_stress[:, xs],
+            plastic_strain[xs],
+            hardening,
+            shear_modulus,
+            back_stress=None if back_stress is None else back_stress[:, xs],
+            reuse_trial=reuse_trial,
+        )
+
+    parts = each(block, blocks, threads)
+    first = parts[0]
+
+    def joined(name: str):
+        if getattr(first, name) is None:
+            return None
+        return np.concatenate([getattr(p, name) for p in parts], axis=getattr(first, name).ndim - 3)
+
+    # with reuse_trial the stress of each block is the trial stress's own block (in place)
+    stress = trial_stress if reuse_trial and not hardening.kinematic else joined("stress")
+    return ReturnMapping(
+        joined("plastic_strain_increment"),
+        joined("equivalent_increment"),
+        stress,
+        joined("plastic"),
+        max(p.iterations for p in parts),
+        max(p.residual for p in parts),
+        all(p.converged for p in parts),
+        joined("back_stress"),
+    )
 
 
 def _kinematic_return(

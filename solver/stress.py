@@ -67,6 +67,7 @@ import pyfftw
 from .fftw import plan
 from .grid import IndexBox, VolumeGrid  # noqa: F401  (IndexBox: re-exported)
 from .tensor import COMPONENTS, von_mises  # noqa: F401  (von_mises: re-exported)
+from .threads import each
 
 #: Order of the six stress components in every array returned here (:mod:`solver.tensor`).
 STRESS_COMPONENTS = COMPONENTS
@@ -419,7 +420,9 @@ def _corner_lattice(n: int, d: float) -> np.ndarray:
     return (np.arange(-n, n) + 0.5) * d
 
 
-def layer_kernels(grid: VolumeGrid, nu: float, traction: str, layers) -> np.ndarray:
+def layer_kernels(
+    grid: VolumeGrid, nu: float, traction: str, layers, threads: int = 1
+) -> np.ndarray:
     """Traction-to-stress kernels of the grid's cells at the given layers, wrap-around layout.
 
     Parameters
@@ -432,6 +435,8 @@ def layer_kernels(grid: VolumeGrid, nu: float, traction: str, layers) -> np.ndar
         Unit traction on one surface cell.
     layers : sequence of int
         Layer indices.
+    threads : int
+        Threads that share the layers.
 
     Returns
     -------
@@ -445,12 +450,15 @@ def layer_kernels(grid: VolumeGrid, nu: float, traction: str, layers) -> np.ndar
     names = _NEEDED[traction]
     layers = list(layers)
     out = np.empty((6, 2 * s.nx, 2 * s.ny, len(layers)))
-    for n, k in enumerate(layers):
-        z = float(grid.z[k])
+
+    def layer(n: int) -> None:
+        z = float(grid.z[layers[n]])
         f = _corner_functions(cx, cy, z, names)
         w = {name: np.diff(np.diff(v, axis=0), axis=1) for name, v in f.items()}
         sigma = _stress_from_w(w, z, nu, traction)
         out[..., n] = wrap_layout(wrap_layout(sigma, 1), 2)
+
+    each(layer, range(len(layers)), threads)
     return out
 
 
@@ -537,7 +545,7 @@ class SubsurfaceStressOperator:
             chunk = self._kernel_chunk()
             for k0 in range(0, nz, chunk):
                 layers = range(k0, min(nz, k0 + chunk))
-                kernels = layer_kernels(self.grid, self.nu, traction, layers)
+                kernels = layer_kernels(self.grid, self.nu, traction, layers, self.threads)
                 forward = self.batched_transforms(len(layers))[0]
                 for c, comp in enumerate(STRESS_COMPONENTS):
                     forward.input_array[...] = kernels[c]
