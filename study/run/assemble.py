@@ -76,8 +76,8 @@ SCALARS = {
     "case_time": ("s", "wall time of the case on its rank before writing (set-up, solve, checks)"),
     "peak_rss": (
         "byte",
-        "peak resident memory of the computing process during the case (Linux; elsewhere its "
-        "peak so far)",
+        "peak resident memory of the computing process during the case (where the kernel "
+        "restarts the count, Linux; elsewhere its peak so far, an upper bound)",
     ),
     "mpi_rank": ("1", "MPI rank that computed the case (-1: none)"),
     "grid_cells": ("1", "grid cells of the case: nx ny, or nx ny nz with a volume grid"),

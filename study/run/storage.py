@@ -477,14 +477,33 @@ def reset_peak_rss() -> bool:
     """Restart the peak-resident-set count of this process (Linux: ``/proc/self/clear_refs``).
 
     Returns True when the count was reset, so that :func:`peak_rss_bytes` measures from here
-    (one case); elsewhere (or without permission) it stays the process's peak so far.
+    (one case): checked, since some kernels accept the write and keep the old peak (the peak
+    must then be within :data:`RESET_SLACK` of the resident set).  Elsewhere, without
+    permission or without effect it stays the process's peak so far.
     """
     try:
         with open("/proc/self/clear_refs", "w") as handle:
             handle.write("5")
-        return True
     except OSError:
         return False
+    peak, resident = _status_bytes("VmHWM"), _status_bytes("VmRSS")
+    return peak is not None and resident is not None and peak <= resident + RESET_SLACK
+
+
+#: How far above the resident set the peak may be right after a reset that worked (bytes).
+RESET_SLACK = 16 * 2**20
+
+
+def _status_bytes(field: str) -> int | None:
+    """A ``kB`` field of ``/proc/self/status`` in bytes, or None."""
+    try:
+        with open("/proc/self/status") as handle:
+            for line in handle:
+                if line.startswith(field + ":"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return None
 
 
 def peak_rss_bytes() -> int:
@@ -493,13 +512,9 @@ def peak_rss_bytes() -> int:
     Linux: ``VmHWM`` of ``/proc/self/status`` (which the reset restarts); elsewhere the
     ``ru_maxrss`` of :func:`resource.getrusage`, the process's peak since it started.
     """
-    try:
-        with open("/proc/self/status") as handle:
-            for line in handle:
-                if line.startswith("VmHWM:"):
-                    return int(line.split()[1]) * 1024
-    except OSError:
-        pass
+    peak = _status_bytes("VmHWM")
+    if peak is not None:
+        return peak
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     return int(peak if sys.platform == "darwin" else peak * 1024)
 
