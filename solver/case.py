@@ -1160,8 +1160,8 @@ def _parse_grid(table: Any) -> GridSpec:
             _fail(
                 "grid.plastic_half_width",
                 f"must be in [{MIN_PLASTIC_HALF_WIDTH:g}, half_width = {half_width:g}] (units of "
-                f"the Hertz radius a_H), got {plastic_half_width:g}; leave it out for a box as "
-                "wide as the surface window",
+                f"the Hertz radius a_H), got {plastic_half_width:g}; leave it out for a box sized "
+                "from the yield region, or give half_width for the whole window",
             )
     return GridSpec(
         sizes[0],

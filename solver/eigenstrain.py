@@ -1163,9 +1163,9 @@ class _Worker:
     surface: np.ndarray
 
 
-#: Rows (kx) per block of the per-layer sums and products split over threads.
+#: Rows (kx) per block of the per-layer sums (:meth:`EigenstrainOperator._layer_sums`).
 ROW_BLOCK = 8
-#: Bytes of spectrum per row block of the spectral products
+#: Bytes per plane of a row block of the depth convolution
 #: (:meth:`EigenstrainOperator._workers`).
 CHUNK_BYTES = 2**18
 
