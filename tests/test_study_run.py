@@ -324,8 +324,7 @@ def test_peak_memory_is_measured_per_case():
 
     from study.run import storage
 
-    # earlier tests' garbage freed now, not by a collection inside the measured window (the
-    # resident set falling as much as the array adds left the peak unchanged: seen in CI)
+    # earlier tests' garbage freed now rather than by a collection inside the measured window
     gc.collect()
     gc.disable()
     try:
@@ -335,11 +334,17 @@ def test_peak_memory_is_measured_per_case():
         if not storage.reset_peak_rss():  # checked: the peak must have come down to the RSS
             pytest.skip("no /proc/self/clear_refs here, or this kernel keeps the old peak")
         after = storage.peak_rss_bytes()
+        resident = storage.status_bytes("VmRSS")
         small = np.ones(48 * 2**20 // 8)
         small[::512] = 2.0
         grown = storage.peak_rss_bytes() - after
+        resident = storage.status_bytes("VmRSS") - resident
     finally:
         gc.enable()
+    if resident < 40 * 2**20:
+        # Seen in this project's CI sandbox, in full runs only: the kernel's resident-set count
+        # did not show the 48 MiB just written, so no peak could show it either.
+        pytest.skip(f"this kernel's resident-set count lags ({resident / 2**20:.0f} MiB seen)")
     if grown < 0:
         # Seen on one CI sandbox: a peak read just after the reset was higher than one read
         # after a 48 MiB allocation, so its VmHWM does not count from the reset at all.

@@ -486,7 +486,7 @@ def reset_peak_rss() -> bool:
             handle.write("5")
     except OSError:
         return False
-    peak, resident = _status_bytes("VmHWM"), _status_bytes("VmRSS")
+    peak, resident = status_bytes("VmHWM"), status_bytes("VmRSS")
     return peak is not None and resident is not None and peak <= resident + RESET_SLACK
 
 
@@ -494,7 +494,7 @@ def reset_peak_rss() -> bool:
 RESET_SLACK = 16 * 2**20
 
 
-def _status_bytes(field: str) -> int | None:
+def status_bytes(field: str) -> int | None:
     """A ``kB`` field of ``/proc/self/status`` in bytes, or None."""
     try:
         with open("/proc/self/status") as handle:
@@ -512,7 +512,7 @@ def peak_rss_bytes() -> int:
     Linux: ``VmHWM`` of ``/proc/self/status`` (which the reset restarts); elsewhere the
     ``ru_maxrss`` of :func:`resource.getrusage`, the process's peak since it started.
     """
-    peak = _status_bytes("VmHWM")
+    peak = status_bytes("VmHWM")
     if peak is not None:
         return peak
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
