@@ -37,6 +37,7 @@ _JSON_TYPES = {
 #: The table a key of kind "table" (or a path's stages) opens.
 _SUBTABLES = {
     "body1": "bodyN", "body2": "bodyN", "hardening": "bodyN.hardening",
+    "profile": "bodyN.profile",
     "kinematic": "bodyN.hardening.kinematic", "load": "load", "friction": "friction",
     "grid": "grid", "solver": "solver", "output": "output",
 }  # fmt: skip
@@ -192,6 +193,8 @@ def cli_page() -> str:
 API = (
     ("solver", ["Case", "solve", "Result", "SpecError", "memory_estimate"]),
     ("solver.reference", None),
+    ("solver.geometry", None),
+    ("solver.sneddon", None),
     ("solver.dundurs", None),
     ("study.campaign", ["load_campaign", "expand_campaign", "Campaign", "CampaignCase"]),
     ("study.run.driver", ["run_campaign", "RunOptions"]),

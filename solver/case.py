@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from .fftw import PLANNER_FLAGS, fft_size
+from .geometry import PROFILE_KEYS, PROFILES, Geometry, Profile
 from .grid import IndexBox, SurfaceGrid, VolumeGrid
 from .keys import (
     DEFAULT_DEPTH,
@@ -48,6 +49,8 @@ from .keys import (
     MODULUS_RANGE,
     PLASTIC_WIDTH_MARGIN,
     PRESSURE_RATIO_RANGE,
+    PROFILE_EXPONENT_RANGE,
+    PROFILE_MAX_ANGLE,
     RADIUS_RANGE,
     SOLVER_DEFAULTS,
     SWIFT_OFFSET_RANGE,
@@ -66,6 +69,7 @@ from .reference import (
     hertz_yield_half_width,
     hertz_yield_region,
 )
+from .sneddon import SneddonContact
 from .variables import OPTIONAL_FIELDS
 
 #: Equivalent plastic strain up to which the small-strain theory is trusted (the reference
@@ -86,6 +90,7 @@ class SpecError(ValueError):
 
 #: Tables of :data:`solver.keys.CASE_KEYS` the parser names more than once.
 HARDENING, KINEMATIC = "bodyN.hardening", "bodyN.hardening.kinematic"
+PROFILE = "bodyN.profile"
 STAGE, CYCLE_BLOCK = "load.path[i]", "load.path[i] (cycle block)"
 
 
@@ -164,6 +169,37 @@ def _parse_kinematic(table: Any, path: str) -> dict:
     return {"kinematic_modulus": modulus, "kinematic_recall": recall}
 
 
+def _parse_profile(table: Any, path: str) -> Profile:
+    _check_keys(table, path, table_keys(PROFILE), required_keys(PROFILE))
+    shape = _plain(table["shape"])
+    if shape not in PROFILES:
+        _fail(f"{path}.shape", f"must be one of {', '.join(PROFILES)}, got {shape!r}")
+    keys = PROFILE_KEYS[shape]
+    _check_keys(table, path, {*keys, "shape"}, set(keys))
+    if shape == "cone":
+        angle = _number(table["angle"], f"{path}.angle", positive=True)
+        if angle > PROFILE_MAX_ANGLE:
+            _fail(
+                f"{path}.angle",
+                f"must be in (0, {PROFILE_MAX_ANGLE:g}] degrees (the surface's angle to the "
+                f"tangent plane; small-slope theory), got {angle:g}",
+            )
+        return PROFILES[shape](angle)
+    if shape == "flat_punch":
+        return PROFILES[shape](
+            _radius(table["radius"], f"{path}.radius", flat=False),
+            _radius(table["edge_radius"], f"{path}.edge_radius", flat=False),
+        )
+    coefficient = _number(table["coefficient"], f"{path}.coefficient", positive=True)
+    exponent = _number(table["exponent"], f"{path}.exponent")
+    low, high = PROFILE_EXPONENT_RANGE
+    if not low <= exponent <= high:
+        _fail(f"{path}.exponent", f"must be in [{low:g}, {high:g}], got {exponent:g}")
+    if exponent == 1.0 and coefficient > 1.0:
+        _fail(f"{path}.coefficient", "with exponent 1 (a cone) the slope must be <= 1")
+    return PROFILES[shape](coefficient, exponent)
+
+
 def _parse_hardening(table: Any, path: str) -> Hardening:
     _check_keys(table, path, table_keys(HARDENING), required_keys(HARDENING))
     law = _plain(table["law"])
@@ -202,11 +238,20 @@ def _parse_body(table: Any, path: str) -> Body:
     else:
         rx = _radius(table.get("radius_x", "inf"), f"{path}.radius_x")
         ry = _radius(table.get("radius_y", "inf"), f"{path}.radius_y")
+    profile = None
+    if "profile" in table:
+        profile = _parse_profile(table["profile"], f"{path}.profile")
+        if rx != ry:
+            _fail(
+                f"{path}.profile",
+                "a profile is axisymmetric and adds to a sphere only: give radius (or none), "
+                "not radius_x / radius_y",
+            )
     if behaviour == "rigid":
         for key in ("E", "nu", "hardening"):
             if key in table:
                 _fail(f"{path}.{key}", "a rigid body takes no elastic or hardening data; remove it")
-        return Body("rigid", rx, ry)
+        return Body("rigid", rx, ry, profile=profile)
     for key in ("E", "nu"):
         if key not in table:
             _fail(f"{path}.{key}", f"missing required field for a {behaviour} body")
@@ -225,15 +270,16 @@ def _parse_body(table: Any, path: str) -> Body:
         _check_yield_stress(hardening, young, f"{path}.hardening")
     elif "hardening" in table:
         _fail(f"{path}.hardening", "only elastic-plastic bodies take a hardening law")
-    return Body(behaviour, rx, ry, young, nu, hardening)
+    return Body(behaviour, rx, ry, young, nu, hardening, profile)
 
 
-def _radius(value: Any, path: str) -> float:
-    """A radius of curvature (m): in :data:`RADIUS_RANGE`, or "inf" for a flat body."""
-    radius = _number(value, path, positive=True, allow_inf=True)
+def _radius(value: Any, path: str, flat: bool = True) -> float:
+    """A radius (m): in :data:`RADIUS_RANGE`, or "inf" for a flat body where ``flat``."""
+    radius = _number(value, path, positive=True, allow_inf=flat)
     low, high = RADIUS_RANGE
     if not (low <= radius <= high or math.isinf(radius)):
-        _fail(path, f'must be in [{low:g}, {high:g}] m or "inf" (flat), got {radius:g}')
+        flat_text = ' or "inf" (flat)' if flat else ""
+        _fail(path, f"must be in [{low:g}, {high:g}] m{flat_text}, got {radius:g}")
     return radius
 
 
@@ -415,9 +461,54 @@ def _force_for_pressure(p_h: float, pair: Pair, path: str) -> float:
     return force
 
 
+@functools.lru_cache(maxsize=256)
+def _profile_radius(geometry: Geometry, force: float, e_star: float) -> float:
+    """Sneddon's contact radius (m) of a profiled gap under ``force`` (N).
+
+    ValueError past the slope limit; memoised (a cyclic path checks the same forces again).
+    """
+    from .sneddon import radius_for_force
+
+    return radius_for_force(
+        force, geometry.slope, e_star, geometry.breaks, geometry.start, geometry.slope_limit
+    )
+
+
+def _check_profile_force(force: float, pair: Pair, path: str) -> None:
+    """Refuse a normal force that a profile cannot carry in the small-strain theory.
+
+    Refused: a contact pushed past the profile's slope limit, or a mean pressure W / (pi a^2)
+    over E* outside :data:`PRESSURE_RATIO_RANGE`.
+    """
+    from .geometry import MAX_PROFILE_SLOPE
+
+    geometry, e_star = pair.geometry, pair.composite_modulus
+    try:
+        a = _profile_radius(geometry, force, e_star)
+    except ValueError:
+        _fail(
+            path,
+            f"W = {force:g} N presses the contact out to where the surface's slope passes "
+            f"{MAX_PROFILE_SLOPE:g} (radius {geometry.slope_limit:.4g} m; small-slope theory); "
+            "lower the load, or blunt the profile (a smaller angle or coefficient, a larger "
+            "edge_radius)",
+        )
+    ratio = force / (math.pi * a * a) / e_star
+    low, high = PRESSURE_RATIO_RANGE
+    if not low <= ratio <= high:
+        _fail(
+            path,
+            f"W = {force:g} N gives a mean pressure of {ratio:.3g} E* on Sneddon's contact "
+            f"(radius {a:.4g} m); it must be in [{low:g}, {high:g}] E* (small strain)",
+        )
+
+
 def _check_force(force: float, pair: Pair, path: str) -> None:
     """Refuse a non-zero normal force whose Hertz pressure is outside the accepted range."""
     if force == 0:
+        return
+    if not pair.geometry.hertzian:
+        _check_profile_force(force, pair, path)
         return
     e_star = pair.composite_modulus
     try:
@@ -438,6 +529,11 @@ def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool
     if "hertz_pressure" in table and "normal_force" in table:
         _fail(f"{path}.hertz_pressure", "give either hertz_pressure or normal_force, not both")
     given = {}
+    if "hertz_pressure" in table and not pair.geometry.hertzian:
+        _fail(
+            f"{path}.hertz_pressure",
+            "a body has a profile, which has no Hertz pressure: give normal_force (N)",
+        )
     if "hertz_pressure" in table:
         p_h = _load_number(table["hertz_pressure"], f"{path}.hertz_pressure", first)
         given["hertz_pressure"] = p_h
@@ -700,10 +796,18 @@ class Case:
             _fail("body2.behaviour", "both bodies are rigid; make at least one elastic")
         pair = Pair(body1, body2)
         kx, ky = pair.curvature
-        if not (kx > 0 and ky > 0):
-            _fail("body1.radius", "both bodies are flat in x or y; give a finite radius")
-        if max(kx, ky) / min(kx, ky) > 100:
-            _fail("body1.radius_x", "contact ellipse too slender (R_x/R_y beyond 1:100)")
+        if pair.geometry.hertzian:
+            if not (kx > 0 and ky > 0):
+                _fail("body1.radius", "both bodies are flat in x or y; give a finite radius")
+            if max(kx, ky) / min(kx, ky) > 100:
+                _fail("body1.radius_x", "contact ellipse too slender (R_x/R_y beyond 1:100)")
+        elif kx != ky:
+            which = "body1" if body1.profile is None else "body2"
+            _fail(
+                f"{which}.radius_x",
+                "with a profile the pair must stay axisymmetric: give the other body a radius "
+                "(or none), not radius_x / radius_y",
+            )
 
         load = table["load"]
         if not isinstance(load, dict):
@@ -738,9 +842,13 @@ class Case:
         _check_plastic_scene(body1, body2, stages, grid)
         plastics = [b for b in (body2, body1) if b.behaviour == "elastic-plastic"]
         plastic = plastics[0] if plastics else None
-        p_max = hertz(
-            max(stage.normal_force for stage in stages), pair.composite_modulus, (kx, ky)
-        ).max_pressure
+        p_max = (  # elastic-plastic bodies are quadric (_check_plastic_scene)
+            hertz(
+                max(stage.normal_force for stage in stages), pair.composite_modulus, (kx, ky)
+            ).max_pressure
+            if plastics
+            else math.nan
+        )
 
         def yield_depth(body: Body) -> float:
             return auto_depth(p_max, body.hardening.initial_yield_stress, body.nu)
@@ -905,7 +1013,7 @@ class Case:
         return Case.from_dict(table)
 
     def _check_resolution(self) -> None:
-        reference = self.hertz
+        reference = self.reference
         semi_min = min(reference.semi_axis_x, reference.semi_axis_y)
         half_x, half_y = self.domain_half_widths
         if half_x < 1.05 * reference.semi_axis_x or half_y < 1.05 * reference.semi_axis_y:
@@ -950,15 +1058,26 @@ class Case:
         return max(stage.normal_force for stage in self.stages)
 
     @functools.cached_property
-    def hertz(self) -> HertzContact:
-        """Hertz reference at the largest normal force of the path (computed once)."""
+    def reference(self) -> HertzContact | SneddonContact:
+        """The closed-form elastic contact at the largest normal force (computed once).
+
+        Hertz's for quadric bodies, Sneddon's for a profile (:meth:`Geometry.reference`); its
+        semi-axes scale the domain (``grid.half_width``) and the volume depth.
+        """
         pair = self.pair
-        return hertz(self.max_normal_force, pair.composite_modulus, pair.curvature)
+        return pair.geometry.reference(self.max_normal_force, pair.composite_modulus)
+
+    @property
+    def hertz(self) -> HertzContact:
+        """Hertz reference at the largest normal force of the path (quadric bodies only)."""
+        if not self.pair.geometry.hertzian:
+            raise ValueError("a case with a profile has no Hertz reference; use Case.reference")
+        return self.reference
 
     @property
     def domain_half_widths(self) -> tuple[float, float]:
         """Half-widths (m) of the surface domain along x and y (square cells)."""
-        half = self.grid.half_width * self.hertz.max_semi_axis
+        half = self.grid.half_width * self.reference.max_semi_axis
         if self.grid.nx == self.grid.ny:
             return half, half
         cell = 2 * half / max(self.grid.nx, self.grid.ny)
@@ -987,7 +1106,7 @@ class Case:
         """
         if self.grid.plastic_half_width is None or not self.grid.nz:
             return None
-        half = self.grid.plastic_half_width * self.hertz.max_semi_axis
+        half = self.grid.plastic_half_width * self.reference.max_semi_axis
         surface = self.surface_grid
         ranges = []
         for n, d in ((surface.nx, surface.dx), (surface.ny, surface.dy)):
@@ -1009,7 +1128,7 @@ class Case:
         if not self.grid.nz:
             return None
         depth = self.grid.depth_body1 if body == 1 and self.grid.depth_body1 else self.grid.depth
-        depth *= self.hertz.max_semi_axis
+        depth *= self.reference.max_semi_axis
         return VolumeGrid(self.surface_grid, self.grid.nz, depth / self.grid.nz)
 
     @property
@@ -1099,6 +1218,14 @@ def _check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> No
     symmetric = plastic1 and body1 == body2
     if not (plastic1 or plastic2):
         return
+    for name, body in (("body1", body1), ("body2", body2)):
+        if body.profile is not None:
+            _fail(
+                f"{name}.profile",
+                "elastic-plastic cases take quadric bodies only in this release (the volume "
+                "depth and the plastic box are sized from Hertz's stress field); make both "
+                "bodies elastic or rigid to use a profile",
+            )
     if symmetric and any(any(stage.tangential_force) for stage in stages):
         _fail(
             "load.tangential_force",
@@ -1267,6 +1394,8 @@ def _body_spec(body: Body) -> dict:
         out["radius"] = radius(body.radius_x)
     else:
         out["radius_x"], out["radius_y"] = radius(body.radius_x), radius(body.radius_y)
+    if body.profile is not None:
+        out["profile"] = body.profile.spec()
     if not body.rigid:
         out["E"], out["nu"] = body.E, body.nu
     if body.hardening is not None:

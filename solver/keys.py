@@ -30,6 +30,11 @@ RADIUS_RANGE = (1e-9, 1e6)
 #: It is the contact's strain scale (a / R = pi/2 p_H / E* for a sphere): below 1e-9 the
 #: contact is a rounding error, above 1 the small-strain theory the solver rests on is void.
 PRESSURE_RATIO_RANGE = (1e-9, 1.0)
+#: Largest cone angle (degrees) to the tangent plane: slopes up to 1 (small-slope theory,
+#: :data:`solver.geometry.MAX_PROFILE_SLOPE`).
+PROFILE_MAX_ANGLE = 45.0
+#: Exponents k of a power-law profile h = A r^k accepted.
+PROFILE_EXPONENT_RANGE = (1.0, 8.0)
 #: Initial yield strain sigma_Y0 / E accepted for an elastic-plastic body: from the softest
 #: annealed metals (indium, lead: ~1e-4) to metallic glasses (~0.02), with a decade of slack.
 YIELD_STRAIN_RANGE = (1e-5, 0.1)
@@ -182,6 +187,25 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("bodyN", "radius_y", "number or \"inf\"", "m", "\"inf\"",
         _range(*RADIUS_RANGE, "m") + ' or "inf"', "every body",
         "Radius of curvature in the y-z plane."),
+    Key("bodyN", "profile", "table", "", "optional (a quadric only)", "a profile table",
+        "every body", "An axisymmetric shape added to the quadric (a sphere's radius at most: "
+        "the pair stays axisymmetric); the load is then a normal_force and the domain is "
+        "scaled by Sneddon's contact radius at the largest load (docs: shapes)."),
+    Key("bodyN.profile", "shape", "string", "", "required", "cone, flat_punch or power",
+        "profiles", "cone: h = r tan(angle); flat_punch: h = 0 for r <= radius, a circular arc "
+        "of edge_radius beyond; power: h = coefficient r^exponent."),
+    Key("bodyN.profile", "angle", "number", "degree", "required by its shape",
+        f"(0, {PROFILE_MAX_ANGLE:g}]", "cones", "Angle between the cone's surface and the "
+        "tangent plane."),
+    Key("bodyN.profile", "radius", "number", "m", "required by its shape",
+        _range(*RADIUS_RANGE, "m"), "flat punches", "Radius of the flat face."),
+    Key("bodyN.profile", "edge_radius", "number", "m", "required by its shape",
+        _range(*RADIUS_RANGE, "m"), "flat punches", "Radius of the rounded edge."),
+    Key("bodyN.profile", "coefficient", "number", "m^(1-k)", "required by its shape", "> 0",
+        "power laws", "A of h = A r^k."),
+    Key("bodyN.profile", "exponent", "number", "1", "required by its shape",
+        _range(*PROFILE_EXPONENT_RANGE), "power laws", "k of h = A r^k (1: a cone, 2: a "
+        "paraboloid)."),
     Key("bodyN", "E", "number", "Pa", "required (not for rigid)", _range(*MODULUS_RANGE, "Pa"),
         "elastic and elastic-plastic bodies", "Young's modulus."),
     Key("bodyN", "nu", "number", "1", "required (not for rigid)", "(-1, 0.5]",
@@ -217,9 +241,11 @@ CASE_KEYS: tuple[Key, ...] = (
     # load
     Key("load", "hertz_pressure", "number", "Pa", "one of hertz_pressure / normal_force",
         f"p_H / E* in {_range(*PRESSURE_RATIO_RANGE)}", _LOADS,
-        "Target load as the Hertz peak pressure of the pair (>= 0 after the first stage)."),
+        "Target load as the Hertz peak pressure of the pair (>= 0 after the first stage; quadric "
+        "bodies only: with a profile give normal_force)."),
     Key("load", "normal_force", "number", "N", "one of hertz_pressure / normal_force",
-        "its Hertz pressure in the same range; 0 unloads", _LOADS, "Target normal force W."),
+        "its Hertz pressure in the same range (with a profile: its mean pressure W/(pi a^2), "
+        "Sneddon's radius within the slope limit); 0 unloads", _LOADS, "Target normal force W."),
     Key("load", "tangential_force", "number or [Qx, Qy]", "N", "[0, 0] (then the previous)",
         "|Q| < mu W (no gross sliding)", "friction", "Target tangential force on body 2."),
     Key("load", "steps", "integer", "1", "1", f"[1, {MAX_STAGE_STEPS:,}]", _LOADS,
@@ -251,7 +277,8 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("grid", "nz", "integer", "cells", "optional", f"[4, {MAX_CELLS}]; not with a 3-entry n",
         "volume grids", "Volume cells in depth, apart from grid.n."),
     Key("grid", "half_width", "number", "a_H", "1.5", "the contact fits (>= 1.1; 1.5 usual)",
-        "every case", "Half side of the surface domain in units of the largest Hertz semi-axis."),
+        "every case", "Half side of the surface domain in units of the largest Hertz semi-axis "
+        "(with a profile: Sneddon's contact radius) at the largest load."),
     Key("grid", "depth", "number", "a_H", f"1.2 x the Hertz yield depth (>= {DEFAULT_DEPTH:g}); "
         f"{DEFAULT_DEPTH:g} for elastic bodies", f"{_range(*DEPTH_RANGE)}; plastic bodies: cells "
         f"<= {MAX_CELL_DEPTH:g} a_H, the box reaches where yield starts, >= {MIN_YIELD_CELLS} "

@@ -263,10 +263,14 @@ def solve(case: Case) -> Result:
     coupled = contact_step is slip_stick_step and case.pair.dundurs_beta != 0.0
     coupled = coupled and not case.solver.goodman
     previous_target = (0.0, 0.0, 0.0)
-    # Hertz radius grows as W^(1/3): the load whose contact spans MIN_SUBSTEP_RADIUS_CELLS
-    grid = case.surface_grid
-    cells = MIN_SUBSTEP_RADIUS_CELLS * max(grid.dx, grid.dy) / case.hertz.radius
-    smallest = case.max_normal_force * min(1.0, cells) ** 3
+    # the load whose reference contact radius spans MIN_SUBSTEP_RADIUS_CELLS
+    grid, pair = case.surface_grid, case.pair
+    smallest = min(
+        case.max_normal_force,
+        pair.geometry.force_at_radius(
+            MIN_SUBSTEP_RADIUS_CELLS * max(grid.dx, grid.dy), pair.composite_modulus
+        ),
+    )
     guess, direction = None, 0.0
     previous = None  # (plastic increment, load increment) of the step before the last
     faces_noted = False

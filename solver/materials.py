@@ -18,6 +18,8 @@ from typing import Literal
 
 import numpy as np
 
+from .geometry import Geometry, Profile
+
 #: Swift's law counts plastic strain in micro-strain: sigma_Y = B (C + 1e6 e_p)^n, so C is the
 #: pre-strain in micro-strain (the paper's C = 20 is 2e-5) and B (Pa), C, n are kept as written.
 SWIFT_STRAIN_UNIT = 1e6
@@ -112,6 +114,8 @@ class Body:
         Poisson's ratio; ignored for rigid bodies.
     hardening : Hardening or None
         Hardening law, required for ``elastic-plastic``.
+    profile : Profile or None
+        An axisymmetric profile added to the quadric (:mod:`solver.geometry`).
     """
 
     behaviour: Behaviour
@@ -120,6 +124,7 @@ class Body:
     E: float = math.inf
     nu: float = 0.0
     hardening: Hardening | None = None
+    profile: Profile | None = None
 
     @property
     def rigid(self) -> bool:
@@ -183,3 +188,9 @@ class Pair:
             1.0 / self.body1.radius_x + 1.0 / self.body2.radius_x,
             1.0 / self.body1.radius_y + 1.0 / self.body2.radius_y,
         )
+
+    @property
+    def geometry(self) -> Geometry:
+        """The initial gap of the pair: quadric part and both bodies' profiles."""
+        profiles = tuple(b.profile for b in (self.body1, self.body2) if b.profile is not None)
+        return Geometry(self.curvature, profiles)

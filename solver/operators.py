@@ -29,10 +29,8 @@ def planner_flag(options: SolverOptions) -> str:
 
 
 def initial_gap(case: Case) -> np.ndarray:
-    """Undeformed gap h_i = x^2/(2 R_x) + y^2/(2 R_y) (m) on the case's surface grid."""
-    kx, ky = case.pair.curvature
-    x, y = case.surface_grid.mesh()
-    return 0.5 * (kx * x * x + ky * y * y)
+    """Undeformed gap (m) on the case's surface grid (:meth:`solver.geometry.Geometry.gap`)."""
+    return case.pair.geometry.gap(*case.surface_grid.mesh())
 
 
 #: Volume operators by (grid, body, FFT threads, planner, with eigenstrain), of the last case

@@ -94,7 +94,7 @@ class Result:
         """The result as an :class:`xarray.Dataset` with CF attributes (SI units)."""
         import xarray as xr
 
-        case, reference = self.case, self.case.hertz
+        case = self.case
         pair = case.pair
         steps = np.arange(1, len(self.history["normal_force"]) + 1)
         coords = {
@@ -145,12 +145,7 @@ class Result:
             "Conventions": "CF-1.8",
             "title": "slipstick contact solution",
             "case_id": case.case_id,
-            "hertz_radius": reference.radius,
-            "hertz_semi_axis_x": reference.semi_axis_x,
-            "hertz_semi_axis_y": reference.semi_axis_y,
-            "hertz_pressure": reference.max_pressure,
-            "hertz_approach": reference.approach,
-            "hertz_normal_force": reference.normal_force,
+            **reference_attrs(case),
             "composite_modulus": pair.composite_modulus,
             "dundurs_beta": pair.dundurs_beta,
             "friction_coefficient": case.friction_coefficient,
@@ -161,6 +156,40 @@ class Result:
             "wall_time": self.wall_time,
         }
         return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def reference_attrs(case: Case) -> dict[str, float]:
+    """The closed-form elastic reference at the case's largest load, as result attributes.
+
+    ``hertz_*`` (radius sqrt(a b), semi-axes, peak pressure, approach, force) for quadric
+    bodies; ``sneddon_*`` (radius, mean pressure W/(pi a^2), approach, force) with a profile.
+    """
+    reference = case.reference
+    if case.pair.geometry.hertzian:
+        return {
+            "hertz_radius": reference.radius,
+            "hertz_semi_axis_x": reference.semi_axis_x,
+            "hertz_semi_axis_y": reference.semi_axis_y,
+            "hertz_pressure": reference.max_pressure,
+            "hertz_approach": reference.approach,
+            "hertz_normal_force": reference.normal_force,
+        }
+    return {
+        "sneddon_radius": reference.radius,
+        "sneddon_mean_pressure": reference.mean_pressure,
+        "sneddon_approach": reference.approach,
+        "sneddon_normal_force": reference.normal_force,
+    }
+
+
+def length_scale(attrs: dict) -> float:
+    """The reference semi-axis along x (m) of a result's attributes.
+
+    Hertz's a_x, or Sneddon's contact radius (:func:`reference_attrs`).
+    """
+    if "hertz_semi_axis_x" in attrs:
+        return float(attrs["hertz_semi_axis_x"])
+    return float(attrs["sneddon_radius"])
 
 
 def _cf(declared) -> dict:

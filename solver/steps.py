@@ -47,7 +47,6 @@ import numpy as np
 
 from .anderson import Anderson
 from .normal import NormalSolution, solve_normal
-from .reference import hertz
 from .tangential import solve_tangential, solve_tangential_coupled
 
 if TYPE_CHECKING:
@@ -162,9 +161,8 @@ def _start_pressure(operators: CaseOperators, force: float, *states) -> np.ndarr
         if state is not None and state.pressure.any():
             return state.pressure
     pair = operators.pair
-    return hertz(force, pair.composite_modulus, pair.curvature).pressure(
-        *operators.surface.grid.mesh()
-    )
+    reference = pair.geometry.reference(force, pair.composite_modulus)
+    return reference.pressure(*operators.surface.grid.mesh())
 
 
 def _pressure_change(new: np.ndarray, old: np.ndarray) -> float:

@@ -12,9 +12,10 @@ or plotted one case (one dask chunk) at a time::
     peak = fields.plastic_strain.max(("x_over_a", "y_over_a", "z_over_a")).compute()
     section = fields.plastic_strain.sel(y_over_a=0, method="nearest").sel(mu=0.5).load()
 
-Cell coordinates are normalised by the case's Hertz semi-axis a_x (``x_over_a``, ``y_over_a``,
-``z_over_a``: depth into the elastic-plastic body), so that cases with the same mesh but
-different loads or materials share them; ``hertz_semi_axis_x`` (per case, m) turns them back
+Cell coordinates are normalised by the case's reference semi-axis a_x (Hertz's; Sneddon's
+contact radius for a profile) (``x_over_a``, ``y_over_a``, ``z_over_a``: depth into the
+elastic-plastic body), so that cases with the same mesh but different loads or materials share
+them; ``semi_axis_x`` (per case, m) turns them back
 into metres.  Cases whose cells differ (a mesh or a depth axis) cannot share one array: select
 one value of such an axis (``open_fields(out, grid_n=64)``).  Cases not finished (pending,
 failed) hold NaN (``contact_state``: :data:`MISSING_FLAG`).
@@ -27,6 +28,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from solver.result import length_scale
 from solver.variables import FIELDS
 
 from ..run import storage
@@ -46,8 +48,11 @@ COORDINATE_RTOL = 1e-9
 
 
 def _normalised(case: xr.Dataset, dim: str) -> np.ndarray:
-    """Cell centres along ``dim`` over the case's Hertz semi-axis a_x."""
-    return np.asarray(case[dim].values, dtype=float) / float(case.attrs["hertz_semi_axis_x"])
+    """Cell centres along ``dim`` over the case's reference semi-axis a_x.
+
+    Hertz's, or Sneddon's contact radius for a profile (:func:`solver.result.length_scale`).
+    """
+    return np.asarray(case[dim].values, dtype=float) / length_scale(case.attrs)
 
 
 def open_fields(out: str | Path, names: list[str] | None = None, **selection) -> xr.Dataset:
@@ -69,7 +74,7 @@ def open_fields(out: str | Path, names: list[str] | None = None, **selection) ->
     xarray.Dataset
         One dask-backed variable per field, dims ``(*sweep axes, [component,] x_over_a,
         y_over_a[, z_over_a])``, one chunk per case; the sweep coordinates, ``case_id`` and
-        ``hertz_semi_axis_x`` (m) per case.
+        ``semi_axis_x`` (m) per case.
 
     Raises
     ------
@@ -185,12 +190,16 @@ def open_fields(out: str | Path, names: list[str] | None = None, **selection) ->
     for c in cases:
         ids[index_of[c.case_id]] = c.case_id
         if c.case_id in opened:
-            scale[index_of[c.case_id]] = float(opened[c.case_id].attrs["hertz_semi_axis_x"])
+            scale[index_of[c.case_id]] = length_scale(opened[c.case_id].attrs)
     data_vars["case_id"] = (dims, ids.astype(str), {"long_name": "case id (cases/<id>.nc)"})
-    data_vars["hertz_semi_axis_x"] = (
+    data_vars["semi_axis_x"] = (
         dims,
         scale,
-        {"units": "m", "long_name": "Hertz semi-axis a_x of the case (cell coordinates' unit)"},
+        {
+            "units": "m",
+            "long_name": "reference semi-axis a_x of the case: Hertz's, or Sneddon's contact "
+            "radius for a profile (cell coordinates' unit)",
+        },
     )
     attrs = {"campaign": campaign.name, "selection": repr(selection or {})}
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)

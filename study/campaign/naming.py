@@ -42,7 +42,7 @@ RESERVED_NAMES = frozenset(
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _CAMPAIGN_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]*$")
 
-#: Units and readable names of a swept key, by its last segment.
+#: Units and readable names of a swept key, by its last two segments or else its last.
 _KEY_META = {
     "coefficient": ("1", "Coulomb friction coefficient"),
     "hertz_pressure": ("Pa", "Hertz peak pressure of the load"),
@@ -64,6 +64,12 @@ _KEY_META = {
     "B": ("Pa", "Swift hardening coefficient"),
     "max_load_ratio": ("1", "largest normal-load ratio per coupled step"),
     "fft_threads": ("1", "FFTW threads"),
+    # profile keys, by their last two segments (a profile's radius is not a curvature)
+    "profile.angle": ("degree", "cone angle to the tangent plane"),
+    "profile.radius": ("m", "flat-punch face radius"),
+    "profile.edge_radius": ("m", "flat-punch edge radius"),
+    "profile.coefficient": ("m^(1-k)", "power-law profile coefficient A"),
+    "profile.exponent": ("1", "power-law profile exponent k"),
 }
 
 
@@ -76,7 +82,9 @@ def _meta(key: str) -> tuple[str | None, str]:
     if "." not in key:
         return None, f"{key} table, by its [define] name ({key})"
     last = key.split(".")[-1]
-    units, text = _KEY_META.get(last, (None, last.replace("_", " ")))
+    units, text = _KEY_META.get(
+        ".".join(key.split(".")[-2:]), _KEY_META.get(last, (None, last.replace("_", " ")))
+    )
     if last.endswith("_tolerance"):
         units = "1"
     if last.endswith("_iterations"):

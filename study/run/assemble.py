@@ -39,7 +39,7 @@ import numpy as np
 import solver
 from solver.cycles import cycle_variables
 from solver.loops import axis_value
-from solver.result import HISTORY_META, STATUS_FLAGS
+from solver.result import HISTORY_META, STATUS_FLAGS, length_scale
 from solver.variables import CYCLE_QUANTITIES, HISTORIES, reduced_scalars
 
 from ..campaign import Axis, Campaign
@@ -86,6 +86,10 @@ SCALARS = {
     "hertz_pressure": ("Pa", "Hertz peak pressure at the largest normal force"),
     "hertz_normal_force": ("N", "largest normal force of the load path"),
     "hertz_approach": ("m", "Hertz approach at the largest normal force"),
+    "sneddon_radius": ("m", "Sneddon contact radius (a profile) at the largest normal force"),
+    "sneddon_mean_pressure": ("Pa", "Sneddon mean pressure W/(pi a^2) at the largest normal force"),
+    "sneddon_normal_force": ("N", "largest normal force of the load path"),
+    "sneddon_approach": ("m", "Sneddon approach at the largest normal force"),
     "composite_modulus": ("Pa", "composite modulus E*"),
     "dundurs_beta": ("1", "Dundurs' second constant beta"),
 }
@@ -104,6 +108,10 @@ _ATTRS = (
     "hertz_pressure",
     "hertz_normal_force",
     "hertz_approach",
+    "sneddon_radius",
+    "sneddon_mean_pressure",
+    "sneddon_normal_force",
+    "sneddon_approach",
     "composite_modulus",
     "dundurs_beta",
     "wall_time",
@@ -151,7 +159,7 @@ def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
         }
         x = dataset["x"].values
         lines = {name: dataset[f"{name}_y0"].values for name in ("pressure", "shear_x")}
-        radius = float(attrs["hertz_semi_axis_x"])
+        radius = length_scale(attrs)
         depth_profile = None
         if "plastic_strain" in dataset.variables:
             depth = dataset["z"].values / float(attrs["hertz_radius"])
@@ -317,9 +325,14 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
         "mpi_rank": (dims, rank, {"units": "1", "long_name": SCALARS["mpi_rank"][1]}),
         "grid_cells": (dims, cells, {"units": "1", "long_name": SCALARS["grid_cells"][1]}),
     }
+    specs = [case.spec for case in campaign.cases]
+    profiled = [any("profile" in spec[b] for b in ("body1", "body2")) for spec in specs]
+    references = {"hertz_": not all(profiled), "sneddon_": any(profiled)}  # by the case specs
     for name, values in scalars.items():
         if name in coords:  # an axis holds this input (e.g. dundurs_beta): keep the coordinate
             continue
+        if any(name.startswith(prefix) and not used for prefix, used in references.items()):
+            continue  # a closed-form reference no case of this campaign has
         if name in REDUCED and REDUCED[name][0] not in histories:
             continue  # a history no case of this campaign has (e.g. plastic ones)
         units, long_name = SCALARS[name]
