@@ -28,6 +28,12 @@ _JSON_TYPES = {
     "integer or [nx, ny] or [nx, ny, nz]": {
         "anyOf": [{"type": "integer"}, {"type": "array", "items": {"type": "integer"}}]
     },
+    "number or [dx, dy]": {
+        "anyOf": [{"type": "number"}, {"type": "array", "items": {"type": "number"}}]
+    },
+    "number or [Lx, Ly]": {
+        "anyOf": [{"type": "number"}, {"type": "array", "items": {"type": "number"}}]
+    },
     "number": {"type": "number"},
     "integer": {"type": "integer"},
     "string": {"type": "string"},
@@ -37,7 +43,7 @@ _JSON_TYPES = {
 #: The table a key of kind "table" (or a path's stages) opens.
 _SUBTABLES = {
     "body1": "bodyN", "body2": "bodyN", "hardening": "bodyN.hardening",
-    "profile": "bodyN.profile",
+    "profile": "bodyN.profile", "surface": "bodyN.surface", "roughness": "bodyN.roughness",
     "kinematic": "bodyN.hardening.kinematic", "load": "load", "friction": "friction",
     "grid": "grid", "solver": "solver", "output": "output",
 }  # fmt: skip
@@ -236,6 +242,8 @@ def case_schema() -> dict:
         for key in keys:
             if key.kind == "table":
                 properties[key.name] = table(_SUBTABLES[key.name])
+            elif key.kind == "string or table":  # a file name, or its table
+                properties[key.name] = {"anyOf": [{"type": "string"}, table(_SUBTABLES[key.name])]}
             elif key.name == "stages":  # of a cycle block
                 properties[key.name] = {"type": "array", "items": table("load.path[i]")}
             elif key.name == "path":

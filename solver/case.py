@@ -15,7 +15,7 @@ import hashlib
 import json
 import math
 import tomllib
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -39,8 +39,10 @@ from .keys import (
     MAX_HARDENING_RATIO,
     MAX_INCREMENTS,
     MAX_ITERATIONS,
+    MAX_MAP_COARSENING,
     MAX_RECALL,
     MAX_STAGE_STEPS,
+    MAX_SURFACE_SLOPE,
     MAX_TOLERANCE,
     MIN_CELLS_ACROSS,
     MIN_PLASTIC_HALF_WIDTH,
@@ -70,6 +72,13 @@ from .reference import (
     hertz_yield_region,
 )
 from .sneddon import SneddonContact
+from .surfaces import (
+    MAX_ROUGHNESS_LATTICE,
+    ROUGHNESS_POINTS_PER_CUTOFF,
+    HeightMap,
+    Roughness,
+    SurfaceError,
+)
 from .variables import OPTIONAL_FIELDS
 
 #: Equivalent plastic strain up to which the small-strain theory is trusted (the reference
@@ -90,7 +99,10 @@ class SpecError(ValueError):
 
 #: Tables of :data:`solver.keys.CASE_KEYS` the parser names more than once.
 HARDENING, KINEMATIC = "bodyN.hardening", "bodyN.hardening.kinematic"
-PROFILE = "bodyN.profile"
+PROFILE, SURFACE, ROUGHNESS = "bodyN.profile", "bodyN.surface", "bodyN.roughness"
+#: What reads a height-map file: a surface table ({"file": ..., "spacing": ...}) to a
+#: :class:`~solver.surfaces.HeightMap` (``study.surfaces.read_surface``; solver/ reads no files).
+SurfaceReader = Callable[[dict], HeightMap]
 STAGE, CYCLE_BLOCK = "load.path[i]", "load.path[i] (cycle block)"
 
 
@@ -200,6 +212,69 @@ def _parse_profile(table: Any, path: str) -> Profile:
     return PROFILES[shape](coefficient, exponent)
 
 
+def _parse_surface(value: Any, path: str, read_surface: SurfaceReader | None) -> HeightMap:
+    """A height map: given as an object, or read by ``read_surface`` from its table."""
+    value = _plain(value)
+    if isinstance(value, HeightMap):
+        value.origin = {"file": f"<in memory: {value.source}>"}
+        return value
+    if isinstance(value, str):
+        value = {"file": value}
+    _check_keys(value, path, table_keys(SURFACE), required_keys(SURFACE))
+    if not isinstance(value["file"], str) or not value["file"]:
+        _fail(f"{path}.file", f"must be a file name, got {value['file']!r}")
+    origin = {"file": value["file"]}
+    if "spacing" in value:
+        spacing = _plain(value["spacing"])
+        items = spacing if isinstance(spacing, list) else [spacing]
+        if len(items) not in (1, 2):
+            _fail(f"{path}.spacing", f"must be dx or [dx, dy] (m), got {spacing!r}")
+        origin["spacing"] = [_number(v, f"{path}.spacing", positive=True) for v in items]
+    if read_surface is None:
+        _fail(
+            path,
+            "a height-map file is read by the study layer: build the case with "
+            "Case.from_dict(table, read_surface=study.surfaces.read_surface), or give a "
+            "solver.surfaces.HeightMap",
+        )
+    try:
+        surface = read_surface(origin)
+    except SurfaceError as error:
+        _fail(path, str(error))
+    if "sha256" in value and value["sha256"] != surface.digest:
+        _fail(
+            f"{path}.sha256",
+            f"{value['file']} changed since this case was written (its content hash differs); "
+            "build the case again from its campaign file",
+        )
+    surface.origin = origin
+    return surface
+
+
+def _parse_roughness(table: Any, path: str) -> Roughness:
+    _check_keys(table, path, table_keys(ROUGHNESS), required_keys(ROUGHNESS))
+    if ("rms" in table) == ("rms_slope" in table):
+        _fail(path, "give one of rms (m) and rms_slope")
+    hurst = _number(table["hurst"], f"{path}.hurst", positive=True)
+    if hurst > 1:
+        _fail(f"{path}.hurst", f"must be in (0, 1], got {hurst:g}")
+    long = _number(table["long_cutoff"], f"{path}.long_cutoff", positive=True)
+    short = _number(table["short_cutoff"], f"{path}.short_cutoff", positive=True)
+    if not long > short:
+        _fail(f"{path}.long_cutoff", f"must exceed short_cutoff = {short:g} m, got {long:g}")
+    rms = _number(table["rms"], f"{path}.rms", positive=True) if "rms" in table else None
+    slope = None
+    if "rms_slope" in table:
+        slope = _number(table["rms_slope"], f"{path}.rms_slope", positive=True)
+        if slope > MAX_SURFACE_SLOPE:
+            _fail(
+                f"{path}.rms_slope",
+                f"must be <= {MAX_SURFACE_SLOPE:g} (small-slope theory), got {slope:g}",
+            )
+    seed = _integer(table.get("seed", 0), f"{path}.seed", 0, 2**63 - 1)
+    return Roughness(hurst, long, short, rms, slope, seed)
+
+
 def _parse_hardening(table: Any, path: str) -> Hardening:
     _check_keys(table, path, table_keys(HARDENING), required_keys(HARDENING))
     law = _plain(table["law"])
@@ -226,7 +301,7 @@ def _parse_hardening(table: Any, path: str) -> Hardening:
     return Hardening(law=law, **values)
 
 
-def _parse_body(table: Any, path: str) -> Body:
+def _parse_body(table: Any, path: str, read_surface: SurfaceReader | None = None) -> Body:
     _check_keys(table, path, table_keys("bodyN"), required_keys("bodyN"))
     behaviour = _plain(table["behaviour"])
     if behaviour not in ("rigid", "elastic", "elastic-plastic"):
@@ -238,6 +313,11 @@ def _parse_body(table: Any, path: str) -> Body:
     else:
         rx = _radius(table.get("radius_x", "inf"), f"{path}.radius_x")
         ry = _radius(table.get("radius_y", "inf"), f"{path}.radius_y")
+    surface = roughness = None
+    if "surface" in table:
+        surface = _parse_surface(table["surface"], f"{path}.surface", read_surface)
+    if "roughness" in table:
+        roughness = _parse_roughness(table["roughness"], f"{path}.roughness")
     profile = None
     if "profile" in table:
         profile = _parse_profile(table["profile"], f"{path}.profile")
@@ -251,7 +331,7 @@ def _parse_body(table: Any, path: str) -> Body:
         for key in ("E", "nu", "hardening"):
             if key in table:
                 _fail(f"{path}.{key}", "a rigid body takes no elastic or hardening data; remove it")
-        return Body("rigid", rx, ry, profile=profile)
+        return Body("rigid", rx, ry, profile=profile, surface=surface, roughness=roughness)
     for key in ("E", "nu"):
         if key not in table:
             _fail(f"{path}.{key}", f"missing required field for a {behaviour} body")
@@ -270,7 +350,7 @@ def _parse_body(table: Any, path: str) -> Body:
         _check_yield_stress(hardening, young, f"{path}.hardening")
     elif "hardening" in table:
         _fail(f"{path}.hardening", "only elastic-plastic bodies take a hardening law")
-    return Body(behaviour, rx, ry, young, nu, hardening, profile)
+    return Body(behaviour, rx, ry, young, nu, hardening, profile, surface, roughness)
 
 
 def _radius(value: Any, path: str, flat: bool = True) -> float:
@@ -507,8 +587,9 @@ def _check_force(force: float, pair: Pair, path: str) -> None:
     """Refuse a non-zero normal force whose Hertz pressure is outside the accepted range."""
     if force == 0:
         return
-    if not pair.geometry.hertzian:
+    if pair.geometry.reference_kind == "sneddon":
         _check_profile_force(force, pair, path)
+    if not pair.geometry.hertzian:  # heights only: no closed form to check against
         return
     e_star = pair.composite_modulus
     try:
@@ -532,7 +613,8 @@ def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool
     if "hertz_pressure" in table and not pair.geometry.hertzian:
         _fail(
             f"{path}.hertz_pressure",
-            "a body has a profile, which has no Hertz pressure: give normal_force (N)",
+            "the pair has no Hertz pressure (a profile, or heights without a radius): give "
+            "normal_force (N)",
         )
     if "hertz_pressure" in table:
         p_h = _load_number(table["hertz_pressure"], f"{path}.hertz_pressure", first)
@@ -668,6 +750,8 @@ def _parse_solver(table: Any) -> SolverOptions:
 class GridSpec:
     """Requested discretisation: cells and domain size in units of the Hertz radius.
 
+    ``size`` (m): the domain's sides instead of ``half_width`` (point heights).
+
     ``depth`` None (not given) is resolved by :meth:`Case.from_dict`: the elastic yield depth
     with a margin for elastic-plastic cases (:func:`auto_depth`), else :data:`DEFAULT_DEPTH`.
     ``depth_body1``: the depth of body 1's own volume grid when both bodies are elastic-plastic
@@ -681,6 +765,7 @@ class GridSpec:
     depth: float | None = None
     depth_body1: float | None = None
     plastic_half_width: float | None = None
+    size: tuple[float, float] | None = None
 
 
 #: Solver keys of how a case is computed, not what: kept in the table, not in the case id.
@@ -764,14 +849,17 @@ class Case:
 
     # -- construction -----------------------------------------------------------------------
     @classmethod
-    def from_toml(cls, path: str | Path) -> Case:
-        """Read and validate a case file (TOML)."""
+    def from_toml(cls, path: str | Path, read_surface: SurfaceReader | None = None) -> Case:
+        """Read and validate a case file (TOML); ``read_surface`` as in :meth:`from_dict`."""
         with open(path, "rb") as handle:
-            return cls.from_dict(tomllib.load(handle))
+            return cls.from_dict(tomllib.load(handle), read_surface)
 
     @classmethod
-    def from_dict(cls, table: dict) -> Case:
+    def from_dict(cls, table: dict, read_surface: SurfaceReader | None = None) -> Case:
         """Validate a case table (see the README for the format) and build the case.
+
+        ``read_surface`` reads the height-map files the bodies name (``bodyN.surface``):
+        ``study.surfaces.read_surface``; without it such a case is refused.
 
         Raises
         ------
@@ -790,24 +878,26 @@ class Case:
                 f"this case was written by model version {table['model']!r}; this solver is "
                 f"version {MODEL_VERSION}: remove the key to solve it with the current model",
             )
-        body1 = _parse_body(table["body1"], "body1")
-        body2 = _parse_body(table["body2"], "body2")
+        body1 = _parse_body(table["body1"], "body1", read_surface)
+        body2 = _parse_body(table["body2"], "body2", read_surface)
         if body1.rigid and body2.rigid:
             _fail("body2.behaviour", "both bodies are rigid; make at least one elastic")
         pair = Pair(body1, body2)
         kx, ky = pair.curvature
-        if pair.geometry.hertzian:
+        geometry = pair.geometry
+        if geometry.profiles:
+            if kx != ky:
+                which = "body1" if body1.profile is None else "body2"
+                _fail(
+                    f"{which}.radius_x",
+                    "with a profile the pair must stay axisymmetric: give the other body a "
+                    "radius (or none), not radius_x / radius_y",
+                )
+        elif kx > 0 or ky > 0 or not geometry.surfaces:
             if not (kx > 0 and ky > 0):
                 _fail("body1.radius", "both bodies are flat in x or y; give a finite radius")
             if max(kx, ky) / min(kx, ky) > 100:
                 _fail("body1.radius_x", "contact ellipse too slender (R_x/R_y beyond 1:100)")
-        elif kx != ky:
-            which = "body1" if body1.profile is None else "body2"
-            _fail(
-                f"{which}.radius_x",
-                "with a profile the pair must stay axisymmetric: give the other body a radius "
-                "(or none), not radius_x / radius_y",
-            )
 
         load = table["load"]
         if not isinstance(load, dict):
@@ -839,6 +929,19 @@ class Case:
                 )
 
         grid = _parse_grid(table["grid"])
+        if geometry.reference_kind is None:
+            if grid.size is None:
+                _fail(
+                    "grid.size",
+                    "no body has a smooth shape (radius or profile) whose contact radius could "
+                    "scale the domain: give the domain's sides in metres, grid.size = [Lx, Ly]",
+                )
+            if grid.nz:
+                _fail(
+                    "grid.n",
+                    "a volume grid is scaled by the smooth shape's contact radius; with heights "
+                    "only give grid.n = [nx, ny] (no stress or plastic outputs yet)",
+                )
         _check_plastic_scene(body1, body2, stages, grid)
         plastics = [b for b in (body2, body1) if b.behaviour == "elastic-plastic"]
         plastic = plastics[0] if plastics else None
@@ -940,7 +1043,7 @@ class Case:
             "friction": {"coefficient": mu},
             "grid": {
                 "n": [grid.nx, grid.ny] + ([grid.nz] if grid.nz else []),
-                "half_width": grid.half_width,
+                **({"size": list(grid.size)} if grid.size else {"half_width": grid.half_width}),
                 **({"depth": grid.depth} if grid.nz else {}),
                 **({"depth_body1": grid.depth_body1} if grid.depth_body1 else {}),
                 **({"plastic_half_width": box_key} if box_key is not None else {}),
@@ -960,6 +1063,7 @@ class Case:
             tuple(warnings),
         )  # fmt: skip
         case._check_resolution()
+        case._check_surfaces()
         return case
 
     @property
@@ -1012,8 +1116,75 @@ class Case:
                 stage["tangential_force"] = [-qx if qx else 0.0, qy]
         return Case.from_dict(table)
 
+    def _check_surfaces(self) -> None:
+        """Refuse height maps and roughness the grid cannot take (module docstring)."""
+        grid = self.surface_grid
+        hx, hy = 0.5 * grid.nx * grid.dx, 0.5 * grid.ny * grid.dy
+        cell = max(grid.dx, grid.dy)
+        for name, body in (("body1", self.body1), ("body2", self.body2)):
+            surface = body.surface
+            if surface is not None:
+                where, file = f"{name}.surface", surface.origin.get("file", surface.source)
+                x0, x1, y0, y1 = surface.extent
+                tol = 1e-9 * cell
+                if (
+                    x0 > grid.x[0] + tol
+                    or x1 < grid.x[-1] - tol
+                    or (y0 > grid.y[0] + tol or y1 < grid.y[-1] - tol)
+                ):
+                    _fail(
+                        where,
+                        f"{file} covers x in [{x0:.4g}, {x1:.4g}] m, y in [{y0:.4g}, {y1:.4g}] "
+                        f"m, smaller than the domain's cell centres (x, y within +-"
+                        f"{hx - 0.5 * grid.dx:.4g}, +-{hy - 0.5 * grid.dy:.4g} m); give a "
+                        "larger map or a smaller domain (grid.size or half_width)",
+                    )
+                spacing = max(surface.dx, surface.dy)
+                if spacing > MAX_MAP_COARSENING * cell:
+                    _fail(
+                        where,
+                        f"{file} is too coarse for the grid: its spacing {spacing:.4g} m is "
+                        f"more than {MAX_MAP_COARSENING:g} cells ({cell:.4g} m); use a finer "
+                        "map or a coarser grid",
+                    )
+                relief = float(np.ptp(surface.height))
+                if relief > 2 * max(hx, hy):
+                    _fail(
+                        where,
+                        f"{file} has heights spanning {relief:.4g} m, more than the domain "
+                        f"({2 * max(hx, hy):.4g} m): are they in metres (micrometres written as "
+                        "metres)?  Heights are in metres",
+                    )
+            roughness = body.roughness
+            if roughness is not None:
+                where = f"{name}.roughness"
+                if roughness.short_cutoff < 2 * cell:
+                    _fail(
+                        f"{where}.short_cutoff",
+                        f"{roughness.short_cutoff:.4g} m is shorter than 2 cells "
+                        f"({2 * cell:.4g} m): the grid cannot carry it; raise short_cutoff or "
+                        "refine the grid",
+                    )
+                if roughness.rms is not None and roughness.rms > 2 * max(hx, hy):
+                    _fail(
+                        f"{where}.rms",
+                        f"{roughness.rms:.4g} m is larger than the domain "
+                        f"({2 * max(hx, hy):.4g} m): is it in metres?",
+                    )
+                points, _ = roughness.lattice(2 * max(hx, hy))
+                if points > MAX_ROUGHNESS_LATTICE:
+                    _fail(
+                        f"{where}.short_cutoff",
+                        f"the roughness lattice (spacing short_cutoff/"
+                        f"{ROUGHNESS_POINTS_PER_CUTOFF}, side long_cutoff x 2^k over the "
+                        f"domain) would need {points} points per side, more than "
+                        f"{MAX_ROUGHNESS_LATTICE}; raise short_cutoff or lower long_cutoff",
+                    )
+
     def _check_resolution(self) -> None:
         reference = self.reference
+        if reference is None:  # heights only: the contact's size is known after the solve
+            return
         semi_min = min(reference.semi_axis_x, reference.semi_axis_y)
         half_x, half_y = self.domain_half_widths
         if half_x < 1.05 * reference.semi_axis_x or half_y < 1.05 * reference.semi_axis_y:
@@ -1058,13 +1229,16 @@ class Case:
         return max(stage.normal_force for stage in self.stages)
 
     @functools.cached_property
-    def reference(self) -> HertzContact | SneddonContact:
+    def reference(self) -> HertzContact | SneddonContact | None:
         """The closed-form elastic contact at the largest normal force (computed once).
 
-        Hertz's for quadric bodies, Sneddon's for a profile (:meth:`Geometry.reference`); its
-        semi-axes scale the domain (``grid.half_width``) and the volume depth.
+        Hertz's for quadric bodies, Sneddon's for a profile (:meth:`Geometry.reference`), of
+        the smooth shape only under point heights (a first estimate); None for heights only.
+        Its semi-axes scale the domain (``grid.half_width``) and the volume depth.
         """
         pair = self.pair
+        if pair.geometry.reference_kind is None:
+            return None
         return pair.geometry.reference(self.max_normal_force, pair.composite_modulus)
 
     @property
@@ -1077,6 +1251,8 @@ class Case:
     @property
     def domain_half_widths(self) -> tuple[float, float]:
         """Half-widths (m) of the surface domain along x and y (square cells)."""
+        if self.grid.size is not None:
+            return 0.5 * self.grid.size[0], 0.5 * self.grid.size[1]
         half = self.grid.half_width * self.reference.max_semi_axis
         if self.grid.nx == self.grid.ny:
             return half, half
@@ -1169,8 +1345,10 @@ class Case:
 
         Without :data:`EXECUTION_KEYS`, which change no result beyond round-off.
         """
-        spec = dict(self.spec)
+        spec = json.loads(json.dumps(self.spec))
         spec["solver"] = {k: v for k, v in spec["solver"].items() if k not in EXECUTION_KEYS}
+        for body in ("body1", "body2"):  # a map is its content, wherever its file lies
+            spec[body].get("surface", {}).pop("file", None)
         text = json.dumps(spec, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
@@ -1226,6 +1404,24 @@ def _check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> No
                 "depth and the plastic box are sized from Hertz's stress field); make both "
                 "bodies elastic or rigid to use a profile",
             )
+    if (
+        plastic1
+        and not plastic2
+        and (body1.surface or body1.roughness or body2.surface or body2.roughness)
+    ):
+        _fail(
+            "body1.behaviour",
+            "an elastic-plastic body 1 against an elastic or rigid body 2 is solved with the "
+            "bodies relabelled, which mirrors point heights: not built yet; make the "
+            "elastic-plastic body body 2",
+        )
+    if not Pair(body1, body2).geometry.hertzian:
+        _fail(
+            "body1.radius",
+            "an elastic-plastic case needs a radius (a quadric shape under the heights): the "
+            "volume depth and the plastic box are sized from the Hertz stress of the smooth "
+            "shape",
+        )
     if symmetric and any(any(stage.tangential_force) for stage in stages):
         _fail(
             "load.tangential_force",
@@ -1265,6 +1461,21 @@ def _parse_grid(table: Any) -> GridSpec:
         sizes.append(_integer(table["nz"], "grid.nz", 4, MAX_CELLS))
     nz = sizes[2] if len(sizes) == 3 else 0
     half_width = _number(table.get("half_width", 1.5), "grid.half_width", positive=True)
+    size = None
+    if "size" in table:
+        if "half_width" in table:
+            _fail("grid.size", "give either size (m) or half_width (units of a_H), not both")
+        value = _plain(table["size"])
+        items = value if isinstance(value, list) else [value, value]
+        if len(items) != 2:
+            _fail("grid.size", f"must be L or [Lx, Ly] (m), got {value!r}")
+        size = tuple(_number(v, "grid.size", positive=True) for v in items)
+        if not math.isclose(size[0] / sizes[0], size[1] / sizes[1], rel_tol=1e-9):
+            _fail(
+                "grid.size",
+                f"cells must be square: Lx/nx = {size[0] / sizes[0]:.6g} m but Ly/ny = "
+                f"{size[1] / sizes[1]:.6g} m; make [Lx, Ly] proportional to [nx, ny]",
+            )
     depths = {}
     for key in ("depth", "depth_body1"):
         if key in table:
@@ -1298,6 +1509,7 @@ def _parse_grid(table: Any) -> GridSpec:
         depths.get("depth"),
         depths.get("depth_body1"),
         plastic_half_width,
+        size,
     )
 
 
@@ -1396,6 +1608,17 @@ def _body_spec(body: Body) -> dict:
         out["radius_x"], out["radius_y"] = radius(body.radius_x), radius(body.radius_y)
     if body.profile is not None:
         out["profile"] = body.profile.spec()
+    if body.surface is not None:
+        out["surface"] = dict(body.surface.origin, sha256=body.surface.digest)
+    if body.roughness is not None:
+        r = body.roughness
+        out["roughness"] = {
+            "hurst": r.hurst,
+            "long_cutoff": r.long_cutoff,
+            "short_cutoff": r.short_cutoff,
+            **({"rms": r.rms} if r.rms is not None else {"rms_slope": r.rms_slope}),
+            "seed": r.seed,
+        }
     if not body.rigid:
         out["E"], out["nu"] = body.E, body.nu
     if body.hardening is not None:

@@ -1,14 +1,17 @@
 """Shapes of the contacting bodies and the initial gap of a pair.
 
 A body's surface is a quadric (radii of curvature, :class:`~solver.materials.Body`) plus, at
-most, one analytic axisymmetric profile: a :class:`Cone`, a :class:`FlatPunch` with rounded
-edges, or a :class:`PowerLaw`.  Heights are measured away from the other body (a sphere's sag
-``r^2/(2R)``), in metres, from the body's apex on the z axis; the initial gap of a pair is the sum
-of both bodies' heights (:class:`Geometry`).
+most, one analytic axisymmetric profile (a :class:`Cone`, a :class:`FlatPunch` with rounded
+edges, or a :class:`PowerLaw`), plus heights given point by point (a height map, a random
+roughness: :mod:`solver.surfaces`).  Heights are measured away from the other body (a sphere's
+sag ``r^2/(2R)``), in metres, from the body's apex on the z axis; the initial gap of a pair is
+the sum of both bodies' heights (:class:`Geometry`).
 
 The closed-form reference a case is scaled by (its contact radius sets the domain in units of
-``half_width``) is Hertz's for quadric pairs and Sneddon's (:mod:`solver.sneddon`) for
-axisymmetric pairs with a profile: :meth:`Geometry.reference`.
+``half_width``) is that of the smooth part: Hertz's for quadric pairs, Sneddon's
+(:mod:`solver.sneddon`) for axisymmetric pairs with a profile, none for a gap made of point
+heights only (the domain is then given in metres): :meth:`Geometry.reference`.  With point
+heights it is a first estimate, not the answer.
 """
 
 from __future__ import annotations
@@ -20,12 +23,11 @@ from typing import ClassVar
 import numpy as np
 
 from . import sneddon
+from .keys import MAX_SURFACE_SLOPE
 from .reference import HertzContact, hertz
 
-#: Largest surface slope (dz/dr) a profile may have inside the contact: the half-space theory
-#: the solver rests on assumes small slopes (a sphere at the largest accepted p_H/E* = 1 reaches
-#: a/R = pi/2 at the contact edge; a profile is held to 45 degrees).
-MAX_PROFILE_SLOPE = 1.0
+#: Largest surface slope (dz/dr) a profile may have inside the contact (:mod:`solver.keys`).
+MAX_PROFILE_SLOPE = MAX_SURFACE_SLOPE
 #: Slope of a flat punch's side beyond its rounded edge (the gap keeps growing there; no
 #: accepted load brings it into contact, :meth:`FlatPunch.height`).
 PUNCH_SIDE_SLOPE = 10.0
@@ -202,15 +204,32 @@ class Geometry:
         Composite curvatures (1/R_x, 1/R_y) (1/m) of the quadric part.
     profiles : tuple
         The profiles of both bodies (:data:`Profile`), on the common z axis.
+    surfaces : tuple
+        Point heights of both bodies (:class:`~solver.surfaces.HeightMap`,
+        :class:`~solver.surfaces.Roughness`).
     """
 
     curvature: tuple[float, float]
     profiles: tuple = ()
+    surfaces: tuple = ()
+
+    @property
+    def reference_kind(self) -> str | None:
+        """The closed form of the smooth part: "hertz", "sneddon", or None (none)."""
+        if self.profiles:
+            return "sneddon"
+        kx, ky = self.curvature
+        return "hertz" if kx > 0 and ky > 0 else None
 
     @property
     def hertzian(self) -> bool:
-        """True for a quadric gap (no profile): Hertz's closed form is the reference."""
-        return not self.profiles
+        """True when the smooth part is a quadric: Hertz's closed form is the reference."""
+        return self.reference_kind == "hertz"
+
+    @property
+    def exact(self) -> bool:
+        """True when the reference is the exact elastic answer (no point heights)."""
+        return not self.surfaces
 
     def gap(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         """Initial gap h(x, y) (m) at points ``x``, ``y`` (m)."""
@@ -220,6 +239,8 @@ class Geometry:
             r = np.hypot(x, y)
             for profile in self.profiles:
                 h = h + profile.height(r)
+        for surface in self.surfaces:
+            h = h + surface.sample(x, y)
         return h
 
     # -- the axisymmetric gap (profiles; the quadric part then circular) ----------------------
@@ -270,11 +291,14 @@ class Geometry:
         return lo
 
     def reference(self, force: float, e_star: float) -> HertzContact | sneddon.SneddonContact:
-        """The closed-form elastic contact under ``force`` (N) with composite modulus ``e_star``.
+        """The closed-form elastic contact of the smooth part under ``force`` (N).
 
-        Hertz's for a quadric gap, Sneddon's for an axisymmetric gap with a profile.  Raises
-        ValueError when Sneddon's contact would pass :attr:`slope_limit`.
+        Hertz's for a quadric gap, Sneddon's for an axisymmetric gap with a profile; ``e_star``
+        the composite modulus (Pa).  Raises ValueError when Sneddon's contact would pass
+        :attr:`slope_limit`, or when there is no smooth part (:attr:`reference_kind` None).
         """
+        if self.reference_kind is None:
+            raise ValueError("a gap of point heights only has no closed-form reference")
         if self.hertzian:
             return hertz(force, e_star, self.curvature)
         return sneddon.contact(
@@ -283,7 +307,12 @@ class Geometry:
         )  # fmt: skip
 
     def force_at_radius(self, radius: float, e_star: float) -> float:
-        """Normal force (N) whose reference contact has radius ``radius`` (m, sqrt(a b))."""
+        """Normal force (N) whose reference contact has radius ``radius`` (m, sqrt(a b)).
+
+        0 without a reference (:attr:`reference_kind` None).
+        """
+        if self.reference_kind is None:
+            return 0.0
         if self.hertzian:
             unit = hertz(1.0, e_star, self.curvature).radius
             return (radius / unit) ** 3

@@ -20,6 +20,9 @@ from .variables import OPTIONAL_FIELDS
 # -- limits the validation checks (SI units unless said) ------------------------------------------
 #: Smallest number of cells the contact diameter may span.
 MIN_CELLS_ACROSS = 10
+#: Coarsest height map accepted: its spacing at most this many grid cells (finer grids would
+#: only see the interpolating spline between the map's points).
+MAX_MAP_COARSENING = 4.0
 #: Largest grid side (cells) accepted.
 MAX_CELLS = 8192
 #: Young's moduli accepted (Pa): from soft gels to beyond diamond.
@@ -33,6 +36,11 @@ PRESSURE_RATIO_RANGE = (1e-9, 1.0)
 #: Largest cone angle (degrees) to the tangent plane: slopes up to 1 (small-slope theory,
 #: :data:`solver.geometry.MAX_PROFILE_SLOPE`).
 PROFILE_MAX_ANGLE = 45.0
+#: Largest surface slope (dz/dr) of a profile inside the contact, and largest rms slope of a
+#: roughness: the half-space theory the solver rests on assumes small slopes (a sphere at the
+#: largest accepted p_H/E* = 1 reaches a/R = pi/2 at the contact edge; shapes are held to 45
+#: degrees).
+MAX_SURFACE_SLOPE = 1.0
 #: Exponents k of a power-law profile h = A r^k accepted.
 PROFILE_EXPONENT_RANGE = (1.0, 8.0)
 #: Initial yield strain sigma_Y0 / E accepted for an elastic-plastic body: from the softest
@@ -206,6 +214,34 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("bodyN.profile", "exponent", "number", "1", "required by its shape",
         _range(*PROFILE_EXPONENT_RANGE), "power laws", "k of h = A r^k (1: a cone, 2: a "
         "paraboloid)."),
+    Key("bodyN", "surface", "string or table", "", "optional", "a height-map file, or a "
+        "surface table", "every body", "Heights given point by point (m, away from the other "
+        "body), added to the quadric and profile: a netCDF/HDF5 file with height(y, x) over "
+        "coordinates x, y (m), or {file = \"map.npy\", spacing = dx}; resampled onto the grid "
+        "by cubic B-splines (docs: how-to \"Contact shapes\")."),
+    Key("bodyN.surface", "file", "string", "", "required", "an existing .nc/.h5/.npy file",
+        "height maps", "The height-map file (a relative path is taken from the campaign file's "
+        "folder in a campaign, else from the working folder); not part of the case id."),
+    Key("bodyN.surface", "spacing", "number or [dx, dy]", "m", "required for .npy",
+        "> 0", "height maps in .npy", "Lattice spacing of a .npy map (rows y, columns x, "
+        "centred on the origin)."),
+    Key("bodyN.surface", "sha256", "string", "", "optional", "the map's content hash",
+        "normalised cases", "Written by the solver into a normalised case: a map whose content "
+        "changed since is refused (the case id holds it)."),
+    Key("bodyN", "roughness", "table", "", "optional", "a roughness table", "every body",
+        "A self-affine random surface added to the body's shape."),
+    Key("bodyN.roughness", "rms", "number", "m", "one of rms / rms_slope", "> 0, below the "
+        "domain side", "roughness", "Rms height of the realisation."),
+    Key("bodyN.roughness", "rms_slope", "number", "1", "one of rms / rms_slope", f"(0, "
+        f"{MAX_SURFACE_SLOPE:g}]", "roughness", "Rms slope of the realisation (spectral)."),
+    Key("bodyN.roughness", "hurst", "number", "1", "required", "(0, 1]", "roughness",
+        "Hurst exponent H: power spectrum ~ q^(-2(1+H))."),
+    Key("bodyN.roughness", "long_cutoff", "number", "m", "required", "> short_cutoff",
+        "roughness", "Longest wavelength of the self-affine range (roll-off below)."),
+    Key("bodyN.roughness", "short_cutoff", "number", "m", "required",
+        ">= 2 grid cells", "roughness", "Shortest wavelength (no content beyond)."),
+    Key("bodyN.roughness", "seed", "integer", "1", "0", "[0, 2^63)", "roughness",
+        "Seed of the white noise: one realisation per seed."),
     Key("bodyN", "E", "number", "Pa", "required (not for rigid)", _range(*MODULUS_RANGE, "Pa"),
         "elastic and elastic-plastic bodies", "Young's modulus."),
     Key("bodyN", "nu", "number", "1", "required (not for rigid)", "(-1, 0.5]",
@@ -274,6 +310,10 @@ CASE_KEYS: tuple[Key, ...] = (
         f"each in [4, {MAX_CELLS}]; the contact spans >= {MIN_CELLS_ACROSS} cells",
         "every case", "Cells per side of the surface grid, and nz cells in depth of the volume "
         "grid (required by elastic-plastic bodies and the stress output)."),
+    Key("grid", "size", "number or [Lx, Ly]", "m", "optional (half_width)",
+        "square cells (Lx/nx = Ly/ny); the map or roughness within it",
+        "height maps, roughness", "Side(s) of the surface domain in metres, instead of "
+        "half_width; required when no body has a smooth shape (radius or profile)."),
     Key("grid", "nz", "integer", "cells", "optional", f"[4, {MAX_CELLS}]; not with a 3-entry n",
         "volume grids", "Volume cells in depth, apart from grid.n."),
     Key("grid", "half_width", "number", "a_H", "1.5", "the contact fits (>= 1.1; 1.5 usual)",

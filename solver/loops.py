@@ -52,7 +52,8 @@ FIRST_SUBSTEP_FRACTION = 1.0 / 64.0
 MIN_SUBSTEP_RADIUS_CELLS = 2.0
 
 _CONTACT_HISTORY = (
-    "normal_force", "approach", "max_pressure", "contact_area", "normal_iterations",
+    "normal_force", "approach", "max_pressure", "contact_area", "contact_spots",
+    "normal_iterations",
 )  # fmt: skip
 _FRICTION_HISTORY = (
     "tangential_force_x", "tangential_force_y", "tangential_shift_x", "tangential_shift_y",
@@ -120,6 +121,24 @@ def load_substeps(
 
 
 # -- plastic-zone measures -----------------------------------------------------------------------
+def contact_spots(in_contact: np.ndarray) -> int:
+    """Number of contact spots: groups of contact cells joined through their edges.
+
+    Cells that touch at a corner only are separate spots (4-connectivity,
+    ``scipy.ndimage.label``).
+    """
+    from scipy import ndimage
+
+    return int(ndimage.label(in_contact)[1])
+
+
+def _touches_edge(pressure: np.ndarray) -> bool:
+    """True when any cell of the surface grid's outer ring carries pressure."""
+    return bool(
+        pressure[0].any() or pressure[-1].any() or pressure[:, 0].any() or pressure[:, -1].any()
+    )
+
+
 def axis_value(values: np.ndarray) -> np.ndarray:
     """Values on the contact axis x = y = 0 of an ``(nx, ny, ...)`` cell field.
 
@@ -273,7 +292,7 @@ def solve(case: Case) -> Result:
     )
     guess, direction = None, 0.0
     previous = None  # (plastic increment, load increment) of the step before the last
-    faces_noted = False
+    faces_noted = edge_noted = False
     outcome = None
     cycle_start = None
     before = None  # (state, load increment) of the step before the last (elastic predictor)
@@ -350,6 +369,13 @@ def solve(case: Case) -> Result:
                 )
         history["residual"][k] = residual
         history["step_converged"][k] = float(step_ok)
+        if not edge_noted and _touches_edge(state.pressure):
+            edge_noted = True
+            notes.append(
+                f"step {k + 1}: the contact reaches the domain's edge (pressure on its outer "
+                "cells), so the domain truncates it: enlarge the domain (grid.half_width or "
+                "grid.size)"
+            )
         if plastic:
             _record_plastic(history, k, step, case)
             sides = "grid.plastic_half_width" if case.plastic_box else "grid.half_width"
@@ -399,7 +425,7 @@ def solve(case: Case) -> Result:
         loops=loops,
         converged=converged,
         notes=notes,
-        truncated=faces_noted,
+        truncated=faces_noted or edge_noted,
     )
     if plastic or "stress" in case.fields:
         result.depth = volume.z
@@ -413,6 +439,9 @@ def solve(case: Case) -> Result:
         result.fields["von_mises"] = von_mises(stress)
     if plastic:
         _plastic_fields(result, operators, plastic_state)
+    geometry = case.pair.geometry
+    if geometry.profiles or geometry.surfaces:  # a quadric's gap is told by its radii
+        result.fields["initial_gap"] = operators.gap
     result.wall_time = time.perf_counter() - start
     return result
 
@@ -455,6 +484,7 @@ def _record(history: dict, k: int, outcome: StepResult, area: float) -> None:
     history["approach"][k] = outcome.approach
     history["max_pressure"][k] = state.pressure.max()
     history["contact_area"][k] = np.count_nonzero(state.pressure) * area
+    history["contact_spots"][k] = contact_spots(state.pressure > 0)
     for key, name in _ITERATION_HISTORY.items():
         if name in history:
             history[name][k] = outcome.iterations.get(key, 0)

@@ -19,6 +19,7 @@ from typing import Literal
 import numpy as np
 
 from .geometry import Geometry, Profile
+from .surfaces import HeightMap, Roughness
 
 #: Swift's law counts plastic strain in micro-strain: sigma_Y = B (C + 1e6 e_p)^n, so C is the
 #: pre-strain in micro-strain (the paper's C = 20 is 2e-5) and B (Pa), C, n are kept as written.
@@ -116,6 +117,10 @@ class Body:
         Hardening law, required for ``elastic-plastic``.
     profile : Profile or None
         An axisymmetric profile added to the quadric (:mod:`solver.geometry`).
+    surface : HeightMap or None
+        A height map added to the shape (:mod:`solver.surfaces`).
+    roughness : Roughness or None
+        A random roughness added to the shape (:mod:`solver.surfaces`).
     """
 
     behaviour: Behaviour
@@ -125,6 +130,8 @@ class Body:
     nu: float = 0.0
     hardening: Hardening | None = None
     profile: Profile | None = None
+    surface: HeightMap | None = None
+    roughness: Roughness | None = None
 
     @property
     def rigid(self) -> bool:
@@ -192,5 +199,7 @@ class Pair:
     @property
     def geometry(self) -> Geometry:
         """The initial gap of the pair: quadric part and both bodies' profiles."""
-        profiles = tuple(b.profile for b in (self.body1, self.body2) if b.profile is not None)
-        return Geometry(self.curvature, profiles)
+        bodies = (self.body1, self.body2)
+        profiles = tuple(b.profile for b in bodies if b.profile is not None)
+        surfaces = tuple(s for b in bodies for s in (b.surface, b.roughness) if s is not None)
+        return Geometry(self.curvature, profiles, surfaces)

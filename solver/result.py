@@ -47,8 +47,8 @@ class Result:
     notes : list of str
         Warnings and status messages (non-convergence, path dependence...).
     truncated : bool
-        True when the plastic strain reaches a face of the volume box (a note says which and
-        when): the plastic zone is cut, the answer is not to be trusted.
+        True when the plastic strain reaches a face of the volume box, or the contact the
+        surface domain's edge (a note says which and when): the answer is not to be trusted.
     wall_time : float
         Solve time (s).
     fields : dict of ndarray
@@ -84,7 +84,8 @@ class Result:
         """``"converged"``, ``"not_converged"`` or ``"truncated"``.
 
         ``"truncated"``: every solve converged, but the plastic zone reaches a face of the
-        volume box (:attr:`truncated`), so the answer is not to be trusted.
+        volume box, or the contact the domain's edge (:attr:`truncated`), so the answer is not
+        to be trusted.
         """
         if not self.converged:
             return "not_converged"
@@ -162,9 +163,12 @@ def reference_attrs(case: Case) -> dict[str, float]:
     """The closed-form elastic reference at the case's largest load, as result attributes.
 
     ``hertz_*`` (radius sqrt(a b), semi-axes, peak pressure, approach, force) for quadric
-    bodies; ``sneddon_*`` (radius, mean pressure W/(pi a^2), approach, force) with a profile.
+    bodies; ``sneddon_*`` (radius, mean pressure W/(pi a^2), approach, force) with a profile;
+    of the smooth shape under point heights; ``domain_half_width`` (m) for heights only.
     """
     reference = case.reference
+    if reference is None:  # heights only
+        return {"domain_half_width": case.domain_half_widths[0]}
     if case.pair.geometry.hertzian:
         return {
             "hertz_radius": reference.radius,
@@ -185,11 +189,12 @@ def reference_attrs(case: Case) -> dict[str, float]:
 def length_scale(attrs: dict) -> float:
     """The reference semi-axis along x (m) of a result's attributes.
 
-    Hertz's a_x, or Sneddon's contact radius (:func:`reference_attrs`).
+    Hertz's a_x, Sneddon's contact radius, or the domain's half width (:func:`reference_attrs`).
     """
-    if "hertz_semi_axis_x" in attrs:
-        return float(attrs["hertz_semi_axis_x"])
-    return float(attrs["sneddon_radius"])
+    for name in ("hertz_semi_axis_x", "sneddon_radius", "domain_half_width"):
+        if name in attrs:
+            return float(attrs[name])
+    raise KeyError("no reference length among the attributes")
 
 
 def _cf(declared) -> dict:

@@ -161,6 +161,10 @@ def _start_pressure(operators: CaseOperators, force: float, *states) -> np.ndarr
         if state is not None and state.pressure.any():
             return state.pressure
     pair = operators.pair
+    if pair.geometry.reference_kind is None:  # point heights only: where the gap is lowest
+        gap = operators.gap
+        low = np.where(gap <= np.quantile(gap, 0.05), 1.0, 0.0)
+        return low * (force / (operators.surface.grid.cell_area * low.sum()))
     reference = pair.geometry.reference(force, pair.composite_modulus)
     return reference.pressure(*operators.surface.grid.mesh())
 

@@ -53,6 +53,9 @@ HISTORIES: dict[str, History] = {
     "approach": History("m", "rigid-body approach"),
     "max_pressure": History("Pa", "maximum contact pressure", "max"),
     "contact_area": History("m2", "contact area", "max"),
+    "contact_spots": History(
+        "1", "contact spots: groups of contact cells joined through their edges", "max"
+    ),
     "tangential_force_x": History("N", "tangential force on body 2 along x", swap_sign=-1.0),
     "tangential_force_y": History("N", "tangential force on body 2 along y", None),
     "tangential_shift_x": History(
@@ -131,6 +134,9 @@ CYCLE_QUANTITIES: dict[str, tuple[str, str]] = {
 
 FIELDS: dict[str, Field] = {
     "pressure": Field(("x", "y"), "Pa", "contact pressure"),
+    "initial_gap": Field(
+        ("x", "y"), "m", "initial gap of the bodies' shapes (with a profile or point heights)"
+    ),
     "shear_x": Field(("x", "y"), "Pa", "shear traction x", -1.0),
     "shear_y": Field(("x", "y"), "Pa", "shear traction y"),
     "stress": Field(

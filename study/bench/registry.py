@@ -15,6 +15,7 @@ SCENES = {
     "plastic": ("plastic", "run_plastic", ("peers", "error")),
     "slipstick": ("slipstick", "run_slipstick", ()),
     "cycles": ("cycles", "run_cycles", ()),
+    "rough": ("rough", "run_rough", ("peers",)),
 }
 
 DEFAULT_SIZES = {
@@ -23,6 +24,7 @@ DEFAULT_SIZES = {
     "plastic": [32, 64],
     "slipstick": [64, 128],
     "cycles": [32, 64, 128],
+    "rough": [128, 256],
 }
 
 

@@ -10,6 +10,7 @@ import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import solver
@@ -25,6 +26,7 @@ from .model import (
     Progress,
 )
 from .naming import _NAME, RESERVED_NAMES, _is_inf, _meta, default_name, format_value
+from .surfaces import absolute_surfaces, read_surface
 from .validate import (
     _apply_beta,
     _check_values,
@@ -213,6 +215,7 @@ def _expand_cases(
     axes: tuple[Axis, ...],
     progress: Progress | None = None,
     defined: dict[str, dict] | None = None,
+    folder: Path | None = None,
 ) -> tuple[CampaignCase, ...]:
     cases: list[CampaignCase] = []
     failures: list[tuple[str, str]] = []
@@ -245,7 +248,9 @@ def _expand_cases(
         try:
             if beta is not None:
                 _apply_beta(table, beta)
-            case = solver.Case.from_dict(table)
+            if folder is not None:
+                absolute_surfaces(table, folder)
+            case = solver.Case.from_dict(table, read_surface)
         except (solver.SpecError, CampaignError) as error:
             failures.append((where(number, coords), _explain(str(error), axes)))
             continue

@@ -9,6 +9,7 @@ import solver
 from solver.keys import Key
 
 from .naming import _is_inf, _is_number, format_value
+from .surfaces import read_surface
 
 #: Top-level tables of a campaign file.
 TOP_LEVEL = ("campaign", "base", "sweep", "zip", "alias", "define")
@@ -178,7 +179,7 @@ class CampaignCase:
 
     def case(self) -> solver.Case:
         """The validated :class:`solver.Case`."""
-        return solver.Case.from_dict(self.spec)
+        return solver.Case.from_dict(self.spec, read_surface)
 
 
 @dataclass(frozen=True)

@@ -114,7 +114,8 @@ def expand_campaign(
     aliases = _parse_aliases(table.get("alias", {}), [key for key, _ in _all_keys(entries)])
     axes = _build_axes(entries, aliases)
     _check_paths(base, axes, defined)
-    cases = _expand_cases(dict(base), axes, progress, defined)
+    folder = Path(source).resolve().parent if source else Path.cwd()  # of relative map files
+    cases = _expand_cases(dict(base), axes, progress, defined, folder)
     return Campaign(settings, axes, cases, source, base=copy.deepcopy(dict(base)))
 
 

@@ -44,6 +44,7 @@ import solver
 from solver import fftw
 
 from ..campaign import MAX_CASE_TIMEOUT, Campaign, CampaignCase, CampaignError
+from ..campaign.surfaces import read_surface
 from . import storage, wisdom
 from .progress import LOGGER_NAME, Progress, format_duration
 
@@ -270,7 +271,7 @@ def solver_case(case: CampaignCase, fft_threads: int | None = None) -> solver.Ca
     if threads != spec["solver"].get("fft_threads", 1):
         spec = copy.deepcopy(spec)
         spec["solver"]["fft_threads"] = threads
-    return solver.Case.from_dict(spec)
+    return solver.Case.from_dict(spec, read_surface)
 
 
 def _non_finite(result: solver.Result) -> list[str]:

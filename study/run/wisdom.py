@@ -26,6 +26,8 @@ import solver
 from solver import fftw
 from solver.operators import CaseOperators
 
+from ..campaign.surfaces import read_surface
+
 #: Environment variable naming the cache folder.
 CACHE_ENV = "SLIPSTICK_CACHE"
 #: Format of the wisdom file.
@@ -114,7 +116,7 @@ def measure_plans(case: solver.Case) -> None:
     """Measure every FFT plan of ``case``'s solve into this process's wisdom (no kernels)."""
     table = case.to_dict()
     table["solver"]["fft_planner"] = "measure"
-    operators = CaseOperators.build(solver.Case.from_dict(table))
+    operators = CaseOperators.build(solver.Case.from_dict(table, read_surface))
     for body in case.plastic_bodies:
         operators.volume(body)[1].make_plans()
     if operators.stress is not None:

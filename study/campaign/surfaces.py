@@ -1,0 +1,146 @@
+"""Height-map files: read them into :class:`solver.surfaces.HeightMap` (the solver reads no files).
+
+Two formats (docs: how-to "Contact shapes"):
+
+* netCDF/HDF5 (``.nc``, ``.nc4``, ``.cdf``, ``.h5``, ``.hdf5``) that xarray opens, with a 2-D
+  variable ``height(y, x)`` in metres over 1-D coordinates ``x``, ``y`` in metres (any uniform
+  spacing, any extent); ``units`` attributes, when present, must say metres;
+* ``.npy`` with ``spacing = dx`` or ``[dx, dy]`` (m) given in the surface table: rows are y,
+  columns x, centred on the origin.
+
+Every problem is a :class:`~solver.surfaces.SurfaceError` naming the file, the problem and what
+to change; :meth:`solver.Case.from_dict` turns it into a :class:`~solver.SpecError` naming the
+field (``bodyN.surface``), and the command line exits with status 2.  Maps are cached per file
+(path, size, modification time), so a campaign's cases read a map once per process.
+"""
+
+from __future__ import annotations
+
+import functools
+from pathlib import Path
+
+import numpy as np
+
+from solver.surfaces import HeightMap, SurfaceError
+
+#: File suffixes read as netCDF/HDF5.
+NETCDF_SUFFIXES = (".nc", ".nc4", ".cdf", ".h5", ".hdf5")
+#: ``units`` attributes accepted as metres.
+METRES = ("m", "meter", "metre", "meters", "metres")
+
+
+def read_surface(table: dict) -> HeightMap:
+    """The height map a surface table names (``{"file": ..., "spacing": ...}``).
+
+    A relative ``file`` is taken from the working folder (a campaign makes it absolute first,
+    from the campaign file's folder: :func:`absolute_surfaces`).
+
+    Raises
+    ------
+    SurfaceError
+        Naming the file and the problem.
+    """
+    path = Path(table["file"]).expanduser()
+    spacing = tuple(table.get("spacing", ()))
+    try:
+        stat = path.stat()
+    except FileNotFoundError:
+        raise SurfaceError(
+            f"{path}: no such file; check the path (relative paths are taken "
+            "from the campaign file's folder)"
+        ) from None
+    except OSError as error:
+        raise SurfaceError(f"{path}: cannot read: {error.strerror or error}") from None
+    if path.is_dir():
+        raise SurfaceError(f"{path}: is a folder, expected a height-map file")
+    return _read(str(path.resolve()), stat.st_size, stat.st_mtime_ns, spacing)
+
+
+@functools.lru_cache(maxsize=8)
+def _read(path: str, size: int, mtime: int, spacing: tuple[float, ...]) -> HeightMap:
+    suffix = Path(path).suffix.lower()
+    if suffix == ".npy":
+        return _read_npy(path, spacing)
+    if suffix in NETCDF_SUFFIXES:
+        if spacing:
+            raise SurfaceError(
+                f"{path}: spacing is for .npy maps only; a netCDF/HDF5 map's coordinates x, y "
+                "give it (remove spacing)"
+            )
+        return _read_netcdf(path)
+    raise SurfaceError(
+        f"{path}: unknown height-map format {suffix or '(no suffix)'}; give a netCDF/HDF5 file "
+        f"({', '.join(NETCDF_SUFFIXES)}) with height(y, x), or a .npy array with spacing"
+    )
+
+
+def _read_npy(path: str, spacing: tuple[float, ...]) -> HeightMap:
+    if not spacing:
+        raise SurfaceError(
+            f"{path}: a .npy map has no coordinates; give its spacing (m): "
+            'surface = {file = "...", spacing = dx} or [dx, dy]'
+        )
+    try:
+        heights = np.load(path, allow_pickle=False)
+    except (ValueError, OSError, EOFError) as error:
+        raise SurfaceError(f"{path}: not a readable .npy array ({error})") from None
+    if heights.ndim != 2:
+        raise SurfaceError(
+            f"{path}: height must be a 2-D array (rows y, columns x), got shape {heights.shape}"
+        )
+    if not np.issubdtype(heights.dtype, np.number) or np.iscomplexobj(heights):
+        raise SurfaceError(f"{path}: heights must be real numbers, got dtype {heights.dtype}")
+    dx, dy = (spacing[0], spacing[0]) if len(spacing) == 1 else spacing
+    ny, nx = heights.shape
+    x = (np.arange(nx) - 0.5 * (nx - 1)) * dx
+    y = (np.arange(ny) - 0.5 * (ny - 1)) * dy
+    return HeightMap(x, y, heights, path)
+
+
+def _read_netcdf(path: str) -> HeightMap:
+    import xarray as xr
+
+    try:
+        dataset = xr.open_dataset(path)
+    except Exception as error:  # the engines raise many kinds for a file that is not theirs
+        first = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
+        raise SurfaceError(f"{path}: cannot be opened as netCDF/HDF5 ({first})") from None
+    with dataset:
+        if "height" not in dataset.variables:
+            found = ", ".join(map(str, dataset.data_vars)) or "none"
+            raise SurfaceError(
+                f"{path}: no variable 'height' (variables: {found}); name the heights height(y, x)"
+            )
+        height = dataset["height"]
+        if height.ndim != 2 or set(height.dims) != {"x", "y"}:
+            raise SurfaceError(
+                f"{path}: height must be 2-D over dims (y, x), got dims {height.dims}"
+            )
+        for name, variable in (("height", height), ("x", None), ("y", None)):
+            if variable is None:
+                if name not in dataset.coords and name not in dataset.variables:
+                    raise SurfaceError(f"{path}: no coordinate {name} (m) for height(y, x)")
+                variable = dataset[name]
+            units = str(variable.attrs.get("units", "m")).strip()
+            if units not in METRES:
+                raise SurfaceError(
+                    f'{path}: {name} is in {units!r}; convert it to metres (units = "m")'
+                )
+        return HeightMap(
+            dataset["x"].values, dataset["y"].values, height.transpose("y", "x").values, path
+        )
+
+
+def absolute_surfaces(table: dict, folder: Path) -> dict:
+    """The case table with the bodies' relative height-map paths made absolute from ``folder``."""
+    for name in ("body1", "body2"):
+        body = table.get(name)
+        if not isinstance(body, dict) or "surface" not in body:
+            continue
+        surface = body["surface"]
+        given = surface if isinstance(surface, dict) else {"file": surface}
+        file = given.get("file")
+        if isinstance(file, str) and file and not Path(file).expanduser().is_absolute():
+            resolved = str((folder / file).resolve())
+            body["surface"] = {**given, "file": resolved} if isinstance(surface, dict) else resolved
+    return table
