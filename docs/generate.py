@@ -31,6 +31,7 @@ _JSON_TYPES = {
     "number or [dx, dy]": {
         "anyOf": [{"type": "number"}, {"type": "array", "items": {"type": "number"}}]
     },
+    "[dx, dy]": {"type": "array", "items": {"type": "number"}},
     "number or [Lx, Ly]": {
         "anyOf": [{"type": "number"}, {"type": "array", "items": {"type": "number"}}]
     },

@@ -221,10 +221,21 @@ def _parse_surface(value: Any, path: str, read_surface: SurfaceReader | None) ->
     if isinstance(value, str):
         value = {"file": value}
     _check_keys(value, path, table_keys(SURFACE), required_keys(SURFACE))
-    if not isinstance(value["file"], str) or not value["file"]:
-        _fail(f"{path}.file", f"must be a file name, got {value['file']!r}")
-    origin = {"file": value["file"]}
+    kinds = [k for k in ("file", "case") if k in value]
+    if len(kinds) != 1:
+        _fail(path, "give one of file (a height map) and case (an earlier case's dent)")
+    kind = kinds[0]
+    if not isinstance(value[kind], str) or not value[kind]:
+        _fail(f"{path}.{kind}", f"must be a file name, got {value[kind]!r}")
+    origin = {kind: value[kind]}
+    if "offset" in value:
+        offset = _plain(value["offset"])
+        if not isinstance(offset, list) or len(offset) != 2:
+            _fail(f"{path}.offset", f"must be [dx, dy] (m), got {offset!r}")
+        origin["offset"] = [_number(v, f"{path}.offset") for v in offset]
     if "spacing" in value:
+        if kind == "case":
+            _fail(f"{path}.spacing", "a case file's coordinates give the spacing; remove it")
         spacing = _plain(value["spacing"])
         items = spacing if isinstance(spacing, list) else [spacing]
         if len(items) not in (1, 2):
@@ -244,7 +255,7 @@ def _parse_surface(value: Any, path: str, read_surface: SurfaceReader | None) ->
     if "sha256" in value and value["sha256"] != surface.digest:
         _fail(
             f"{path}.sha256",
-            f"{value['file']} changed since this case was written (its content hash differs); "
+            f"{value[kind]} changed since this case was written (its content hash differs); "
             "build the case again from its campaign file",
         )
     surface.origin = origin
@@ -1124,7 +1135,7 @@ class Case:
         for name, body in (("body1", self.body1), ("body2", self.body2)):
             surface = body.surface
             if surface is not None:
-                where, file = f"{name}.surface", surface.origin.get("file", surface.source)
+                where, file = f"{name}.surface", surface.source
                 x0, x1, y0, y1 = surface.extent
                 tol = 1e-9 * cell
                 if (
@@ -1348,7 +1359,8 @@ class Case:
         spec = json.loads(json.dumps(self.spec))
         spec["solver"] = {k: v for k, v in spec["solver"].items() if k not in EXECUTION_KEYS}
         for body in ("body1", "body2"):  # a map is its content, wherever its file lies
-            spec[body].get("surface", {}).pop("file", None)
+            for key in ("file", "case"):
+                spec[body].get("surface", {}).pop(key, None)
         text = json.dumps(spec, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 

@@ -219,9 +219,19 @@ CASE_KEYS: tuple[Key, ...] = (
         "body), added to the quadric and profile: a netCDF/HDF5 file with height(y, x) over "
         "coordinates x, y (m), or {file = \"map.npy\", spacing = dx}; resampled onto the grid "
         "by cubic B-splines (docs: how-to \"Contact shapes\")."),
-    Key("bodyN.surface", "file", "string", "", "required", "an existing .nc/.h5/.npy file",
-        "height maps", "The height-map file (a relative path is taken from the campaign file's "
-        "folder in a campaign, else from the working folder); not part of the case id."),
+    Key("bodyN.surface", "file", "string", "", "one of file / case",
+        "an existing .nc/.h5/.npy file", "height maps", "The height-map file (a relative path "
+        "is taken from the campaign file's folder in a campaign, else from the working "
+        "folder); not part of the case id."),
+    Key("bodyN.surface", "case", "string", "", "one of file / case",
+        "a converged elastic-plastic case file (OUT/cases/<id>.nc)", "dents",
+        "An earlier case whose residual print (residual_displacement_z) is the surface: a "
+        "second indentation on or beside a dent.  Its geometry only: the material starts "
+        "virgin (no residual stress or hardening carried over)."),
+    Key("bodyN.surface", "offset", "[dx, dy]", "m", "[0, 0]", "finite",
+        "height maps, dents", "Where the map's origin lies in this case's frame (the first "
+        "contact point of the smooth shape is the origin): a dent at offset [0.5 a, 0] lies "
+        "half a contact radius along +x of the new contact."),
     Key("bodyN.surface", "spacing", "number or [dx, dy]", "m", "required for .npy",
         "> 0", "height maps in .npy", "Lattice spacing of a .npy map (rows y, columns x, "
         "centred on the origin)."),

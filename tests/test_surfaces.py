@@ -400,3 +400,113 @@ def test_two_bumps_make_two_spots_and_two_stick_zones():
     for side_ in (left, ~left):
         measured = math.sqrt(np.count_nonzero(stick & side_[:, None]) * area / math.pi)
         assert abs(measured - expected) < 2 * grid.dx
+
+
+# -- a second indentation on and beside a dent ----------------------------------------------------
+def test_second_indentation_on_and_beside_a_dent(tmp_path):
+    """The residual print of a first indentation is the surface of a second one (material virgin
+    again): on the dent the sphere meets a conforming seat (larger contact, lower pressure, less
+    new plastic strain); beside it (offset 0.5 a_H along +x) the new print forms off the dent,
+    on the -x side."""
+    base = {
+        "body1": {"behaviour": "rigid", "radius": 0.015},
+        "body2": {"behaviour": "elastic-plastic", "E": 210e9, "nu": 0.3,
+                  "hardening": {"law": "linear", "yield_stress": 1.0e9, "modulus": 10e9}},
+        "load": {"path": [{"hertz_pressure": 4.0e9, "steps": 4}, {"normal_force": 0.0}]},
+        "grid": {"n": [24, 24, 24], "half_width": 2.0},
+    }  # fmt: skip
+    first = solver.solve(Case.from_dict(base))
+    assert first.status == "converged"
+    first.to_xarray().to_netcdf(tmp_path / "first.nc")
+    a = first.case.hertz.radius
+    peak = int(np.argmax(first.history["normal_force"]))
+    second = {}
+    for offset in (0.0, 0.5):
+        table = {**base, "grid": {"n": [18, 18, 24], "half_width": 1.5,
+                                  "depth": first.case.grid.depth}}  # fmt: skip
+        surface = {"case": str(tmp_path / "first.nc"), "offset": [offset * a, 0.0]}
+        table["body2"] = {**base["body2"], "surface": surface}
+        case = Case.from_dict(table, read_surface)
+        assert case.surface_grid.dx == pytest.approx(first.case.surface_grid.dx)
+        second[offset] = solver.solve(case)
+        assert second[offset].status == "converged", second[offset].notes
+
+    def at_peak(result, name):
+        return result.history[name][peak]
+
+    on = second[0.0]
+    assert at_peak(on, "contact_area") > 1.05 * at_peak(first, "contact_area")
+    assert at_peak(on, "max_pressure") < 0.95 * at_peak(first, "max_pressure")
+    assert on.history["max_plastic_strain"][-1] < 0.7 * first.history["max_plastic_strain"][-1]
+    beside = second[0.5]
+    print_z = beside.fields["residual_displacement_z"]
+    deepest = np.unravel_index(np.argmax(print_z), print_z.shape)
+    assert beside.grid.x[deepest[0]] < 0  # the new dent forms off the old one
+    assert at_peak(beside, "max_pressure") > at_peak(on, "max_pressure")
+
+
+def test_a_dent_must_come_from_a_converged_plastic_case(tmp_path):
+    elastic = solver.solve(Case.from_dict(SPHERE))
+    elastic.to_xarray().to_netcdf(tmp_path / "elastic.nc")
+    table = {**SPHERE, "body2": {**STEEL, "surface": {"case": str(tmp_path / "elastic.nc")}}}
+    with pytest.raises(SpecError, match="not an elastic-plastic case"):
+        Case.from_dict(table, read_surface)
+    table["body2"]["surface"] = {"case": "a.nc", "file": "b.nc"}
+    with pytest.raises(SpecError, match="one of file"):
+        Case.from_dict(table, read_surface)
+
+
+# -- campaigns over roughness: realisations -------------------------------------------------------
+ROUGH_CAMPAIGN = """
+[campaign]
+name = "rough"
+
+[base]
+body1 = { behaviour = "rigid", radius = 0.01 }
+load = { normal_force = 20.0 }
+grid = { n = 32, half_width = 1.5 }
+
+[base.body2]
+behaviour = "elastic"
+E = 210e9
+nu = 0.3
+roughness = { rms = 5e-8, hurst = 0.8, long_cutoff = 1.5e-4, short_cutoff = 3e-5, seed = 1 }
+
+[sweep]
+"body2.roughness.rms" = [5e-8, 4e-7]
+"body2.roughness.seed" = [1, 2, 3]
+
+[alias]
+"body2.roughness.rms" = "rms"
+"body2.roughness.seed" = "realisation"
+"""
+
+
+def test_seeds_are_realisations_the_analysis_and_report_reduce(tmp_path):
+    from study import analysis
+    from study.campaign import load_campaign
+    from study.report import build_report
+    from study.run.assemble import assemble_to_file
+    from study.run.driver import run_campaign
+
+    path = tmp_path / "rough.toml"
+    path.write_text(ROUGH_CAMPAIGN)
+    out = tmp_path / "out"
+    campaign = load_campaign(path)
+    assert run_campaign(campaign, out).exit_status == 0
+    ds = xr.open_dataset(assemble_to_file(out, campaign))
+    assert analysis.realisation_axes(ds) == ["realisation"]
+    assert "realisation" not in analysis.sensitivity_axes(ds) and "rms" in (
+        analysis.sensitivity_axes(ds)
+    )
+    stats = analysis.realisation_statistics(ds)
+    area = ds.contact_area.values  # (rms, realisation)
+    np.testing.assert_allclose(stats.contact_area.sel(statistic="mean"), area.mean(axis=1))
+    np.testing.assert_allclose(stats.contact_area.sel(statistic="std"), area.std(axis=1, ddof=1))
+    assert (stats.realisations == 3).all()
+    assert np.all(np.diff(ds.contact_spots.values, axis=0) >= 0)  # rougher: more spots
+    mean = stats.contact_area.sel(statistic="mean").values
+    assert mean[1] < mean[0]  # rougher: less real contact area at the same load
+    assert np.all(area.std(axis=1) > 0)  # the seeds draw different surfaces
+    report = build_report(out, plots=False).read_text()
+    assert "## Over the surface realisations" in report

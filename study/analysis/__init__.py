@@ -20,7 +20,8 @@ closed form
     in addition ``mu > 0`` and ``0 <= Q < mu W``.
 
 The package: :mod:`.dataset` (axes, mesh coordinates, case inputs, closed forms) at the
-bottom; :mod:`.convergence`, :mod:`.sensitivity` and :mod:`.speed_error` on it;
+bottom; :mod:`.convergence`, :mod:`.sensitivity`, :mod:`.realisations` and :mod:`.speed_error`
+on it;
 :mod:`.fields` (the lazy 3-D field loader) beside them.  The names below are re-exported here:
 ``from study import analysis; analysis.convergence_table(ds, ...)``.
 """
@@ -56,6 +57,10 @@ from .dataset import (
     sweep_slices,
     with_derived,
 )
+from .realisations import (
+    realisation_axes,
+    realisation_statistics,
+)
 from .sensitivity import (
     sensitivity_axes,
     sensitivity_table,
@@ -73,6 +78,8 @@ __all__ = [
     "axis_dims",
     "cell_counts",
     "closed_forms",
+    "realisation_axes",
+    "realisation_statistics",
     "convergence_summary",
     "convergence_table",
     "dundurs_beta",

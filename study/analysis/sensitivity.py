@@ -13,6 +13,7 @@ from .dataset import (
     sweep_slices,
     with_derived,
 )
+from .realisations import realisation_axes
 
 
 def sensitivity_table(dataset, quantity: str, axis: str):
@@ -64,10 +65,10 @@ def sensitivity_table(dataset, quantity: str, axis: str):
 
 
 def sensitivity_axes(dataset) -> list[str]:
-    """Numeric sweep dimensions that are not mesh axes and have at least two values."""
-    mesh = set(mesh_axes(dataset))
+    """Numeric sweep dimensions that are not mesh or realisation axes, with two values or more."""
+    skip = set(mesh_axes(dataset)) | set(realisation_axes(dataset))
     return [
         d
         for d in axis_dims(dataset)
-        if d not in mesh and dataset.sizes[d] > 1 and numeric_coordinate(dataset, d) is not None
+        if d not in skip and dataset.sizes[d] > 1 and numeric_coordinate(dataset, d) is not None
     ]

@@ -30,18 +30,22 @@ METRES = ("m", "meter", "metre", "meters", "metres")
 
 
 def read_surface(table: dict) -> HeightMap:
-    """The height map a surface table names (``{"file": ..., "spacing": ...}``).
+    """The height map a surface table names.
 
-    A relative ``file`` is taken from the working folder (a campaign makes it absolute first,
-    from the campaign file's folder: :func:`absolute_surfaces`).
+    ``{"file": ..., "spacing": ...}`` a map file, or ``{"case": ...}`` the residual print
+    ``residual_displacement_z`` of a converged elastic-plastic case file; either shifted by
+    ``"offset": [dx, dy]`` (m).  A relative path is taken from the working folder (a campaign
+    makes it absolute first, from the campaign file's folder: :func:`absolute_surfaces`).
 
     Raises
     ------
     SurfaceError
         Naming the file and the problem.
     """
-    path = Path(table["file"]).expanduser()
+    kind = "case" if "case" in table else "file"
+    path = Path(table[kind]).expanduser()
     spacing = tuple(table.get("spacing", ()))
+    offset = tuple(table.get("offset", (0.0, 0.0)))
     try:
         stat = path.stat()
     except FileNotFoundError:
@@ -53,7 +57,37 @@ def read_surface(table: dict) -> HeightMap:
         raise SurfaceError(f"{path}: cannot read: {error.strerror or error}") from None
     if path.is_dir():
         raise SurfaceError(f"{path}: is a folder, expected a height-map file")
-    return _read(str(path.resolve()), stat.st_size, stat.st_mtime_ns, spacing)
+    read = _read_case if kind == "case" else _read
+    surface = read(str(path.resolve()), stat.st_size, stat.st_mtime_ns, spacing)
+    if offset == (0.0, 0.0):
+        return surface
+    return HeightMap(surface.x + offset[0], surface.y + offset[1], surface.height, surface.source)
+
+
+@functools.lru_cache(maxsize=8)
+def _read_case(path: str, size: int, mtime: int, spacing: tuple[float, ...]) -> HeightMap:
+    """The residual print of a finished elastic-plastic case file, as a height map."""
+    import xarray as xr
+
+    try:
+        dataset = xr.open_dataset(path)
+    except Exception as error:
+        first = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
+        raise SurfaceError(f"{path}: cannot be opened as a case file ({first})") from None
+    with dataset:
+        name = "residual_displacement_z"
+        if name not in dataset.variables:
+            raise SurfaceError(
+                f"{path}: no {name}: not an elastic-plastic case (only those leave a dent)"
+            )
+        status = dataset.attrs.get("status", "")
+        if status != "converged":
+            raise SurfaceError(
+                f"{path}: its status is {status or 'unknown'!r}, not converged: its residual "
+                "print is not to be trusted; use a converged case"
+            )
+        field = dataset[name].transpose("y", "x")
+        return HeightMap(dataset["x"].values, dataset["y"].values, field.values, path)
 
 
 @functools.lru_cache(maxsize=8)
@@ -139,8 +173,10 @@ def absolute_surfaces(table: dict, folder: Path) -> dict:
             continue
         surface = body["surface"]
         given = surface if isinstance(surface, dict) else {"file": surface}
-        file = given.get("file")
-        if isinstance(file, str) and file and not Path(file).expanduser().is_absolute():
-            resolved = str((folder / file).resolve())
-            body["surface"] = {**given, "file": resolved} if isinstance(surface, dict) else resolved
+        for key in ("file", "case"):
+            file = given.get(key)
+            if isinstance(file, str) and file and not Path(file).expanduser().is_absolute():
+                resolved = str((folder / file).resolve())
+                given = {**given, key: resolved}
+        body["surface"] = given if isinstance(surface, dict) else given["file"]
     return table

@@ -157,6 +157,18 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
                 figures.append((f"Convergence along {dim}", png, note))
                 lines += [f"![convergence along {dim}]({png.name})", ""]
 
+    realisations = analysis.realisation_axes(dataset)
+    if realisations:
+        stats = analysis.realisation_statistics(dataset)
+        axes = ", ".join(f"`{d}`" for d in realisations)
+        lines += ["## Over the surface realisations", ""]
+        lines += [
+            f"The roughness seeds ({axes}) draw surfaces of one statistics: each quantity's",
+            "mean, sample standard deviation, min and max over the finished realisations",
+            "(`realisations` of them) per slice of the other axes.",
+            "",
+        ]
+        lines.append(markdown_table(stats.to_dataframe().reset_index()))
     sensitivity = analysis.sensitivity_axes(dataset)
     if sensitivity:
         lines += ["## Sensitivities", ""]
