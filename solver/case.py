@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from .fftw import PLANNER_FLAGS, fft_size
-from .geometry import PROFILE_KEYS, PROFILES, Geometry, Profile
+from .geometry import MAX_PROFILE_SLOPE, PROFILE_KEYS, PROFILES, Geometry, Profile
 from .grid import IndexBox, SurfaceGrid, VolumeGrid
 from .keys import (
     DEFAULT_DEPTH,
@@ -71,7 +71,8 @@ from .reference import (
     hertz_yield_half_width,
     hertz_yield_region,
 )
-from .sneddon import SneddonContact
+from .sizing import elastic_yield_region, slope_index
+from .sneddon import SneddonContact, radius_for_force
 from .surfaces import (
     MAX_ROUGHNESS_LATTICE,
     ROUGHNESS_POINTS_PER_CUTOFF,
@@ -558,8 +559,6 @@ def _profile_radius(geometry: Geometry, force: float, e_star: float) -> float:
 
     ValueError past the slope limit; memoised (a cyclic path checks the same forces again).
     """
-    from .sneddon import radius_for_force
-
     return radius_for_force(
         force, geometry.slope, e_star, geometry.breaks, geometry.start, geometry.slope_limit
     )
@@ -571,8 +570,6 @@ def _check_profile_force(force: float, pair: Pair, path: str) -> None:
     Refused: a contact pushed past the profile's slope limit, or a mean pressure W / (pi a^2)
     over E* outside :data:`PRESSURE_RATIO_RANGE`.
     """
-    from .geometry import MAX_PROFILE_SLOPE
-
     geometry, e_star = pair.geometry, pair.composite_modulus
     try:
         a = _profile_radius(geometry, force, e_star)
@@ -870,7 +867,7 @@ class Case:
         """Validate a case table (see the README for the format) and build the case.
 
         ``read_surface`` reads the height-map files the bodies name (``bodyN.surface``):
-        ``study.surfaces.read_surface``; without it such a case is refused.
+        ``study.campaign.surfaces.read_surface``; without it such a case is refused.
 
         Raises
         ------
@@ -956,16 +953,39 @@ class Case:
         _check_plastic_scene(body1, body2, stages, grid)
         plastics = [b for b in (body2, body1) if b.behaviour == "elastic-plastic"]
         plastic = plastics[0] if plastics else None
-        p_max = (  # elastic-plastic bodies are quadric (_check_plastic_scene)
-            hertz(
-                max(stage.normal_force for stage in stages), pair.composite_modulus, (kx, ky)
-            ).max_pressure
-            if plastics
-            else math.nan
+        force, e_star = max(stage.normal_force for stage in stages), pair.composite_modulus
+        hertzian_plastic = plastics and geometry.hertzian  # else a profile (_check_plastic_scene)
+        p_max = hertz(force, e_star, (kx, ky)).max_pressure if hertzian_plastic else math.nan
+        ratio = max(  # unloaded stages carry no tangential force (checked above)
+            (
+                math.hypot(*st.tangential_force) / st.normal_force
+                for st in stages
+                if st.normal_force
+            ),
+            default=0.0,
         )
+        region = None  # a profile's computed elastic yield region (units of its contact radius)
+        if plastic is not None and not geometry.hertzian:
+            scale = _profile_radius(geometry, force, e_star)
+            found = elastic_yield_region(
+                pair, _domain_half_widths(grid, scale), (grid.nx, grid.ny), force, ratio,
+                plastic.hardening.initial_yield_stress, plastic.nu, scale,
+            )  # fmt: skip
+            region = (found.top / scale, found.bottom / scale, found.half_width / scale)
+            p_max = found.max_pressure
 
         def yield_depth(body: Body) -> float:
+            if region is not None:
+                return max(DEFAULT_DEPTH, YIELD_DEPTH_MARGIN * region[1])
             return auto_depth(p_max, body.hardening.initial_yield_stress, body.nu)
+
+        def auto_width(body: Body, depth: float) -> float:
+            if region is not None:
+                width = max(MIN_PLASTIC_HALF_WIDTH, PLASTIC_WIDTH_MARGIN * region[2])
+                return min(grid.half_width, math.ceil(width * 1000.0 - 1e-6) / 1000.0)
+            return auto_plastic_half_width(
+                p_max, body.hardening.initial_yield_stress, body.nu, ratio, depth, grid.half_width
+            )
 
         if grid.plastic_half_width is not None and plastic is None:
             _fail(
@@ -986,23 +1006,8 @@ class Case:
             grid = dataclasses.replace(grid, depth=depth)
         box_key = None  # grid.plastic_half_width as the case's spec records it
         if plastic is not None:
-            ratio = max(  # unloaded stages carry no tangential force (checked above)
-                (
-                    math.hypot(*st.tangential_force) / st.normal_force
-                    for st in stages
-                    if st.normal_force
-                ),
-                default=0.0,
-            )
             auto = max(
-                auto_plastic_half_width(
-                    p_max,
-                    body.hardening.initial_yield_stress,
-                    body.nu,
-                    ratio,
-                    grid.depth_body1 if body is body1 and two_fields else grid.depth,
-                    grid.half_width,
-                )
+                auto_width(body, grid.depth_body1 if body is body1 and two_fields else grid.depth)
                 for body in plastics
             )
             chosen = grid.plastic_half_width
@@ -1020,11 +1025,14 @@ class Case:
             own = name == "body 1" and two_fields  # body 1's own volume grid
             keys = ("depth_body1", "depth") if own else ("depth",)  # what sets its depth
             given_key = next((f"grid.{k}" for k in keys if k in table["grid"]), "grid.n")
-            note = _plastic_regime(body, p_max, paths[peak], name)  # first: it may refuse
+            if region is None:
+                note = _plastic_regime(body, p_max, paths[peak], name)  # first: it may refuse
+            else:
+                note = _profile_regime(body, pair, scale, paths[peak], name)
             if note:
                 warnings.append(note)
             depth = grid.depth_body1 if own else grid.depth
-            _check_volume(body, depth, grid.nz, p_max, given_key)
+            _check_volume(body, depth, grid.nz, p_max, given_key, region)
         solver = _parse_solver(table.get("solver", {}))
         output = _check_keys(table.get("output", {}), "output", table_keys("output"))
         fields = _plain(output.get("fields", []))
@@ -1262,13 +1270,8 @@ class Case:
     @property
     def domain_half_widths(self) -> tuple[float, float]:
         """Half-widths (m) of the surface domain along x and y (square cells)."""
-        if self.grid.size is not None:
-            return 0.5 * self.grid.size[0], 0.5 * self.grid.size[1]
-        half = self.grid.half_width * self.reference.max_semi_axis
-        if self.grid.nx == self.grid.ny:
-            return half, half
-        cell = 2 * half / max(self.grid.nx, self.grid.ny)
-        return 0.5 * cell * self.grid.nx, 0.5 * cell * self.grid.ny
+        scale = self.reference.max_semi_axis if self.grid.size is None else math.nan
+        return _domain_half_widths(self.grid, scale)
 
     @property
     def surface_grid(self) -> SurfaceGrid:
@@ -1394,6 +1397,20 @@ class Case:
         return (per_solve * factor + volume) * self.total_steps
 
 
+def _domain_half_widths(grid: GridSpec, scale: float) -> tuple[float, float]:
+    """Half-widths (m) of the surface domain, square cells.
+
+    ``grid.size``, else ``half_width`` x ``scale`` (m) along the longer side.
+    """
+    if grid.size is not None:
+        return 0.5 * grid.size[0], 0.5 * grid.size[1]
+    half = grid.half_width * scale
+    if grid.nx == grid.ny:
+        return half, half
+    cell = 2 * half / max(grid.nx, grid.ny)
+    return 0.5 * cell * grid.nx, 0.5 * cell * grid.ny
+
+
 def _check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> None:
     """Refuse the elastic-plastic scenes this release cannot solve (no silent elastic answer).
 
@@ -1408,14 +1425,20 @@ def _check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> No
     symmetric = plastic1 and body1 == body2
     if not (plastic1 or plastic2):
         return
-    for name, body in (("body1", body1), ("body2", body2)):
-        if body.profile is not None:
-            _fail(
-                f"{name}.profile",
-                "elastic-plastic cases take quadric bodies only in this release (the volume "
-                "depth and the plastic box are sized from Hertz's stress field); make both "
-                "bodies elastic or rigid to use a profile",
-            )
+    profiled = body1.profile is not None or body2.profile is not None
+    if profiled and (plastic1 or not plastic2):
+        _fail(
+            "body1.behaviour",
+            "with a profile, only body 2 may be elastic-plastic in this release (its box is "
+            "sized from the computed elastic yield region in body 2); make body 1 rigid or "
+            "elastic",
+        )
+    if profiled and any(b.surface or b.roughness for b in (body1, body2)):
+        _fail(
+            "body2.behaviour",
+            "an elastic-plastic case with a profile takes no height map or roughness yet: its "
+            "box is sized from the profile's elastic stress; drop one of them",
+        )
     if (
         plastic1
         and not plastic2
@@ -1427,7 +1450,7 @@ def _check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> No
             "bodies relabelled, which mirrors point heights: not built yet; make the "
             "elastic-plastic body body 2",
         )
-    if not Pair(body1, body2).geometry.hertzian:
+    if Pair(body1, body2).geometry.reference_kind is None:
         _fail(
             "body1.radius",
             "an elastic-plastic case needs a radius (a quadric shape under the heights): the "
@@ -1525,7 +1548,9 @@ def _parse_grid(table: Any) -> GridSpec:
     )
 
 
-def _check_volume(body: Body, depth: float, nz: int, max_pressure: float, path: str) -> None:
+def _check_volume(
+    body: Body, depth: float, nz: int, max_pressure: float, path: str, region=None
+) -> None:
     """Refuse a plastic body's volume grid that cannot resolve its yield region.
 
     ``depth`` in units of a_H.  Cells at most :data:`MAX_CELL_DEPTH` thick: the Hertz von
@@ -1533,7 +1558,9 @@ def _check_volume(body: Body, depth: float, nz: int, max_pressure: float, path: 
     (p_H = 1.8 sigma_Y) or 40 % too little (2.9 sigma_Y).  With the frictionless Hertz yield
     region on the axis at the maximum load (:func:`~solver.reference.hertz_yield_region`),
     the box must reach the depth where plasticity starts (a shallower one gives an elastic
-    answer), and the region inside the box must span :data:`MIN_YIELD_CELLS` cells.
+    answer), and the region inside the box must span :data:`MIN_YIELD_CELLS` cells.  ``region``
+    (top, bottom, half width, in units of the contact radius): a profile's computed region
+    (:func:`~solver.sizing.elastic_yield_region`) instead of Hertz's.
     """
     nu, sigma = body.nu, body.hardening.initial_yield_stress
     cell = depth / nz
@@ -1544,12 +1571,17 @@ def _check_volume(body: Body, depth: float, nz: int, max_pressure: float, path: 
             f"{thick} cannot resolve a plastic zone (at most {MAX_CELL_DEPTH:g} a_H): use "
             f"nz >= {math.ceil(depth / MAX_CELL_DEPTH)}",
         )
-    top, bottom = hertz_yield_region(max_pressure, sigma, nu)
-    if bottom == 0.0:  # the Hertz field does not yield (friction may, near the surface)
+    if region is None:
+        top, bottom = hertz_yield_region(max_pressure, sigma, nu)
+        start = first_yield_pressure(sigma, nu)[1]
+        told = f"the Hertz yield region at p_H = {max_pressure:.4g} Pa spans"
+    else:
+        top, bottom, _ = region
+        start = top
+        told = "the computed elastic yield region spans"
+    if bottom == 0.0:  # the elastic field does not yield (friction may, near the surface)
         return
-    start = first_yield_pressure(sigma, nu)[1]
-    region = f"the Hertz yield region at p_H = {max_pressure:.4g} Pa spans {top:.3g}-{bottom:.3g}"
-    region += " a_H"
+    region = f"{told} {top:.3g}-{bottom:.3g} a_H"
     if depth < start:
         _fail(
             path,
@@ -1579,6 +1611,18 @@ def plastic_index(body: Body, max_pressure: float) -> float:
     return math.pi * max_pressure / (2.0 * sigma)
 
 
+def _profile_regime(body: Body, pair: Pair, radius: float, path: str, name: str) -> str | None:
+    """:func:`_plastic_regime` for a profile: Johnson's index from the slope at the contact edge."""
+    sigma = float(body.hardening.flow_stress(SMALL_STRAIN_LIMIT))
+    index = slope_index(pair, radius, sigma)
+    told = (
+        f"Johnson's index E* f'(a)/sigma_Y = {index:.3g} for {name} (the gap's slope f'(a) at "
+        f"Sneddon's contact radius a = {radius:.4g} m, sigma_Y = {sigma:.4g} Pa at e_p = "
+        f"{SMALL_STRAIN_LIMIT:g})"
+    )
+    return _regime_note(index, told, path, "lower the load or blunt the profile")
+
+
 def _plastic_regime(body: Body, max_pressure: float, path: str, name: str) -> str | None:
     """Refuse a fully plastic indentation; a note (returned) past the contained regime."""
     index = plastic_index(body, max_pressure)
@@ -1588,12 +1632,17 @@ def _plastic_regime(body: Body, max_pressure: float, path: str, name: str) -> st
         f"(p_H = {max_pressure:.4g} Pa, sigma_Y = {sigma:.4g} Pa at e_p = "
         f"{SMALL_STRAIN_LIMIT:g})"
     )
+    lower = f"lower the load to p_H < {FULLY_PLASTIC_INDEX * 2 * sigma / math.pi:.4g} Pa"
+    return _regime_note(index, told, path, lower)
+
+
+def _regime_note(index: float, told: str, path: str, lower: str) -> str | None:
+    """Refuse a fully plastic index; a note past the contained regime; None below."""
     if index >= FULLY_PLASTIC_INDEX:
         _fail(
             path,
             f"{told} reaches {FULLY_PLASTIC_INDEX:g}, a fully plastic indentation (Johnson 1985, "
-            "§6.4): plastic strains of tens of %, beyond the small-strain theory; lower the "
-            f"load to p_H < {FULLY_PLASTIC_INDEX * 2 * sigma / math.pi:.4g} Pa",
+            f"§6.4): plastic strains of tens of %, beyond the small-strain theory; {lower}",
         )
     if index > UNCONTAINED_PLASTIC_INDEX:
         return (

@@ -45,7 +45,9 @@ class Cone:
 
     angle: float
     shape: ClassVar[str] = "cone"
-    breaks: ClassVar[tuple[float, ...]] = ()
+    breaks: ClassVar[tuple[float, ...]] = ()  # radii (m) where the curvature jumps
+    start: ClassVar[float] = 0.0  # radius (m) up to which the profile is flat
+    extent: ClassVar[float] = math.inf  # largest radius (m) of the smooth profile
 
     @property
     def _tan(self) -> float:
@@ -62,16 +64,6 @@ class Cone:
     def curvature(self, r: np.ndarray) -> np.ndarray:
         """d^2h/dr^2 (1/m)."""
         return np.zeros(np.shape(r))
-
-    @property
-    def start(self) -> float:
-        """Radius (m) up to which the profile is flat."""
-        return 0.0
-
-    @property
-    def extent(self) -> float:
-        """Largest radius (m) of the smooth profile."""
-        return math.inf
 
     def spec(self) -> dict:
         """The profile's table (SI units, angle in degrees)."""
@@ -152,6 +144,8 @@ class PowerLaw:
     exponent: float
     shape: ClassVar[str] = "power"
     breaks: ClassVar[tuple[float, ...]] = ()
+    start: ClassVar[float] = 0.0
+    extent: ClassVar[float] = math.inf
 
     def height(self, r: np.ndarray) -> np.ndarray:
         """Height h(r) (m) at radii ``r`` (m)."""
@@ -168,16 +162,6 @@ class PowerLaw:
         if k == 1.0:
             return np.zeros(np.shape(r))
         return k * (k - 1.0) * self.coefficient * np.abs(np.asarray(r, dtype=float)) ** (k - 2.0)
-
-    @property
-    def start(self) -> float:
-        """Radius (m) up to which the profile is flat."""
-        return 0.0
-
-    @property
-    def extent(self) -> float:
-        """Largest radius (m) of the smooth profile."""
-        return math.inf
 
     def spec(self) -> dict:
         """The profile's table (SI units)."""

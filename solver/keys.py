@@ -329,7 +329,8 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("grid", "half_width", "number", "a_H", "1.5", "the contact fits (>= 1.1; 1.5 usual)",
         "every case", "Half side of the surface domain in units of the largest Hertz semi-axis "
         "(with a profile: Sneddon's contact radius) at the largest load."),
-    Key("grid", "depth", "number", "a_H", f"1.2 x the Hertz yield depth (>= {DEFAULT_DEPTH:g}); "
+    Key("grid", "depth", "number", "a_H", f"1.2 x the Hertz yield depth (a profile: of the "
+        f"computed elastic yield region; >= {DEFAULT_DEPTH:g}); "
         f"{DEFAULT_DEPTH:g} for elastic bodies", f"{_range(*DEPTH_RANGE)}; plastic bodies: cells "
         f"<= {MAX_CELL_DEPTH:g} a_H, the box reaches where yield starts, >= {MIN_YIELD_CELLS} "
         "cells across the Hertz yield region", "volume grids",
@@ -341,7 +342,8 @@ CASE_KEYS: tuple[Key, ...] = (
         "Half side of the plastic box: plastic strain lives, and the volume convolutions run, on "
         "the cells within this distance of the axis along x and y (the surface window stays "
         "half_width; half_width itself: the whole window).  By default sized from the Hertz "
-        "stress (with a sliding shear of the path's largest |Q|/W) where it exceeds the initial "
+        "stress (a profile: the computed elastic stress, solver.sizing), with a sliding shear "
+        "of the path's largest |Q|/W, where it exceeds the initial "
         "yield stress, its cell count rounded up to a fast FFT size; a plastic zone reaching "
         "its sides is a note and the status truncated."),
     Key("grid", "depth_body1", "number", "a_H", "depth if given, else body 1's yield depth",

@@ -171,11 +171,6 @@ class SneddonContact:
         """The contact radius (m)."""
         return self.radius
 
-    @property
-    def max_pressure(self) -> float:
-        """Largest pressure of the radial table (Pa): at its innermost radius, 1e-3 a."""
-        return float(self.table_pressure.max())
-
     def pressure(self, x, y):
         """Pressure (Pa) at points ``x``, ``y`` (m), interpolated in r; zero outside the disc."""
         r = np.hypot(np.asarray(x, dtype=float), np.asarray(y, dtype=float))

@@ -187,13 +187,14 @@ def test_cone_partial_slip_stick_radius():
         (lambda t: t["body2"].update(radius_x=0.01, radius_y=0.02), "body2.radius_x", "axisym"),
         (lambda t: t["body1"].update(radius=1e-3) or t["load"].update(normal_force=1e9), "load",
          "slope"),
-        (lambda t: t.update(body2={"behaviour": "elastic-plastic", "E": 210e9, "nu": 0.3,
-                                   "hardening": {"law": "perfect", "yield_stress": 1e9}},
+        (lambda t: t.update(body1={"behaviour": "elastic-plastic", "E": 210e9, "nu": 0.3,
+                                   "hardening": {"law": "perfect", "yield_stress": 1e9},
+                                   "profile": {"shape": "cone", "angle": 2.0}},
                             grid={"n": [32, 32, 32]}),
-         "body1.profile", "quadric"),
+         "body1.behaviour", "only body 2"),
     ],
     ids=["hertz_pressure", "steep_cone", "unknown_shape", "missing_key", "foreign_key",
-         "ellipsoid_plus_profile", "ellipsoid_partner", "slope_limit", "plastic"],
+         "ellipsoid_plus_profile", "ellipsoid_partner", "slope_limit", "plastic_body1"],
 )  # fmt: skip
 def test_bad_profile_cases_are_refused(edit, field, words):
     table = _table({"shape": "cone", "angle": 10.0}, 50.0, 64)
@@ -259,3 +260,50 @@ def test_campaign_sweeps_cone_angle_and_assembles_sneddon_references(tmp_path):
     np.testing.assert_allclose(ds.sneddon_radius.values, love, rtol=1e-10)
     assert np.all(np.abs(ds.contact_radius.values / love - 1) < 0.03)
     assert "hertz_radius" not in ds  # no Hertz reference is claimed for a cone
+
+
+# -- elastic-plastic bodies under a profile: the box from the computed yield region -------------
+LINEAR_STEEL = {
+    "behaviour": "elastic-plastic", "E": E_STEEL, "nu": NU_STEEL,
+    "hardening": {"law": "linear", "yield_stress": 1.0e9, "modulus": 10e9},
+}  # fmt: skip
+
+
+def test_plastic_paraboloid_sized_numerically_matches_the_sphere_sized_by_hertz():
+    """The same physics twice: a sphere (box from Hertz's closed-form stress) and the equal
+    paraboloid profile (box from the computed elastic stress) give the same box and answer."""
+    radius = 0.015
+    path = [{"hertz_pressure": 3.0e9, "steps": 4}, {"normal_force": 0.0, "steps": 1}]
+    sphere = Case.from_dict({
+        "body1": {"behaviour": "rigid", "radius": radius}, "body2": LINEAR_STEEL,
+        "load": {"path": path}, "grid": {"n": [32, 32, 32], "half_width": 1.5},
+    })  # fmt: skip
+    path = [{"normal_force": sphere.max_normal_force, "steps": 4}, path[1]]
+    power = {"shape": "power", "coefficient": 1 / (2 * radius), "exponent": 2.0}
+    profile = Case.from_dict({
+        "body1": {"behaviour": "rigid", "profile": power}, "body2": LINEAR_STEEL,
+        "load": {"path": path}, "grid": {"n": [32, 32, 32], "half_width": 1.5},
+    })  # fmt: skip
+    assert profile.grid.depth == pytest.approx(sphere.grid.depth, rel=0.05)
+    assert profile.grid.plastic_half_width == pytest.approx(sphere.grid.plastic_half_width, 0.05)
+    a, b = solver.solve(sphere), solver.solve(profile)
+    assert a.status == b.status == "converged"
+    for name in ("max_plastic_strain", "residual_depth"):
+        assert b.history[name][-1] == pytest.approx(a.history[name][-1], rel=0.01), name
+
+
+def test_plastic_cone_yields_at_the_tip_and_the_box_holds_the_zone():
+    table = _table({"shape": "cone", "angle": 2.0}, 5.0, 32)
+    table.update(body2=LINEAR_STEEL, grid={"n": [32, 32, 32], "half_width": 2.0})
+    table["load"] = {"path": [{"normal_force": 5.0, "steps": 4}, {"normal_force": 0.0}]}
+    case = Case.from_dict(table)
+    from solver.sizing import elastic_yield_region
+
+    a = case.reference.radius
+    region = elastic_yield_region(
+        case.pair, case.domain_half_widths, (32, 32), 5.0, 0.0, 1.0e9, NU_STEEL, a
+    )
+    assert region.top == 0.0 and region.bottom > 0  # the singular tip yields at the surface
+    result = solver.solve(case)
+    assert result.status == "converged", result.notes  # converged, not truncated
+    assert result.history["residual_depth"][-1] > 0
