@@ -291,13 +291,10 @@ class Geometry:
         )  # fmt: skip
 
     def force_at_radius(self, radius: float, e_star: float) -> float:
-        """Normal force (N) whose reference contact has radius ``radius`` (m, sqrt(a b)).
+        """Normal force (N) whose Sneddon contact has radius ``radius`` (m): a profile's.
 
-        0 without a reference (:attr:`reference_kind` None).
+        0 without a profile (point heights only, :attr:`reference_kind` None).
         """
-        if self.reference_kind is None:
+        if self.reference_kind != "sneddon":
             return 0.0
-        if self.hertzian:
-            unit = hertz(1.0, e_star, self.curvature).radius
-            return (radius / unit) ** 3
         return sneddon.force(max(radius, self.start), self.slope, e_star, self.breaks)

@@ -284,12 +284,12 @@ def solve(case: Case) -> Result:
     previous_target = (0.0, 0.0, 0.0)
     # the load whose reference contact radius spans MIN_SUBSTEP_RADIUS_CELLS
     grid, pair = case.surface_grid, case.pair
-    smallest = min(
-        case.max_normal_force,
-        pair.geometry.force_at_radius(
-            MIN_SUBSTEP_RADIUS_CELLS * max(grid.dx, grid.dy), pair.composite_modulus
-        ),
-    )
+    resolved = MIN_SUBSTEP_RADIUS_CELLS * max(grid.dx, grid.dy)  # (m)
+    if pair.geometry.hertzian:  # Hertz's radius grows as W^(1/3)
+        smallest = case.max_normal_force * min(1.0, resolved / case.reference.radius) ** 3
+    else:
+        force = pair.geometry.force_at_radius(resolved, pair.composite_modulus)
+        smallest = min(case.max_normal_force, force)
     guess, direction = None, 0.0
     previous = None  # (plastic increment, load increment) of the step before the last
     faces_noted = edge_noted = False
