@@ -22,6 +22,7 @@ per-step histories (declared in :mod:`solver.variables`) and the notes.
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 from collections.abc import Callable
 
@@ -29,6 +30,7 @@ import numpy as np
 
 from .case import SMALL_STRAIN_LIMIT, Case
 from .grid import IndexBox, VolumeGrid
+from .keys import MIN_CELLS_ACROSS
 from .operators import CaseOperators
 from .plastic_loop import PlasticState, mirror, plastic_step
 from .result import SEPARATED, SLIP, STICK, Result
@@ -395,6 +397,13 @@ def solve(case: Case) -> Result:
             converged = False
             notes.extend(f"step {k + 1}: {m}" for m in messages)
     notes.extend(_path_dependence_notes(case) if coupled else [])
+    if case.reference is None:  # heights only: the mesh check the case could not make before
+        across = 2.0 * math.sqrt(history["contact_area"].max() / math.pi) / max(grid.dx, grid.dy)
+        if across < MIN_CELLS_ACROSS:
+            notes.append(
+                f"the contact spans {across:.3g} cells across at its largest (equivalent "
+                f"diameter), fewer than {MIN_CELLS_ACROSS}: refine the grid or shrink grid.size"
+            )
     if any(stage.cycle and stage.steps == 1 for stage in case.stages):
         notes.append(
             "a cycle stage in one step: its loop has two points and no area (loop_energy, "

@@ -510,3 +510,11 @@ def test_seeds_are_realisations_the_analysis_and_report_reduce(tmp_path):
     assert np.all(area.std(axis=1) > 0)  # the seeds draw different surfaces
     report = build_report(out, plots=False).read_text()
     assert "## Over the surface realisations" in report
+
+
+def test_a_heights_only_contact_too_small_for_the_grid_is_told():
+    """Without a radius the mesh check waits for the solve: a few-cell contact is a note."""
+    flat = {"body1": {"behaviour": "rigid"}, "body2": {**STEEL, "roughness": ROUGH},
+            "load": {"normal_force": 1e-3}, "grid": {"n": 64, "size": 4e-4}}  # fmt: skip
+    result = solver.solve(Case.from_dict(flat))
+    assert any("cells across" in note for note in result.notes), result.notes
