@@ -426,12 +426,15 @@ class LoadStage:
     cycle : int
         Load cycle of the stage: 1, 2, ... inside cycle blocks (``cycles = N``; numbered on
         across blocks), 0 outside.
+    travel : (float, float)
+        Travel (m) of body 1's apex over body 2 during the stage, in gross sliding (``slide``).
     """
 
     normal_force: float
     tangential_force: tuple[float, float]
     steps: int
     cycle: int = 0
+    travel: tuple[float, float] = (0.0, 0.0)
 
 
 def _parse_path(raw_stages: list, pair: Pair) -> tuple[list[LoadStage], list[str], list[dict]]:
@@ -647,9 +650,23 @@ def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool
         given["tangential_force"] = list(q)
     else:
         q = previous[1]
+    travel = (0.0, 0.0)
+    if "slide" in table:
+        if "tangential_force" in table:
+            _fail(
+                f"{path}.slide",
+                "a sliding stage sets the tangential force (mu W along the motion): remove "
+                "tangential_force",
+            )
+        value = _plain(table["slide"])
+        if not isinstance(value, list) or len(value) != 2:
+            _fail(f"{path}.slide", f"must be [dx, dy] (m), got {value!r}")
+        travel = tuple(_number(v, f"{path}.slide") for v in value)
+        if any(travel):  # a zero slide is no slide: the same case, the same id
+            given["slide"] = list(travel)
     steps = _integer(table.get("steps", 1), f"{path}.steps", 1, MAX_STAGE_STEPS)
     given["steps"] = steps
-    return LoadStage(force, q, steps), given
+    return LoadStage(force, q, steps, travel=travel), given
 
 
 @dataclass(frozen=True)
@@ -950,6 +967,12 @@ class Case:
                     "a volume grid is scaled by the smooth shape's contact radius; with heights "
                     "only give grid.n = [nx, ny] (no stress or plastic outputs yet)",
                 )
+        if any(any(stage.travel) for stage in stages) and not body1.rigid:
+            _fail(
+                "body1.behaviour",
+                "sliding takes a rigid body 1 in this release (an elastic body 1's surface "
+                "moves with it, Kalker's shifted state: built with rolling); make body 1 rigid",
+            )
         _check_plastic_scene(body1, body2, stages, grid)
         plastics = [b for b in (body2, body1) if b.behaviour == "elastic-plastic"]
         plastic = plastics[0] if plastics else None
@@ -1011,6 +1034,14 @@ class Case:
                 for body in plastics
             )
             chosen = grid.plastic_half_width
+            if any(any(st.travel) for st in stages):  # the box covers the track: the window
+                if chosen is not None:
+                    _fail(
+                        "grid.plastic_half_width",
+                        "a sliding case's plastic box is the whole window (it covers the "
+                        "track); leave the key out",
+                    )
+                auto = grid.half_width
             width = auto if chosen is None else chosen
             # the whole window given while the automatic box is narrower: said in the spec
             box_key = width if width < grid.half_width or auto < grid.half_width else None
@@ -1206,6 +1237,18 @@ class Case:
             return
         semi_min = min(reference.semi_axis_x, reference.semi_axis_y)
         half_x, half_y = self.domain_half_widths
+        if self.moving and self.grid.size is not None:
+            tx, ty = self.travel_extent
+            if half_x < tx + 1.05 * reference.semi_axis_x or (
+                half_y < ty + 1.05 * reference.semi_axis_y
+            ):
+                _fail(
+                    "grid.size",
+                    f"the window (+-{half_x:.4g} m, +-{half_y:.4g} m) does not hold the contact "
+                    f"along the track (to +-{tx:.4g} m, +-{ty:.4g} m from the origin, contact "
+                    f"radius {reference.max_semi_axis:.4g} m): enlarge grid.size or leave it "
+                    "out (the window then covers the track)",
+                )
         if half_x < 1.05 * reference.semi_axis_x or half_y < 1.05 * reference.semi_axis_y:
             _fail(
                 "grid.half_width",
@@ -1271,7 +1314,12 @@ class Case:
     def domain_half_widths(self) -> tuple[float, float]:
         """Half-widths (m) of the surface domain along x and y (square cells)."""
         scale = self.reference.max_semi_axis if self.grid.size is None else math.nan
-        return _domain_half_widths(self.grid, scale)
+        hx, hy = _domain_half_widths(self.grid, scale)
+        if self.grid.size is not None or not self.moving:
+            return hx, hy
+        tx, ty = self.travel_extent  # the window covers every position of the path
+        cell = max(2 * (hx + tx) / self.grid.nx, 2 * (hy + ty) / self.grid.ny)
+        return 0.5 * cell * self.grid.nx, 0.5 * cell * self.grid.ny
 
     @property
     def surface_grid(self) -> SurfaceGrid:
@@ -1326,18 +1374,38 @@ class Case:
         """Number of load increments over the whole path."""
         return sum(stage.steps for stage in self.stages)
 
-    def step_targets(self) -> Iterator[tuple[float, float, float]]:
-        """(W, Q_x, Q_y) (N) at the end of every load increment, in order, one at a time.
+    def step_targets(self) -> Iterator[tuple[float, float, float, float, float]]:
+        """(W, Q_x, Q_y, p_x, p_y) at the end of every load increment, in order, one at a time.
 
-        A generator (the path is never held whole): :attr:`total_steps` counts it.
+        W, Q (N); p (m): body 1's apex over body 2 (``slide`` stages move it).  A generator
+        (the path is never held whole): :attr:`total_steps` counts it.
         """
-        w0, (qx0, qy0) = 0.0, (0.0, 0.0)
+        w0, (qx0, qy0), (px0, py0) = 0.0, (0.0, 0.0), (0.0, 0.0)
         for stage in self.stages:
             w1, (qx1, qy1) = stage.normal_force, stage.tangential_force
+            px1, py1 = px0 + stage.travel[0], py0 + stage.travel[1]
             for k in range(1, stage.steps + 1):
                 f = k / stage.steps
-                yield (w0 + f * (w1 - w0), qx0 + f * (qx1 - qx0), qy0 + f * (qy1 - qy0))
-            w0, qx0, qy0 = w1, qx1, qy1
+                yield (
+                    w0 + f * (w1 - w0), qx0 + f * (qx1 - qx0), qy0 + f * (qy1 - qy0),
+                    px0 + f * (px1 - px0), py0 + f * (py1 - py0),
+                )  # fmt: skip
+            w0, qx0, qy0, px0, py0 = w1, qx1, qy1, px1, py1
+
+    @property
+    def travel_extent(self) -> tuple[float, float]:
+        """Largest absolute p_x and p_y (m) of body 1's apex over the path (0 without sliding)."""
+        px = py = 0.0
+        reach = [0.0, 0.0]
+        for stage in self.stages:
+            px, py = px + stage.travel[0], py + stage.travel[1]
+            reach = [max(reach[0], abs(px)), max(reach[1], abs(py))]
+        return reach[0], reach[1]
+
+    @property
+    def moving(self) -> bool:
+        """True when a stage slides body 1 over body 2."""
+        return any(any(stage.travel) for stage in self.stages)
 
     def step_cycles(self) -> np.ndarray:
         """Load cycle of every increment (:attr:`LoadStage.cycle`: 0 outside a cycle block)."""
@@ -1457,7 +1525,7 @@ def _check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> No
             "volume depth and the plastic box are sized from the Hertz stress of the smooth "
             "shape",
         )
-    if symmetric and any(any(stage.tangential_force) for stage in stages):
+    if symmetric and any(any(stage.tangential_force) or any(stage.travel) for stage in stages):
         _fail(
             "load.tangential_force",
             "a tangential load breaks the symmetry of the elastic-plastic pair (eq. 2); make "

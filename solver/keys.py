@@ -294,6 +294,11 @@ CASE_KEYS: tuple[Key, ...] = (
         "Sneddon's radius within the slope limit); 0 unloads", _LOADS, "Target normal force W."),
     Key("load", "tangential_force", "number or [Qx, Qy]", "N", "[0, 0] (then the previous)",
         "|Q| < mu W (no gross sliding)", "friction", "Target tangential force on body 2."),
+    Key("load", "slide", "[dx, dy]", "m", "[0, 0] (no motion)",
+        "finite; not with tangential_force; the window grows by the travel",
+        "sliding contacts", "Travel of body 1's apex over body 2 during the stage, in gross "
+        "sliding: the shear traction is mu p along the motion on body 2 (frictionless: a "
+        "moving load).  The surface window covers every position of the path."),
     Key("load", "steps", "integer", "1", "1", f"[1, {MAX_STAGE_STEPS:,}]", _LOADS,
         "Increments of the linear ramp from the previous stage."),
     Key("load", "path", "array of tables", "", "optional (one stage)",
@@ -307,6 +312,8 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("load.path[i]", "tangential_force", "number or [Qx, Qy]", "N",
         "the previous stage's", "|Q| < mu W", "load paths with friction",
         "As load.tangential_force."),
+    Key("load.path[i]", "slide", "[dx, dy]", "m", "[0, 0] (no motion)",
+        "finite; not with tangential_force", "sliding contacts", "As load.slide."),
     Key("load.path[i]", "steps", "integer", "1", "1", f"[1, {MAX_STAGE_STEPS:,}]", "load paths",
         "As load.steps."),
     Key("load.path[i] (cycle block)", "cycles", "integer", "1", "required",

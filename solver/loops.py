@@ -34,7 +34,14 @@ from .keys import MIN_CELLS_ACROSS
 from .operators import CaseOperators
 from .plastic_loop import PlasticState, mirror, plastic_step
 from .result import SEPARATED, SLIP, STICK, Result
-from .steps import ContactState, StepResult, normal_step, slip_stick_step
+from .steps import (
+    ContactState,
+    StepResult,
+    normal_step,
+    position_of,
+    sliding_step,
+    slip_stick_step,
+)
 from .tensor import Y_REFLECTION, von_mises
 from .variables import (
     BODY1_SUFFIX,
@@ -82,7 +89,15 @@ def needs_slip_stick(case: Case) -> bool:
 
 
 def scene(case: Case) -> tuple[tuple[str, ...], Callable[..., StepResult]]:
-    """The loops a case runs and its contact step."""
+    """The loops a case runs and its contact step.
+
+    A sliding increment runs :func:`~solver.steps.sliding_step` instead (``sliding`` in loops).
+    """
+    loops, step = _scene(case)
+    return ((*loops[:1], "sliding", *loops[1:]) if case.moving else loops), step
+
+
+def _scene(case: Case) -> tuple[tuple[str, ...], Callable[..., StepResult]]:
     if case.plastic_body is not None:
         if needs_slip_stick(case):
             loops = ("load_steps", "plasticity", "slip_stick", "normal", "tangential")
@@ -256,8 +271,10 @@ def solve(case: Case) -> Result:
     plastic = case.plastic_body is not None
     targets = case.step_targets()
     names = _CONTACT_HISTORY
-    if contact_step is slip_stick_step:
+    if contact_step is slip_stick_step or (case.moving and case.friction_coefficient > 0):
         names += _FRICTION_HISTORY
+    if case.moving:
+        names += ("position_x", "position_y")
     if plastic:
         names += _PLASTIC_HISTORY
         if 1 in case.plastic_bodies:
@@ -283,7 +300,8 @@ def solve(case: Case) -> Result:
     converged = True
     coupled = contact_step is slip_stick_step and case.pair.dundurs_beta != 0.0
     coupled = coupled and not case.solver.goodman
-    previous_target = (0.0, 0.0, 0.0)
+    previous_target = (0.0, 0.0, 0.0, 0.0, 0.0)
+    moving = False
     # the load whose reference contact radius spans MIN_SUBSTEP_RADIUS_CELLS
     grid, pair = case.surface_grid, case.pair
     resolved = MIN_SUBSTEP_RADIUS_CELLS * max(grid.dx, grid.dy)  # (m)
@@ -308,7 +326,9 @@ def solve(case: Case) -> Result:
             if new_direction != direction:
                 guess = previous = None
             direction = new_direction
-        if coupled:
+        moving = position_of(target) != position_of(previous_target)
+        step_of = sliding_step if moving else contact_step  # the increment's contact step
+        if coupled and not moving:  # a sliding step iterates its own coupling
             for sub in load_substeps(previous_target, target, case.solver.max_load_ratio, smallest):
                 if plastic:  # sub-steps are increments of the plastic history too
                     step = plastic_step(operators, contact_step, state, plastic_state, sub, guess)
@@ -338,7 +358,7 @@ def solve(case: Case) -> Result:
                 before_last = previous[0]
             previous = None  # its increment is before_last now, or not needed
             step = plastic_step(
-                operators, contact_step, state, plastic_state, target, guess, before_last
+                operators, step_of, state, plastic_state, target, guess, before_last
             )
             previous = (guess, load_step) if guess is not None else None
             outcome, plastic_state, guess = step.contact, step.plastic, step.increment
@@ -348,10 +368,10 @@ def solve(case: Case) -> Result:
                 messages.append(step.message)
         else:
             initial = None
-            if not coupled and contact_step is slip_stick_step:
+            if not coupled and step_of is slip_stick_step:
                 initial = _extrapolated(state, before, np.subtract(target, previous_target))
                 before = (state, np.subtract(target, previous_target))
-            outcome = contact_step(operators, state, target, None, initial)
+            outcome = step_of(operators, state, target, None, initial)
             step_ok, residual = outcome.converged, outcome.residual
             if outcome.message:
                 messages.append(outcome.message)
@@ -419,7 +439,9 @@ def solve(case: Case) -> Result:
                 f"range ({SMALL_STRAIN_LIMIT:g}) the theory rests on"
             )
     contact = state.pressure > 0
-    if contact_step is slip_stick_step:
+    if moving:  # the last increment slid: every contact cell slips
+        contact_state = np.where(contact, SLIP, SEPARATED)
+    elif contact_step is slip_stick_step:
         contact_state = np.where(contact, np.where(outcome.stick, STICK, SLIP), SEPARATED)
     else:
         contact_state = np.where(contact, SLIP if case.friction_coefficient == 0 else STICK, 0)
@@ -494,6 +516,8 @@ def _record(history: dict, k: int, outcome: StepResult, area: float) -> None:
     history["max_pressure"][k] = state.pressure.max()
     history["contact_area"][k] = np.count_nonzero(state.pressure) * area
     history["contact_spots"][k] = contact_spots(state.pressure > 0)
+    if "position_x" in history:
+        history["position_x"][k], history["position_y"][k] = state.position
     for key, name in _ITERATION_HISTORY.items():
         if name in history:
             history[name][k] = outcome.iterations.get(key, 0)

@@ -159,6 +159,13 @@ class Body:
         return math.inf if self.rigid else self.E / (2.0 * (1.0 + self.nu))
 
 
+def _shape(body: Body) -> Geometry:
+    """One body's own shape, as a :class:`Geometry` of its heights alone."""
+    surfaces = tuple(s for s in (body.surface, body.roughness) if s is not None)
+    profiles = (body.profile,) if body.profile is not None else ()
+    return Geometry((1.0 / body.radius_x, 1.0 / body.radius_y), profiles, surfaces)
+
+
 @dataclass(frozen=True)
 class Pair:
     """The two contacting bodies and their composite constants."""
@@ -195,6 +202,18 @@ class Pair:
             1.0 / self.body1.radius_x + 1.0 / self.body2.radius_x,
             1.0 / self.body1.radius_y + 1.0 / self.body2.radius_y,
         )
+
+    def gap(self, x: np.ndarray, y: np.ndarray, position: tuple[float, float]) -> np.ndarray:
+        """Initial gap (m) at ``x``, ``y`` (m) with body 1's apex at ``position`` (m) over body 2.
+
+        At the origin this is :meth:`Geometry.gap` of :attr:`geometry` (bit for bit); elsewhere
+        body 1's shape is evaluated at (x - px, y - py), body 2's where it is.
+        """
+        px, py = position
+        if px == 0.0 and py == 0.0:
+            return self.geometry.gap(x, y)
+        upper, lower = (_shape(body) for body in (self.body1, self.body2))
+        return upper.gap(x - px, y - py) + lower.gap(x, y)
 
     @property
     def geometry(self) -> Geometry:

@@ -11,7 +11,7 @@ study scheduler.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -91,6 +91,19 @@ class CaseOperators:
     eigenstrain: EigenstrainOperator | None = None
     stress1: SubsurfaceStressOperator | None = None
     eigenstrain1: EigenstrainOperator | None = None
+    _moved: tuple | None = field(default=None, init=False, repr=False)
+
+    def gap_at(self, position: tuple[float, float]) -> np.ndarray:
+        """Undeformed gap (m) with body 1's apex at ``position`` (m) over body 2 (sliding).
+
+        :attr:`gap` at the origin; the last other position's gap is kept.
+        """
+        if position[0] == 0.0 and position[1] == 0.0:
+            return self.gap
+        key = (float(position[0]), float(position[1]))
+        if self._moved is None or self._moved[0] != key:
+            self._moved = (key, self.case.pair.gap(*self.case.surface_grid.mesh(), key))
+        return self._moved[1]
 
     def volume(self, body: int) -> tuple[SubsurfaceStressOperator, EigenstrainOperator]:
         """(stress, eigenstrain) operators of body ``body`` (1 or 2)."""

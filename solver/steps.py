@@ -95,6 +95,8 @@ class ContactState:
         W (N) the pressure was solved for.
     normal : NormalSolution or None
         The normal solve that gave ``pressure`` (None when the pressure came from elsewhere).
+    position : (float, float)
+        Body 1's apex over body 2 (m): moved by sliding stages.
     """
 
     pressure: np.ndarray
@@ -109,6 +111,7 @@ class ContactState:
     shear_slip_y: np.ndarray | None = None
     normal_force: float = 0.0
     normal: NormalSolution | None = None
+    position: tuple[float, float] = (0.0, 0.0)
 
     @classmethod
     def unloaded(cls, shape: tuple[int, int]) -> ContactState:
@@ -152,8 +155,16 @@ class StepResult:
     friction_work: float = 0.0
 
 
-def _extra_gap(operators: CaseOperators, residual: ResidualDisplacement | None) -> np.ndarray:
-    return operators.gap if residual is None else operators.gap + residual.z
+def position_of(target: tuple) -> tuple[float, float]:
+    """Body 1's apex over body 2 (m) of a step target (W, Q_x, Q_y[, p_x, p_y])."""
+    return (float(target[3]), float(target[4])) if len(target) > 3 else (0.0, 0.0)
+
+
+def _extra_gap(
+    operators: CaseOperators, residual: ResidualDisplacement | None, position=(0.0, 0.0)
+) -> np.ndarray:
+    gap = operators.gap_at(position)
+    return gap if residual is None else gap + residual.z
 
 
 def _start_pressure(operators: CaseOperators, force: float, *states) -> np.ndarray:
@@ -182,11 +193,13 @@ def _reusable_normal(previous: ContactState, force: float) -> NormalSolution | N
     return dataclasses.replace(normal, iterations=0, message="the previous increment's")
 
 
-def _unloaded_step(previous, gap, residual) -> StepResult:
+def _unloaded_step(previous, gap, residual, position=(0.0, 0.0)) -> StepResult:
     """Zero normal force: no tractions; the approach at which the bodies just touch."""
     zero = np.zeros_like(gap)
     res_x, res_y = (zero, zero) if residual is None else (residual.x, residual.y)
-    state = ContactState(zero, zero, zero, previous.shift, zero, zero, res_x, res_y, zero, zero)
+    state = ContactState(
+        zero, zero, zero, previous.shift, zero, zero, res_x, res_y, zero, zero, position=position
+    )
     iterations = {"normal": 0, "slip": 0, "coupling": 0}
     stick = np.zeros(gap.shape, bool)
     return StepResult(state, True, iterations, 0.0, "", stick, float(gap.min()))
@@ -200,10 +213,10 @@ def normal_step(
     initial: ContactState | None = None,
 ) -> StepResult:
     """Frictionless (or uncoupled, unsheared) normal contact for one increment."""
-    force = target[0]
-    gap = _extra_gap(operators, residual)
+    force, position = target[0], position_of(target)
+    gap = _extra_gap(operators, residual, position)
     if force == 0.0:
-        return _unloaded_step(previous, gap, residual)
+        return _unloaded_step(previous, gap, residual, position)
     options = operators.options
     start = (
         _start_pressure(operators, force, initial)
@@ -222,7 +235,7 @@ def normal_step(
     res_x, res_y = (zero, zero) if residual is None else (residual.x, residual.y)
     state = ContactState(
         solution.pressure, zero, zero, previous.shift, zero, zero, res_x, res_y, zero, zero,
-        force, solution,
+        force, solution, position,
     )  # fmt: skip
     return StepResult(
         state,
@@ -246,10 +259,11 @@ def slip_stick_step(
     case, surface = operators.case, operators.surface
     options = case.solver
     mu = case.friction_coefficient
-    force, qx_target, qy_target = target
-    base_gap = _extra_gap(operators, residual)
+    force, qx_target, qy_target = target[:3]
+    position = position_of(target)
+    base_gap = _extra_gap(operators, residual, position)
     if force == 0.0:
-        return _unloaded_step(previous, base_gap, residual)
+        return _unloaded_step(previous, base_gap, residual, position)
     beta = case.pair.dundurs_beta
     coupled = beta != 0.0 and not options.goodman
     zero = np.zeros_like(base_gap)
@@ -347,6 +361,79 @@ def slip_stick_step(
     )  # fmt: skip
 
 
+def sliding_step(
+    operators: CaseOperators,
+    previous: ContactState,
+    target: tuple,
+    residual: ResidualDisplacement | None = None,
+    initial: ContactState | None = None,
+) -> StepResult:
+    """One increment of gross sliding: every contact cell slips.
+
+    Body 1's apex moves from ``previous.position`` to the target's position over body 2.  The
+    shear traction on body 2 is ``mu p`` along the motion (Amontons-Coulomb in gross slip), so
+    only the pressure is unknown: a normal solve on the gap at the new position, with the
+    normal displacement of that shear (the beta coupling; Goodman's approximation drops it)
+    iterated to the coupling tolerance.  The rigid shift keeps its value (the travel is the
+    position); the friction work is the mean shear times the travel.
+    """
+    case, surface = operators.case, operators.surface
+    options = case.solver
+    force, position = target[0], position_of(target)
+    gap = _extra_gap(operators, residual, position)
+    if force == 0.0:
+        return _unloaded_step(previous, gap, residual, position)
+    motion = np.subtract(position, previous.position)
+    length = float(np.hypot(*motion))
+    ux, uy = (motion / length) if length > 0 else (0.0, 0.0)
+    mu = case.friction_coefficient
+    coupled = mu > 0 and case.pair.dundurs_beta != 0.0 and not options.goodman
+    pressure = _start_pressure(operators, force, initial, previous)
+    counts = {"normal": 0, "slip": 0, "coupling": 0}
+    normal, change = None, np.inf
+    for _ in range(options.coupling_max_iterations if coupled else 1):
+        extra = (
+            gap + surface.normal_from_shear(mu * ux * pressure, mu * uy * pressure)
+            if coupled
+            else gap
+        )
+        normal = solve_normal(
+            surface, extra, force, initial_pressure=pressure,
+            tolerance=options.normal_tolerance, max_iterations=options.normal_max_iterations,
+        )  # fmt: skip
+        counts["normal"] += normal.iterations
+        counts["coupling"] += 1
+        change = _pressure_change(normal.pressure, pressure)
+        pressure = normal.pressure
+        if change < options.coupling_tolerance:
+            break
+    converged = normal.converged and (not coupled or change < options.coupling_tolerance)
+    message = ""
+    if not normal.converged:
+        message = f"normal solve {normal.message}"
+    elif not converged:
+        message = (
+            f"sliding coupling not converged after {counts['coupling']} passes (pressure "
+            f"change {change:.3g})"
+        )
+    qx, qy = mu * ux * pressure, mu * uy * pressure
+    zero = np.zeros_like(gap)
+    res_x, res_y = (zero, zero) if residual is None else (residual.x, residual.y)
+    pxs, pys = (
+        surface.tangential_from_pressure(pressure) if case.pair.dundurs_beta else (zero, zero)
+    )
+    state = ContactState(
+        pressure, qx, qy, previous.shift, pxs, pys, res_x, res_y, None, None, force, normal,
+        position,
+    )  # fmt: skip
+    mean_x, mean_y = 0.5 * (qx + previous.shear_x), 0.5 * (qy + previous.shear_y)
+    work = float(np.sum(mean_x * motion[0] + mean_y * motion[1])) * surface.grid.cell_area
+    return StepResult(
+        state, converged, counts, normal.residual, message, np.zeros(gap.shape, bool),
+        normal.approach, work,
+    )  # fmt: skip
+
+
 def _step_result(
     operators, previous, tangential, normal, pressure_slip, residual, force, counts, worst,
     converged, message,
@@ -355,7 +442,7 @@ def _step_result(
     state = ContactState(
         normal.pressure, tangential.shear_x, tangential.shear_y, np.array(tangential.shift),
         *pressure_slip, *residual, tangential.displacement_x, tangential.displacement_y, force,
-        normal,
+        normal, previous.position,
     )  # fmt: skip
     mean_x = 0.5 * (tangential.shear_x + previous.shear_x)
     mean_y = 0.5 * (tangential.shear_y + previous.shear_y)

@@ -212,7 +212,7 @@ def test_the_path_is_walked_not_held():
     assert isinstance(targets, Iterator)
     walked = list(targets)
     assert len(walked) == case.total_steps == 1 + 3 * 2 * 2
-    assert walked[0] == (case.stages[0].normal_force, 0.0, 0.0)
+    assert walked[0] == (case.stages[0].normal_force, 0.0, 0.0, 0.0, 0.0)  # W, Q, position
     assert walked[-1][1] == pytest.approx(-10.0)
     longest = solver.Case.from_dict(_elastic(_cycled((MAX_INCREMENTS - 1) // 200_000, 100_000)))
     assert longest.total_steps <= MAX_INCREMENTS

@@ -1,0 +1,148 @@
+"""Sliding stages (issue 24, first step): body 1 slides over body 2 in gross slip.
+
+Checks: a stage that moves by zero is the static answer; sliding along +x is the mirror of
+sliding along -x; the answer translates with the contact; the steady sliding stress field is
+Hamilton's (1983) closed form; plasticity accumulates along a track; bad inputs are refused.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import solver
+from solver import Case, SpecError
+from solver.stress import hamilton_stress
+
+STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
+SPHERE = {"behaviour": "rigid", "radius": 0.01}
+FORCE = 100.0
+
+
+def _case(path: list[dict], n=(64, 64), mu=0.3, **extra) -> Case:
+    table = {
+        "body1": dict(SPHERE), "body2": dict(STEEL), "friction": {"coefficient": mu},
+        "load": {"path": path}, "grid": {"n": list(n)},
+    }  # fmt: skip
+    table.update(extra)
+    return Case.from_dict(table)
+
+
+@pytest.fixture(scope="module")
+def radius():
+    return _case([{"normal_force": FORCE}]).hertz.radius
+
+
+def test_a_stage_that_moves_by_zero_is_the_static_answer():
+    static = _case([{"normal_force": FORCE}, {"steps": 2}])
+    still = _case([{"normal_force": FORCE}, {"slide": [0.0, 0.0], "steps": 2}])
+    assert still.case_id == static.case_id and not still.moving
+    a, b = solver.solve(static), solver.solve(still)
+    assert np.array_equal(a.pressure, b.pressure) and np.array_equal(a.shear_x, b.shear_x)
+
+
+def test_sliding_along_x_is_the_mirror_of_sliding_back(radius):
+    """Rigid sphere on steel (beta != 0: the shear pushes the pressure, the coupling runs)."""
+    out = {}
+    for sign in (1.0, -1.0):
+        path = [{"normal_force": FORCE}, {"slide": [sign * radius, 0.0], "steps": 3}]
+        out[sign] = solver.solve(_case(path, n=(96, 48)))
+        assert out[sign].status == "converged"
+        assert out[sign].history["tangential_force_x"][-1] == pytest.approx(sign * 0.3 * FORCE)
+    forward, back = out[1.0], out[-1.0]
+    assert np.allclose(forward.pressure, back.pressure[::-1], rtol=1e-8, atol=1e-8 * FORCE)
+    assert np.allclose(forward.shear_x, -back.shear_x[::-1], rtol=1e-8, atol=1e-8 * FORCE)
+    # the coupling moved the pressure off the apex: not the frictionless answer
+    x = forward.grid.mesh()[0] - forward.history["position_x"][-1]
+    assert abs((forward.pressure * x).sum() / forward.pressure.sum()) > 1e-3 * radius
+
+
+def test_the_answer_translates_with_the_contact(radius):
+    """The same window, slides of 4 and 8 cells: the second pressure is the first moved by 4."""
+    size = [8 * radius, 4 * radius]
+    cell = size[0] / 96
+    results = {}
+    for cells in (4, 8):
+        path = [{"normal_force": FORCE}, {"slide": [cells * cell, 0.0], "steps": 2}]
+        results[cells] = solver.solve(_case(path, grid={"n": [96, 48], "size": size}))
+    shifted = np.roll(results[4].pressure, 4, axis=0)
+    difference = np.abs(results[8].pressure - shifted).max() / results[8].pressure.max()
+    assert difference < 1e-6  # the coupling tolerance (pressure change between passes)
+
+
+def test_steady_sliding_stress_is_hamiltons(radius):
+    """Goodman (pressure exactly Hertz's), mu = 0.3: every stress component of the final state
+    against Hamilton's closed form centred on the contact's new position."""
+    mu = 0.3
+    path = [{"normal_force": FORCE}, {"slide": [radius, 0.0], "steps": 2}]
+    case = _case(
+        path, n=(128, 64), mu=mu, solver={"goodman": True},
+        grid={"n": [128, 64, 24], "half_width": 1.5, "depth": 2.0},
+        output={"fields": ["stress"]},
+    )  # fmt: skip
+    result = solver.solve(case)
+    assert result.status == "converged"
+    stress = result.fields["stress"]  # (component, x, y, z)
+    grid = result.grid
+    x, y = grid.mesh()
+    z = result.depth
+    p_h = case.hertz.max_pressure
+    ref = hamilton_stress(
+        (x - radius)[..., None], y[..., None], z[None, None, :], radius, p_h, 0.3, mu
+    )
+    error = np.abs(stress - ref).max(axis=(1, 2, 3)) / p_h
+    deep = np.abs(stress - ref)[..., z > 0.29 * radius].max() / p_h
+    assert error.max() < 0.03, error
+    assert deep < 0.01
+
+
+def test_plastic_strain_accumulates_along_a_sliding_track(radius):
+    """A rigid sphere (p_H = 2 sigma_Y) slides two radii over linear-hardening steel at mu =
+    0.3: the plastic strain spreads along the track and grows past the static indentation's."""
+    plastic = {**STEEL, "behaviour": "elastic-plastic",
+               "hardening": {"law": "linear", "yield_stress": 0.5e9, "modulus": 10e9}}  # fmt: skip
+    table = dict(body1=dict(SPHERE), body2=plastic, friction={"coefficient": 0.3})
+    static = Case.from_dict({**table, "load": {"path": [{"hertz_pressure": 1.0e9, "steps": 2}]},
+                             "grid": {"n": [24, 24, 12]}})  # fmt: skip
+    a = static.hertz.radius
+    path = [{"hertz_pressure": 1.0e9, "steps": 2}, {"slide": [2 * a, 0.0], "steps": 12}]
+    moving = Case.from_dict({**table, "load": {"path": path}, "grid": {"n": [48, 24, 12]}})
+    first, slid = solver.solve(static), solver.solve(moving)
+    assert slid.status == "converged", slid.notes
+    assert np.isfinite(slid.fields["plastic_strain"]).all()
+    strain = slid.fields["plastic_strain"].max(axis=(1, 2))  # along x
+    x = slid.grid.x
+    plastic_x = x[strain > 1e-6]
+    assert plastic_x.min() < 0.2 * a and plastic_x.max() > 1.8 * a  # the whole track
+    assert slid.history["max_plastic_strain"][-1] > first.history["max_plastic_strain"][-1]
+    assert slid.history["friction_work"][2:].sum() > 0
+
+
+@pytest.mark.parametrize(
+    ("edit", "field"),
+    [
+        (lambda t: t["body1"].update(STEEL), "body1.behaviour"),
+        (lambda t: t["load"]["path"][1].update(tangential_force=1.0), "load.path[1].slide"),
+        (lambda t: t["load"]["path"][1].update(slide=[1e-4]), "load.path[1].slide"),
+        (lambda t: t["grid"].update(size=4e-4), "grid.size"),
+    ],
+    ids=["elastic_body1", "with_tangential_force", "one_component", "window_off_track"],
+)
+def test_bad_sliding_stages_are_refused(edit, field):
+    table = {
+        "body1": dict(SPHERE), "body2": dict(STEEL), "friction": {"coefficient": 0.3},
+        "load": {"path": [{"normal_force": FORCE}, {"slide": [1e-4, 0.0]}]}, "grid": {"n": 64},
+    }  # fmt: skip
+    edit(table)
+    with pytest.raises(SpecError, match=field.replace("[", r"\[").replace("]", r"\]")):
+        Case.from_dict(table)
+
+
+def test_window_covers_the_track(radius):
+    travel = 3 * radius
+    case = _case([{"normal_force": FORCE}, {"slide": [travel, 0.0], "steps": 3}], n=(128, 48))
+    hx, hy = case.domain_half_widths
+    assert hx >= travel + 1.5 * radius * (1 - 1e-12) and hy >= 1.5 * radius * (1 - 1e-12)
+    assert math.isclose(case.surface_grid.dx, case.surface_grid.dy)
