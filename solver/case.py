@@ -1238,16 +1238,16 @@ class Case:
         semi_min = min(reference.semi_axis_x, reference.semi_axis_y)
         half_x, half_y = self.domain_half_widths
         if self.moving and self.grid.size is not None:
-            tx, ty = self.travel_extent
-            if half_x < tx + 1.05 * reference.semi_axis_x or (
-                half_y < ty + 1.05 * reference.semi_axis_y
+            (x0, x1), (y0, y1) = self.track
+            if half_x < 0.5 * (x1 - x0) + 1.05 * reference.semi_axis_x or (
+                half_y < 0.5 * (y1 - y0) + 1.05 * reference.semi_axis_y
             ):
                 _fail(
                     "grid.size",
-                    f"the window (+-{half_x:.4g} m, +-{half_y:.4g} m) does not hold the contact "
-                    f"along the track (to +-{tx:.4g} m, +-{ty:.4g} m from the origin, contact "
-                    f"radius {reference.max_semi_axis:.4g} m): enlarge grid.size or leave it "
-                    "out (the window then covers the track)",
+                    f"the window ({2 * half_x:.4g} m by {2 * half_y:.4g} m) does not hold the "
+                    f"contact along the track (x from {x0:.4g} to {x1:.4g} m, y from {y0:.4g} "
+                    f"to {y1:.4g} m, contact radius {reference.max_semi_axis:.4g} m): enlarge "
+                    "grid.size or leave it out (the window then covers the track)",
                 )
         if half_x < 1.05 * reference.semi_axis_x or half_y < 1.05 * reference.semi_axis_y:
             _fail(
@@ -1314,18 +1314,19 @@ class Case:
     def domain_half_widths(self) -> tuple[float, float]:
         """Half-widths (m) of the surface domain along x and y (square cells)."""
         scale = self.reference.max_semi_axis if self.grid.size is None else math.nan
-        hx, hy = _domain_half_widths(self.grid, scale)
         if self.grid.size is not None or not self.moving:
-            return hx, hy
-        tx, ty = self.travel_extent  # the window covers every position of the path
-        cell = max(2 * (hx + tx) / self.grid.nx, 2 * (hy + ty) / self.grid.ny)
+            return _domain_half_widths(self.grid, scale)
+        # the window covers the contact (half_width around it) at every position of the path
+        half = self.grid.half_width * scale
+        (x0, x1), (y0, y1) = self.track
+        cell = max((2 * half + x1 - x0) / self.grid.nx, (2 * half + y1 - y0) / self.grid.ny)
         return 0.5 * cell * self.grid.nx, 0.5 * cell * self.grid.ny
 
     @property
     def surface_grid(self) -> SurfaceGrid:
-        """The surface grid."""
+        """The surface grid, centred on :attr:`window_centre`."""
         hx, hy = self.domain_half_widths
-        return SurfaceGrid.centred(self.grid.nx, self.grid.ny, hx, hy)
+        return SurfaceGrid.centred(self.grid.nx, self.grid.ny, hx, hy, self.window_centre)
 
     @property
     def volume_grid(self) -> VolumeGrid | None:
@@ -1393,14 +1394,24 @@ class Case:
             w0, qx0, qy0, px0, py0 = w1, qx1, qy1, px1, py1
 
     @property
-    def travel_extent(self) -> tuple[float, float]:
-        """Largest absolute p_x and p_y (m) of body 1's apex over the path (0 without sliding)."""
+    def track(self) -> tuple[tuple[float, float], tuple[float, float]]:
+        """((x_min, x_max), (y_min, y_max)) (m): the range of body 1's apex over the path.
+
+        The origin (the apex at the start) is in it; without sliding it is that point alone.
+        """
         px = py = 0.0
-        reach = [0.0, 0.0]
+        xs, ys = [0.0], [0.0]
         for stage in self.stages:
             px, py = px + stage.travel[0], py + stage.travel[1]
-            reach = [max(reach[0], abs(px)), max(reach[1], abs(py))]
-        return reach[0], reach[1]
+            xs.append(px)
+            ys.append(py)
+        return (min(xs), max(xs)), (min(ys), max(ys))
+
+    @property
+    def window_centre(self) -> tuple[float, float]:
+        """Centre (m) of the surface window: the origin, or the middle of a sliding track."""
+        (x0, x1), (y0, y1) = self.track
+        return 0.5 * (x0 + x1), 0.5 * (y0 + y1)
 
     @property
     def moving(self) -> bool:

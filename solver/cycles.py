@@ -69,6 +69,9 @@ def cycle_summary(history: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     if "cycle_plastic_strain" in history:
         gained = np.asarray(history["cycle_plastic_strain"], dtype=float)
         out["plastic_strain_increment"] = np.array([float(gained[s[-1]]) for s in blocks])
+    if "cycle_net_plastic_strain" in history:
+        net = np.asarray(history["cycle_net_plastic_strain"], dtype=float)
+        out["net_plastic_strain_increment"] = np.array([float(net[s[-1]]) for s in blocks])
     assert set(out) <= set(CYCLE_QUANTITIES)
     return out
 

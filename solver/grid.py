@@ -22,17 +22,27 @@ class SurfaceGrid:
         Number of cells along x and y.
     dx, dy : float
         Cell sizes (m).
+    centre : (float, float)
+        Coordinates (m) of the grid's centre (the origin but for a sliding track's window).
     """
 
     nx: int
     ny: int
     dx: float
     dy: float
+    centre: tuple[float, float] = (0.0, 0.0)
 
     @classmethod
-    def centred(cls, nx: int, ny: int, half_width_x: float, half_width_y: float) -> SurfaceGrid:
-        """Grid covering [-half_width_x, half_width_x] x [-half_width_y, half_width_y] (m)."""
-        return cls(nx, ny, 2.0 * half_width_x / nx, 2.0 * half_width_y / ny)
+    def centred(
+        cls,
+        nx: int,
+        ny: int,
+        half_width_x: float,
+        half_width_y: float,
+        centre: tuple[float, float] = (0.0, 0.0),
+    ) -> SurfaceGrid:
+        """Grid covering ``centre`` +- half_width_x along x, +- half_width_y along y (m)."""
+        return cls(nx, ny, 2.0 * half_width_x / nx, 2.0 * half_width_y / ny, centre)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -47,12 +57,12 @@ class SurfaceGrid:
     @property
     def x(self) -> np.ndarray:
         """Cell-centre x coordinates (m)."""
-        return (np.arange(self.nx) - 0.5 * (self.nx - 1)) * self.dx
+        return self.centre[0] + (np.arange(self.nx) - 0.5 * (self.nx - 1)) * self.dx
 
     @property
     def y(self) -> np.ndarray:
         """Cell-centre y coordinates (m)."""
-        return (np.arange(self.ny) - 0.5 * (self.ny - 1)) * self.dy
+        return self.centre[1] + (np.arange(self.ny) - 0.5 * (self.ny - 1)) * self.dy
 
     def mesh(self) -> tuple[np.ndarray, np.ndarray]:
         """Cell-centre coordinates as two (nx, ny) arrays (m), ``indexing="ij"``."""

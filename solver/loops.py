@@ -42,9 +42,10 @@ from .steps import (
     sliding_step,
     slip_stick_step,
 )
-from .tensor import Y_REFLECTION, von_mises
+from .tensor import Y_REFLECTION, equivalent_strain, von_mises
 from .variables import (
     BODY1_SUFFIX,
+    CYCLE_PLASTIC_HISTORIES,
     FIELDS,
     HISTORIES,
     PLASTIC_BODY_HISTORIES,
@@ -160,7 +161,7 @@ def axis_value(values: np.ndarray) -> np.ndarray:
     """Values on the contact axis x = y = 0 of an ``(nx, ny, ...)`` cell field.
 
     The mean of the 1, 2 or 4 cells whose centres are nearest the axis (bilinear interpolation
-    at the origin of a centred grid).
+    at the grid's centre: the origin, or the middle of a sliding track).
     """
     nx, ny = values.shape[:2]
     ix = slice((nx - 1) // 2, nx // 2 + 1)
@@ -283,7 +284,7 @@ def solve(case: Case) -> Result:
     cycles = case.step_cycles()
     if case.cycles:
         names += ("step_cycle",)
-        names += ("cycle_plastic_strain", "cycle_residual_stress") if plastic else ()
+        names += CYCLE_PLASTIC_HISTORIES if plastic else ()
     total = case.total_steps
     history = {name: np.zeros(total) for name in names}
     if case.cycles:
@@ -320,7 +321,7 @@ def solve(case: Case) -> Result:
         work = 0.0  # friction work of the step, its sub-steps included
         sub_iterations = dict.fromkeys((*_ITERATION_HISTORY.values(), "plastic_iterations"), 0)
         if plastic and cycles[k] and (k == 0 or cycles[k] != cycles[k - 1]):
-            cycle_start = [p.equivalent.copy() for p in plastic_state]
+            cycle_start = [(p.equivalent.copy(), p.strain.copy()) for p in plastic_state]
         if plastic:
             new_direction = np.sign(target[0] - previous_target[0])
             if new_direction != direction:
@@ -383,7 +384,11 @@ def solve(case: Case) -> Result:
         if cycle_start is not None and cycles[k]:
             history["cycle_plastic_strain"][k] = max(
                 float((p.equivalent - start).max())
-                for p, start in zip(plastic_state, cycle_start, strict=True)
+                for p, (start, _) in zip(plastic_state, cycle_start, strict=True)
+            )
+            history["cycle_net_plastic_strain"][k] = max(
+                float(equivalent_strain(p.strain - start).max())
+                for p, (_, start) in zip(plastic_state, cycle_start, strict=True)
             )
             if k + 1 == total or cycles[k + 1] != cycles[k]:  # the cycle's last step
                 history["cycle_residual_stress"][cycles == cycles[k]] = _max_residual_stress(

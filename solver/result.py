@@ -9,8 +9,9 @@ import numpy as np
 from .case import Case
 from .cycles import cycle_summary, cycle_variables
 from .grid import SurfaceGrid
+from .shakedown import Shakedown, classify, shakedown_variable
 from .tensor import COMPONENTS
-from .variables import FIELDS, HISTORIES
+from .variables import BODY1_SUFFIX, FIELDS, HISTORIES
 
 #: CF metadata of every history variable: name -> (units, long_name) (from :mod:`.variables`).
 HISTORY_META = {name: (h.units, h.long_name) for name, h in HISTORIES.items()}
@@ -22,6 +23,10 @@ SOLVE_STATUSES = ("converged", "not_converged", "truncated")
 #: Flags of a case's status in a campaign dataset: a solve's status, or ``pending`` (not run
 #: yet) and ``failed`` (raised, timed out, or its file is corrupt).
 STATUS_FLAGS = {"pending": 0, "converged": 1, "not_converged": 2, "failed": 3, "truncated": 4}
+
+
+#: The histories of each plastic body's largest equivalent plastic strain.
+_LARGEST_STRAIN = ("max_plastic_strain", "max_plastic_strain" + BODY1_SUFFIX)
 
 
 @dataclass
@@ -91,6 +96,23 @@ class Result:
             return "not_converged"
         return "truncated" if self.truncated else "converged"
 
+    @property
+    def shakedown(self) -> Shakedown | None:
+        """Shakedown regime of an elastic-plastic path with a cycle block (None otherwise).
+
+        :func:`solver.shakedown.classify` of the per-cycle plastic strain gains; a path that
+        is not ``"converged"`` (status) is ``undetermined``.
+        """
+        per_cycle = cycle_summary(self.history)
+        if "net_plastic_strain_increment" not in per_cycle:
+            return None
+        return classify(
+            per_cycle["plastic_strain_increment"],
+            per_cycle["net_plastic_strain_increment"],
+            max(float(np.max(self.history[n])) for n in _LARGEST_STRAIN if n in self.history),
+            self.status == "converged",
+        )
+
     def to_xarray(self):
         """The result as an :class:`xarray.Dataset` with CF attributes (SI units)."""
         import xarray as xr
@@ -142,6 +164,8 @@ class Result:
             cycle_coords, cycle_data = cycle_variables(per_cycle)
             coords.update(cycle_coords)
             data.update(cycle_data)
+        if self.shakedown is not None:
+            data["shakedown"] = shakedown_variable(self.shakedown)
         attrs = {
             "Conventions": "CF-1.8",
             "title": "slipstick contact solution",

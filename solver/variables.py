@@ -108,7 +108,20 @@ HISTORIES: dict[str, History] = {
         "over the volume",
         None,
     ),
+    "cycle_net_plastic_strain": History(
+        "1",
+        "equivalent strain of the plastic strain tensor's change since the start of the step's "
+        "load cycle, largest over the volume (a closed plastic cycle returns it to zero)",
+        None,
+    ),
 }
+
+#: Histories an elastic-plastic case with a cycle block records.
+CYCLE_PLASTIC_HISTORIES = (
+    "cycle_plastic_strain",
+    "cycle_net_plastic_strain",
+    "cycle_residual_stress",
+)
 
 #: Per-cycle quantities of a cyclic load path (:func:`solver.cycles.cycle_summary`), dim
 #: ``cycle``: name -> (units, long_name).
@@ -131,6 +144,11 @@ CYCLE_QUANTITIES: dict[str, tuple[str, str]] = {
     "plastic_strain_increment": (
         "1",
         "equivalent plastic strain gained over the cycle, largest over the volume",
+    ),
+    "net_plastic_strain_increment": (
+        "1",
+        "equivalent strain of the plastic strain tensor's change over the cycle, largest over "
+        "the volume (ratchetting strain; zero for a closed plastic cycle)",
     ),
 }
 

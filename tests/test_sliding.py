@@ -60,14 +60,16 @@ def test_sliding_along_x_is_the_mirror_of_sliding_back(radius):
 
 
 def test_the_answer_translates_with_the_contact(radius):
-    """The same window, slides of 4 and 8 cells: the second pressure is the first moved by 4."""
+    """Slides of 4 and 8 cells in windows of one size centred on their tracks (2 and 4 cells
+    from the origin): the second pressure is the first moved by 4 cells, 2 in window cells."""
     size = [8 * radius, 4 * radius]
     cell = size[0] / 96
     results = {}
     for cells in (4, 8):
         path = [{"normal_force": FORCE}, {"slide": [cells * cell, 0.0], "steps": 2}]
         results[cells] = solver.solve(_case(path, grid={"n": [96, 48], "size": size}))
-    shifted = np.roll(results[4].pressure, 4, axis=0)
+    assert results[8].grid.x[0] - results[4].grid.x[0] == pytest.approx(2 * cell)
+    shifted = np.roll(results[4].pressure, 2, axis=0)
     difference = np.abs(results[8].pressure - shifted).max() / results[8].pressure.max()
     assert difference < 1e-6  # the coupling tolerance (pressure change between passes)
 
@@ -144,5 +146,8 @@ def test_window_covers_the_track(radius):
     travel = 3 * radius
     case = _case([{"normal_force": FORCE}, {"slide": [travel, 0.0], "steps": 3}], n=(128, 48))
     hx, hy = case.domain_half_widths
-    assert hx >= travel + 1.5 * radius * (1 - 1e-12) and hy >= 1.5 * radius * (1 - 1e-12)
-    assert math.isclose(case.surface_grid.dx, case.surface_grid.dy)
+    grid = case.surface_grid
+    assert grid.centre == (0.5 * travel, 0.0)  # the window is centred on the track
+    assert hx >= 0.5 * travel + 1.5 * radius * (1 - 1e-12) and hy >= 1.5 * radius * (1 - 1e-12)
+    assert grid.x[0] < -1.5 * radius + grid.dx and grid.x[-1] > travel + 1.5 * radius - grid.dx
+    assert math.isclose(grid.dx, grid.dy)

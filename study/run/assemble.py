@@ -40,6 +40,7 @@ import solver
 from solver.cycles import cycle_variables
 from solver.loops import axis_value
 from solver.result import HISTORY_META, STATUS_FLAGS, length_scale
+from solver.shakedown import shakedown_variable
 from solver.variables import CYCLE_QUANTITIES, HISTORIES, reduced_scalars
 
 from ..campaign import Axis, Campaign
@@ -101,6 +102,7 @@ BOOKKEEPING = {
     "notes": "the solver's notes on the case ('; '-separated: warnings, path dependence, "
     "non-convergence, truncation)",
     "loops": "loops that ran (space-separated)",
+    "shakedown_reason": "why the case has its shakedown regime (solver.shakedown.classify)",
 }
 _ATTRS = (
     "hertz_radius",
@@ -157,7 +159,13 @@ def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
             for name in CYCLE_QUANTITIES
             if name in dataset.variables
         }
+        regime = None
+        if "shakedown" in dataset.variables:
+            variable = dataset["shakedown"]
+            regime = (int(variable.values), str(variable.attrs.get("reason", "")))
         x = dataset["x"].values
+        if "position_x" in histories:  # a sliding path: about the contact's last position
+            x = x - histories["position_x"][-1]
         lines = {name: dataset[f"{name}_y0"].values for name in ("pressure", "shear_x")}
         radius = length_scale(attrs)
         depth_profile = None
@@ -187,6 +195,7 @@ def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
         "scalars": scalars,
         "histories": histories,
         "cycles": cycles,
+        "shakedown": regime,
         "profiles": {name: profile(x, line, radius, r_over_a) for name, line in lines.items()},
         "depth_profile": depth_profile,
     }
@@ -241,6 +250,7 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     histories: dict[str, np.ndarray] = {}
     cycle_count = max(solver.case.path_cycles(case.spec["load"]["path"]) for case in campaign.cases)
     per_cycle: dict[str, np.ndarray] = {}
+    regimes = None  # shakedown flags, when a case has them
     profiles = {name: np.full((*shape, len(r_over_a)), np.nan) for name in ("pressure", "shear_x")}
     depth_profiles = None
     for case in campaign.cases:
@@ -279,6 +289,11 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
                 if name not in per_cycle:
                     per_cycle[name] = np.full((*shape, cycle_count), np.nan)
                 per_cycle[name][index][: len(values)] = values
+            if data["shakedown"] is not None:
+                if regimes is None:
+                    regimes = np.zeros(shape, dtype=np.int8)  # undetermined
+                    texts["shakedown_reason"] = np.full(shape, "", dtype=object)
+                regimes[index], texts["shakedown_reason"][index] = data["shakedown"]
             for name, values in data["profiles"].items():
                 profiles[name][index] = values
             if data["depth_profile"] is not None:
@@ -349,6 +364,8 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
         cycle_coords, cycle_data = cycle_variables(per_cycle, dims)
         coords.update(cycle_coords)
         data_vars.update(cycle_data)
+    if regimes is not None:
+        data_vars["shakedown"] = shakedown_variable(regimes, dims)
     if depth_profiles is not None:
         coords["z_over_a"] = (
             "z_over_a",

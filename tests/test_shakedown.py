@@ -1,0 +1,131 @@
+"""Repeated passes and shakedown (issue 24): per-cycle plastic gains and their classification.
+
+The classifier's rules are checked on gain sequences built for each boundary; the whole chain
+on a frictionless load moved back and forth over an elastic-perfectly plastic half-space:
+below first yield (from the Hertz closed form) nothing yields, a little above it the gain per
+pass dies out (elastic shakedown), and well above it every pass yields as much as the last.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import solver
+from solver import Case
+from solver.reference import first_yield_pressure
+from solver.shakedown import (
+    CLOSED_CYCLE_FRACTION,
+    SHAKEDOWN_FLAGS,
+    SHAKEDOWN_TOLERANCE,
+    STEADY_DECAY,
+    classify,
+)
+from solver.variables import PLASTIC_ZONE_THRESHOLD
+
+YIELD = 0.5e9
+SHEAR_YIELD = YIELD / math.sqrt(3)  # k, von Mises
+PERFECT = {
+    "behaviour": "elastic-plastic", "E": 210e9, "nu": 0.3,
+    "hardening": {"law": "perfect", "yield_stress": YIELD},
+}  # fmt: skip
+
+
+# -- the rules -----------------------------------------------------------------------------------
+def test_no_yield_is_elastic():
+    zero = np.zeros(3)
+    assert classify(zero, zero, 0.0).regime == "elastic"
+    assert classify(zero, zero, 0.5 * PLASTIC_ZONE_THRESHOLD).regime == "elastic"
+
+
+def test_a_gain_that_dies_out_is_elastic_shakedown():
+    gain = 1e-3 * (0.5 * SHAKEDOWN_TOLERANCE) ** np.linspace(0.0, 1.0, 4)  # last: tol/2 of first
+    result = classify(gain, gain, 2e-3)
+    assert result.regime == "elastic_shakedown" and result.flag == SHAKEDOWN_FLAGS[result.regime]
+    # a path whose first increment was its only plastic one: no gain at all in the cycles
+    assert classify(np.zeros(3), np.zeros(3), 2e-3).regime == "elastic_shakedown"
+
+
+def test_a_steady_gain_is_ratchetting_or_closed_cycles():
+    gain = np.full(4, 1e-3)
+    assert classify(gain, gain, 5e-3).regime == "ratchetting"
+    closed = gain * 0.5 * CLOSED_CYCLE_FRACTION
+    assert classify(gain, closed, 5e-3).regime == "plastic_shakedown"
+    # steady means falling by less than STEADY_DECAY per cycle
+    slow = 1e-3 * (0.5 * (1 + STEADY_DECAY)) ** np.arange(4)
+    assert classify(slow, slow, 5e-3).regime == "ratchetting"
+
+
+@pytest.mark.parametrize(
+    ("gain", "converged", "why"),
+    [
+        (1e-3 * (0.25 * STEADY_DECAY) ** np.arange(3), True, "still falls"),  # not yet settled
+        (np.full(1, 1e-3), True, "at least"),  # one cycle shows no trend
+        (np.full(4, 1e-3), False, "did not converge"),
+    ],
+    ids=["still_falling", "one_cycle", "not_converged"],
+)
+def test_what_cannot_be_told_is_undetermined(gain, converged, why):
+    result = classify(gain, gain, 1e-2, converged)
+    assert result.regime == "undetermined" and why in result.reason
+
+
+# -- the chain: a frictionless moving load, back and forth ---------------------------------------
+def _passes(ratio: float, passes: int, travel: float = 2.0, nx: int = 40) -> solver.Result:
+    """Rigid sphere at p_0 = ratio k, moved ``travel`` a forward and back ``passes`` times, mu =
+    0, 8 steps a stroke, cells of a/8."""
+    table = dict(body1={"behaviour": "rigid", "radius": 0.01}, body2=PERFECT,
+                 friction={"coefficient": 0.0})  # fmt: skip
+    pressure = ratio * SHEAR_YIELD
+    a = Case.from_dict({**table, "load": {"hertz_pressure": pressure}, "grid": {"n": [16, 16, 16]}})
+    travel *= a.hertz.radius
+    stroke = [{"slide": [travel, 0.0], "steps": 8}, {"slide": [-travel, 0.0], "steps": 8}]
+    path = [{"hertz_pressure": pressure, "steps": 2}, {"cycles": passes, "stages": stroke}]
+    case = Case.from_dict({**table, "load": {"path": path}, "grid": {"n": [nx, nx // 2, 12]}})
+    return solver.solve(case)
+
+
+def test_below_first_yield_nothing_yields():
+    p_yield, _ = first_yield_pressure(YIELD, PERFECT["nu"])
+    result = _passes(0.9 * p_yield / SHEAR_YIELD, 2)
+    assert result.status == "converged"
+    assert result.shakedown.regime == "elastic"
+    assert result.history["max_plastic_strain"].max() == 0.0
+
+
+def test_gain_per_pass_dies_out_above_first_yield():
+    """p_0 = 4 k (first yield at 2.79 k for nu = 0.3): elastic shakedown within four passes;
+    the pass gains and their flag reach the dataset."""
+    result = _passes(4.0, 4)
+    assert result.status == "converged", result.notes
+    gain = result.to_xarray()["plastic_strain_increment"].values
+    assert gain[0] > 1e-4 and gain[-1] < SHAKEDOWN_TOLERANCE * gain[0]
+    assert np.all(np.diff(gain) < 0)
+    assert result.shakedown.regime == "elastic_shakedown"
+    assert int(result.to_xarray()["shakedown"]) == SHAKEDOWN_FLAGS["elastic_shakedown"]
+
+
+def test_far_above_the_limit_every_pass_yields():
+    """p_0 = 6 k: the gain per pass settles at a steady value, never below the tolerance."""
+    result = _passes(6.0, 4, travel=3.0, nx=48)
+    assert result.status == "converged", result.notes
+    gain = result.to_xarray()["plastic_strain_increment"].values
+    assert gain[-1] > 0.1 * gain[0] and gain[-1] > STEADY_DECAY * gain[-2]
+    assert result.shakedown.regime in ("plastic_shakedown", "ratchetting")
+    assert np.isfinite(result.fields["plastic_strain"]).all()
+
+
+# -- first yield under a sliding point contact (the map's lower line) ----------------------------
+def test_sliding_first_yield_meets_the_frictionless_closed_form_and_moves_to_the_surface():
+    from solver.shakedown import sliding_first_yield
+
+    p_axis, z_axis = first_yield_pressure(math.sqrt(3.0), PERFECT["nu"])  # k = 1: p_0 / k
+    ratio, x, z = sliding_first_yield(0.0, PERFECT["nu"])
+    assert ratio == pytest.approx(p_axis, rel=1e-6)
+    assert x == pytest.approx(0.0, abs=1e-4) and z == pytest.approx(z_axis, abs=1e-3)
+    ratios = [sliding_first_yield(mu, PERFECT["nu"]) for mu in (0.1, 0.2, 0.3, 0.4, 0.5)]
+    assert np.all(np.diff([r[0] for r in [(ratio, x, z), *ratios]]) < 0)  # friction lowers it
+    assert all(r[2] > 0.3 for r in ratios[:3])  # below the surface up to mu = 0.3
+    assert all(r[2] < 1e-3 and r[1] < -0.99 for r in ratios[3:])  # then at the trailing edge
