@@ -429,7 +429,7 @@ def solve(case: Case) -> Result:
                 f"the contact spans {across:.3g} cells across at its largest (equivalent "
                 f"diameter), fewer than {MIN_CELLS_ACROSS}: refine the grid or shrink grid.size"
             )
-    if any(stage.cycle and stage.steps == 1 for stage in case.stages):
+    if not case.moving and any(stage.cycle and stage.steps == 1 for stage in case.stages):
         notes.append(
             "a cycle stage in one step: its loop has two points and no area (loop_energy, "
             "cycle_friction_work); give several steps per stage (10 per half cycle: 1.5 % "

@@ -174,6 +174,11 @@ class Result:
             "composite_modulus": pair.composite_modulus,
             "dundurs_beta": pair.dundurs_beta,
             "friction_coefficient": case.friction_coefficient,
+            **(
+                {"shear_yield_stress": case.plastic_body.hardening.initial_yield_stress / 3**0.5}
+                if case.plastic_body is not None
+                else {}
+            ),
             "loops": " ".join(self.loops),
             "converged": int(self.converged),
             "status": self.status,

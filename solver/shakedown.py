@@ -16,8 +16,9 @@ elastic-plastic body under repeated loads into four regimes (Johnson 1985, §9.5
     the last cycle is below :data:`CLOSED_CYCLE_FRACTION` of the strain it gained (alternating
     plasticity, low-cycle fatigue);
 ``ratchetting``
-    every cycle adds a steady net plastic strain (incremental collapse: wear, rolling contact
-    fatigue).
+    every cycle adds a steady net plastic strain, at least that fraction of its gain and
+    falling by less than :data:`STEADY_DECAY` a cycle (incremental collapse: wear, rolling
+    contact fatigue).
 
 Two measures per cycle are the evidence (:data:`solver.variables.CYCLE_QUANTITIES`): the
 equivalent plastic strain gained (``plastic_strain_increment``: accumulated, it grows in a
@@ -124,6 +125,12 @@ def classify(
             f"{SHAKEDOWN_TOLERANCE:g} of the largest ({largest:.3g}): give more cycles",
         )
     closed = float(net[-1]) / last
+    if closed >= CLOSED_CYCLE_FRACTION and net[-1] < STEADY_DECAY * net[-2]:
+        return Shakedown(
+            "undetermined",
+            f"steady gain {last:.3g} per cycle, but its net change still falls ({net[-2]:.3g} "
+            f"then {net[-1]:.3g}): closed cycles or ratchetting, give more cycles",
+        )
     regime = "plastic_shakedown" if closed < CLOSED_CYCLE_FRACTION else "ratchetting"
     return Shakedown(
         regime,

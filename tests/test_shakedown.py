@@ -56,6 +56,10 @@ def test_a_steady_gain_is_ratchetting_or_closed_cycles():
     # steady means falling by less than STEADY_DECAY per cycle
     slow = 1e-3 * (0.5 * (1 + STEADY_DECAY)) ** np.arange(4)
     assert classify(slow, slow, 5e-3).regime == "ratchetting"
+    # a steady gain whose net part still falls fast: not yet told apart
+    falling = gain * (0.96 * STEADY_DECAY) ** np.arange(4)
+    assert falling[-1] > CLOSED_CYCLE_FRACTION * gain[-1]
+    assert "net change still falls" in classify(gain, falling, 5e-3).reason
 
 
 @pytest.mark.parametrize(

@@ -78,3 +78,34 @@ def test_normal_load_cycles_report(tmp_path, monkeypatch):
     ds = assemble(out, campaign)
     assert ds.plastic_strain_increment.dims == ("hardening", "cycle")
     assert "loop_energy" not in ds
+
+
+def test_shakedown_campaign_regimes_and_map(tmp_path, monkeypatch):
+    """The shipped frictionless shakedown campaign, coarsened (two pressures, three passes): the
+    regime of every case file reaches the dataset with its reason, and the report draws the map."""
+    pytest.importorskip("matplotlib")
+    monkeypatch.setattr("study.report.figures.DPI", 40)
+    text = open("campaigns/shakedown_frictionless.toml").read().replace("cycles = 10", "cycles = 3")
+    pressures = "[1.10e9, 1.15e9, 1.20e9, 1.25e9, 1.30e9, 1.35e9, 1.40e9]"
+    assert text.count(pressures) == 2
+    path = tmp_path / "shakedown.toml"
+    path.write_text(text.replace(pressures, "[0.6e9, 1.4e9]"))
+    campaign = load_campaign(path)
+    out = tmp_path / "out"
+    assert run_campaign(campaign, out, options=RunOptions()).exit_status == 0
+    ds = assemble(out, campaign)
+    assert ds.shakedown.dims == ("pressure",)
+    for case in campaign.cases:
+        with xr.open_dataset(storage.case_path(out, case.case_id)) as one:
+            row = ds.isel(pressure=case.index[0])
+            assert int(row.shakedown) == int(one.shakedown)
+            assert str(row.shakedown_reason.values) == one.shakedown.attrs["reason"]
+    meanings = ds.shakedown.attrs["flag_meanings"].split()
+    flags = list(ds.shakedown.attrs["flag_values"])
+    regimes = [meanings[flags.index(f)] for f in ds.shakedown.values]
+    assert regimes[0] == "elastic"  # 2.4 k: below first yield (2.79 k)
+    assert regimes[1] != "elastic"  # 5.6 k: yields
+    np.testing.assert_allclose(ds.hertz_pressure / ds.shear_yield_stress, [2.4, 5.6], rtol=1e-6)
+    report = build_report(out).read_text()
+    assert "## Shakedown" in report and "p0/k" in report and "elastic" in report
+    assert (out / "shakedown_frictionless_shakedown_map.png").stat().st_size > 1000

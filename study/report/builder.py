@@ -2,7 +2,8 @@
 
 The top of :mod:`study.report`: it assembles the dataset if needed, writes the summary, the
 convergence and speed-error tables and figures (:mod:`.elastic`), and the plastic
-(:mod:`.plastic`) and cyclic (:mod:`.cycles`) sections when the campaign has them.
+(:mod:`.plastic`), cyclic (:mod:`.cycles`) and shakedown (:mod:`.shakedown`) sections when the
+campaign has them.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ import numpy as np
 from solver.result import STATUS_FLAGS
 
 from .. import analysis
-from . import cycles, plastic
+from . import cycles, plastic, shakedown
 from .elastic import (
     _convergence_note,
     plot_convergence,
@@ -219,6 +220,9 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
         lines += plastic.section(dataset, out, name, plt, figures)
     if "cycle" in dataset.dims:
         lines += cycles.section(dataset, out, name, plt, figures)
+    if "shakedown" in dataset:
+        nu = _yielding_poisson_ratio(out)
+        lines += shakedown.section(dataset, out, name, plt, figures, nu)
     if figures:
         lines += ["## Figures", ""]
         lines += [f"- {title}: `{png.name}` ({note})" for title, png, note in figures]
@@ -226,6 +230,23 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
     report = out / "report.md"
     storage.atomic_write_text(report, "\n".join(lines))
     return report
+
+
+def _yielding_poisson_ratio(out: Path) -> float | None:
+    """Poisson's ratio of the campaign's elastic-plastic bodies, if they share one."""
+    from ..run import storage
+
+    try:
+        campaign = storage.read_campaign(out)
+    except (OSError, ValueError):  # a dataset without its campaign folder
+        return None
+    ratios = {
+        float(case.spec[body]["nu"])
+        for case in campaign.cases
+        for body in ("body1", "body2")
+        if case.spec[body].get("behaviour") == "elastic-plastic"
+    }
+    return ratios.pop() if len(ratios) == 1 else None
 
 
 def _values(dataset, dim: str) -> str:

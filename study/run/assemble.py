@@ -93,6 +93,11 @@ SCALARS = {
     "sneddon_approach": ("m", "Sneddon approach at the largest normal force"),
     "composite_modulus": ("Pa", "composite modulus E*"),
     "dundurs_beta": ("1", "Dundurs' second constant beta"),
+    "friction_coefficient": ("1", "friction coefficient mu"),
+    "shear_yield_stress": (
+        "Pa",
+        "initial shear yield stress k = sigma_Y0 / sqrt(3) of the elastic-plastic body (von Mises)",
+    ),
 }
 #: Per-case bookkeeping variables of a campaign dataset (name: long_name).
 BOOKKEEPING = {
@@ -116,6 +121,8 @@ _ATTRS = (
     "sneddon_approach",
     "composite_modulus",
     "dundurs_beta",
+    "friction_coefficient",
+    "shear_yield_stress",
     "wall_time",
     "peak_rss",
 )
@@ -350,6 +357,8 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
             continue  # a closed-form reference no case of this campaign has
         if name in REDUCED and REDUCED[name][0] not in histories:
             continue  # a history no case of this campaign has (e.g. plastic ones)
+        if name == "shear_yield_stress" and np.isnan(values).all():
+            continue  # no elastic-plastic case
         units, long_name = SCALARS[name]
         data_vars[name] = (dims, values, {"units": units, "long_name": long_name})
     for name in HISTORY_META:

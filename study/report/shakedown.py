@@ -1,0 +1,139 @@
+"""The shakedown part of a campaign report: each case's regime and the shakedown map.
+
+For campaigns whose cases repeat a load on an elastic-plastic body (cycle blocks: fretting
+cycles, passes of a moving contact) the dataset holds the regime of every case
+(``shakedown``, :mod:`solver.shakedown`) and its evidence, the plastic strain gained per
+cycle.  This section writes
+
+- a table per case: peak pressure over the shear yield stress p_0/k, friction coefficient,
+  regime, cycles, the gain of the first and the last cycle and the net tensor change of the
+  last one;
+- ``<name>_shakedown_map.png``: p_0/k against mu, one marker per case coloured by its regime,
+  with first yield under a sliding point contact (Hamilton's field,
+  :func:`solver.shakedown.sliding_first_yield`) drawn over it.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from solver.result import STATUS_FLAGS
+from solver.shakedown import SHAKEDOWN_FLAGS, sliding_first_yield
+
+from .. import analysis
+from . import figures
+
+#: Marker colour of each regime on the map.
+COLOURS = {
+    "undetermined": "0.6",
+    "elastic": "tab:green",
+    "elastic_shakedown": "tab:blue",
+    "plastic_shakedown": "tab:orange",
+    "ratchetting": "tab:red",
+}
+
+
+def _cases(dataset) -> list[dict]:
+    """One record per finished case: labels, p_0/k, mu, regime, status, cycle gains."""
+    regimes = {v: k for k, v in SHAKEDOWN_FLAGS.items()}
+    statuses = {v: k for k, v in STATUS_FLAGS.items()}
+    usable = analysis.finished_mask(dataset)
+    out = []
+    for labels, isel in analysis.sweep_slices(dataset, []):
+        if not bool(usable.isel(isel)):
+            continue
+        case = dataset.isel(isel)
+        gain = case["plastic_strain_increment"].values
+        done = gain[np.isfinite(gain)]
+        out.append(
+            {
+                "labels": labels,
+                "p0/k": float(case["hertz_pressure"]) / float(case["shear_yield_stress"]),
+                "mu": float(case["friction_coefficient"]),
+                "regime": regimes.get(int(case["shakedown"]), "?"),
+                "status": statuses.get(int(case["status"]), "?"),
+                "cycles": done.size,
+                "gain_first": done[0] if done.size else np.nan,
+                "gain_last": done[-1] if done.size else np.nan,
+                "net_last": (
+                    case["net_plastic_strain_increment"].values[done.size - 1]
+                    if done.size
+                    else np.nan
+                ),
+            }
+        )
+    return out
+
+
+def shakedown_table(dataset):
+    """Per case: p_0/k, mu, regime, status, cycles, first and last gain, last net change.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per finished case.
+    """
+    import pandas as pd
+
+    columns = ("p0/k", "mu", "regime", "status", "cycles", "gain_first", "gain_last", "net_last")
+    return pd.DataFrame([{**c["labels"], **{k: c[k] for k in columns}} for c in _cases(dataset)])
+
+
+def first_yield_curve(mu_max: float, nu: float, points: int = 11) -> tuple[np.ndarray, np.ndarray]:
+    """(mu, p_0/k) of first yield under a sliding point contact, mu from 0 to ``mu_max``."""
+    mu = np.linspace(0.0, mu_max, points)
+    return mu, np.array([sliding_first_yield(m, nu)[0] for m in mu])
+
+
+def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
+    """p_0/k against mu, a marker per case coloured by regime; first yield over it."""
+    cases = _cases(dataset)
+    if not cases:
+        return None
+    plt = figures.pyplot()
+    fig, ax = plt.subplots(figsize=(6.0, 4.5))
+    for regime, colour in COLOURS.items():
+        mine = [c for c in cases if c["regime"] == regime]
+        if mine:
+            ax.scatter(
+                [c["mu"] for c in mine], [c["p0/k"] for c in mine], c=colour, s=45,
+                label=regime.replace("_", " "), edgecolors="k", linewidths=0.5, zorder=3,
+            )  # fmt: skip
+    mu_max = max(0.1, 1.1 * max(c["mu"] for c in cases))
+    if nu is not None:
+        mu, ratio = first_yield_curve(mu_max, nu)
+        ax.plot(mu, ratio, "k-", lw=1, label=f"first yield (Hamilton 1983, nu = {nu:g})")
+    ax.set_xlim(-0.02, mu_max)
+    ax.set_xlabel("traction coefficient mu (sliding)")
+    ax.set_ylabel("p_0 / k")
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(alpha=0.3)
+    figures.suptitle(fig, f"{dataset.attrs.get('campaign', '')}: shakedown map")
+    figures.save(plt, fig, path)
+    return Path(path)
+
+
+def section(dataset, out: Path, name: str, plt, shown: list, nu: float | None) -> list[str]:
+    """Markdown lines of the shakedown part of the report (figures appended to ``shown``)."""
+    lines = ["## Shakedown", ""]
+    lines += [
+        "`regime`: solver.shakedown.classify of the plastic strain gained per cycle (the largest",
+        "over the volume): elastic (never yields), elastic shakedown (the last cycle gains less",
+        "than 1e-3 of the largest), plastic shakedown (a steady gain whose net tensor change is",
+        "below 0.1 of it), ratchetting (a steady net gain), undetermined (not converged, or",
+        "still settling: more cycles). `gain_*`: equivalent plastic strain gained in the first",
+        "and the last cycle; `net_last`: equivalent strain of the plastic strain tensor's change",
+        "over the last cycle.",
+        "",
+        figures.markdown_table(shakedown_table(dataset)),
+        "",
+    ]
+    if plt is None:
+        return lines
+    png = plot_map(dataset, out / f"{name}_shakedown_map.png", nu)
+    if png:
+        shown.append(("Shakedown map", png, "every finished case with a regime"))
+        lines += ["### Map", "", f"![shakedown map]({png.name})", ""]
+    return lines
