@@ -34,6 +34,7 @@ from .keys import MIN_CELLS_ACROSS
 from .operators import CaseOperators
 from .plastic_loop import PlasticState, mirror, plastic_step
 from .result import SEPARATED, SLIP, STICK, Result
+from .shakedown import melan_factor
 from .steps import (
     ContactState,
     StepResult,
@@ -42,6 +43,7 @@ from .steps import (
     sliding_step,
     slip_stick_step,
 )
+from .stress import hamilton_stress
 from .tensor import Y_REFLECTION, equivalent_strain, von_mises
 from .variables import (
     BODY1_SUFFIX,
@@ -155,6 +157,34 @@ def _touches_edge(pressure: np.ndarray) -> bool:
     return bool(
         pressure[0].any() or pressure[-1].any() or pressure[:, 0].any() or pressure[:, -1].any()
     )
+
+
+def _moved(increment: np.ndarray, cells_x: float, cells_y: float) -> np.ndarray:
+    """``increment`` (..., nx, ny, nz) moved by (cells_x, cells_y) cells, zero where it enters.
+
+    Linear between the two whole-cell shifts on either side along each axis: the start of a
+    sliding increment's plasticity loop from the last increment's plastic strain pattern.
+    """
+    out = increment
+    for axis, cells in ((-3, cells_x), (-2, cells_y)):
+        whole = math.floor(cells)
+        part = cells - whole
+        out = (1.0 - part) * _shift(out, whole, axis) + part * _shift(out, whole + 1, axis)
+    return out
+
+
+def _shift(values: np.ndarray, cells: int, axis: int) -> np.ndarray:
+    """``values`` moved by ``cells`` along ``axis``, zero-filled (no wrap-around)."""
+    out = np.zeros_like(values)
+    n = values.shape[axis]
+    if abs(cells) >= n:
+        return out
+    src = [slice(None)] * values.ndim
+    dst = [slice(None)] * values.ndim
+    src[axis] = slice(max(-cells, 0), n - max(cells, 0))
+    dst[axis] = slice(max(cells, 0), n - max(-cells, 0))
+    out[tuple(dst)] = values[tuple(src)]
+    return out
 
 
 def axis_value(values: np.ndarray) -> np.ndarray:
@@ -316,6 +346,7 @@ def solve(case: Case) -> Result:
     faces_noted = edge_noted = False
     outcome = None
     cycle_start = None
+    loaded_positions: set[tuple[float, float, float, float]] = set()  # (p_x, p_y, sign_x, sign_y)
     before = None  # (state, load increment) of the step before the last (elastic predictor)
     for k, target in enumerate(targets):
         work = 0.0  # friction work of the step, its sub-steps included
@@ -329,6 +360,10 @@ def solve(case: Case) -> Result:
             direction = new_direction
         moving = position_of(target) != position_of(previous_target)
         step_of = sliding_step if moving else contact_step  # the increment's contact step
+        if plastic and moving and target[0] > 0:  # a load position of Melan's check
+            loaded_positions.add(
+                (*position_of(target), *np.sign(np.subtract(target, previous_target)[3:]))
+            )
         if coupled and not moving:  # a sliding step iterates its own coupling
             for sub in load_substeps(previous_target, target, case.solver.max_load_ratio, smallest):
                 if plastic:  # sub-steps are increments of the plastic history too
@@ -351,12 +386,11 @@ def solve(case: Case) -> Result:
         if plastic:
             load_step = np.subtract(target, previous_target)
             before_last = None
-            if (
-                guess is not None
-                and previous is not None
-                and np.allclose(load_step, previous[1], rtol=1e-9, atol=0.0)
-            ):  # the same load increment again: extrapolate the plastic increment linearly
-                before_last = previous[0]
+            same = previous is not None and np.allclose(load_step, previous[1], rtol=1e-9, atol=0.0)
+            if guess is not None and same and moving:  # the last increment's pattern, moved on
+                guess = _moved(guess, load_step[3] / grid.dx, load_step[4] / grid.dy)
+            elif guess is not None and same:  # the same load increment again: extrapolate
+                before_last = previous[0]  # the plastic increment linearly
             previous = None  # its increment is before_last now, or not needed
             step = plastic_step(
                 operators, step_of, state, plastic_state, target, guess, before_last
@@ -475,6 +509,8 @@ def solve(case: Case) -> Result:
         result.fields["von_mises"] = von_mises(stress)
     if plastic:
         _plastic_fields(result, operators, plastic_state)
+        if loaded_positions:
+            result.melan_factor = _melan(case, operators, plastic_state, loaded_positions)
     geometry = case.pair.geometry
     if geometry.profiles or geometry.surfaces:  # a quadric's gap is told by its radii
         result.fields["initial_gap"] = operators.gap
@@ -547,6 +583,44 @@ def _record_plastic(history: dict, k: int, step, case: Case) -> None:
             axis_value(equivalent), volume.z, PLASTIC_ZONE_THRESHOLD
         )
         history["residual_depth" + suffix][k] = float(axis_value(plastic.displacement[2]))
+
+
+def _melan(
+    case: Case, operators: CaseOperators, states: tuple[PlasticState, ...], positions: set
+) -> float | None:
+    """Melan's factor of the final residual stress under the sliding Hertz load, or None.
+
+    The elastic loads are Hamilton's (1983) field of the largest Hertz pressure with the shear
+    ``mu p`` along the motion, at every loaded position of the path (sliding along x only);
+    the yield stress is each cell's current flow stress.  None where that field is not the
+    load's: a non-circular or non-Hertzian contact, sliding along y, kinematic hardening, a
+    plastic body 1.
+    """
+    reference, body = case.reference, case.body2
+    circular = case.pair.geometry.hertzian and math.isclose(
+        reference.semi_axis_x, reference.semi_axis_y, rel_tol=1e-9
+    )
+    along_x = all(sy == 0.0 for _, _, _, sy in positions)
+    if not circular or not along_x or case.plastic_bodies != (2,) or body.hardening.kinematic:
+        return None
+    (plastic,) = states
+    residual = (
+        operators.volume(2)[1].stress(plastic.strain)
+        if plastic.strain.any()
+        else np.zeros_like(plastic.strain)
+    )
+    grid = case.surface_grid
+    x = grid.x[:, None, None]
+    y = grid.y[None, :, None]
+    z = case.volume_grid.z[None, None, :]
+    mu = case.friction_coefficient
+    loads = (
+        hamilton_stress(
+            x - px, y - py, z, reference.radius, reference.max_pressure, body.nu, sx * mu
+        )
+        for px, py, sx, _ in sorted(positions)
+    )
+    return melan_factor(residual, loads, body.hardening.flow_stress(plastic.equivalent))
 
 
 def _max_residual_stress(operators: CaseOperators, states: tuple[PlasticState, ...]) -> float:

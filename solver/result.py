@@ -66,6 +66,10 @@ class Result:
     depth_body1 : ndarray or None
         Layer-centre depths (m) of body 1's own volume grid (two different elastic-plastic
         bodies), dimension ``z_body1``.
+    melan_factor : float or None
+        Melan's static shakedown factor of the final residual stress under the sliding Hertz
+        load (:func:`solver.shakedown.melan_factor`): sliding cases along x with a circular
+        Hertz contact on isotropic hardening; None otherwise.
     """
 
     case: Case
@@ -80,6 +84,7 @@ class Result:
     notes: list[str] = field(default_factory=list)
     wall_time: float = 0.0
     fields: dict[str, np.ndarray] = field(default_factory=dict)
+    melan_factor: float | None = None
     depth: np.ndarray | None = None
     depth_body1: np.ndarray | None = None
     truncated: bool = False
@@ -182,6 +187,7 @@ class Result:
             "loops": " ".join(self.loops),
             "converged": int(self.converged),
             "status": self.status,
+            **({"melan_factor": self.melan_factor} if self.melan_factor is not None else {}),
             "notes": "; ".join(self.notes),
             "wall_time": self.wall_time,
         }

@@ -32,12 +32,13 @@ converge or has fewer than :data:`MIN_CYCLES` cycles.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
 
 from .stress import hamilton_stress
-from .tensor import von_mises
+from .tensor import contract, deviator, von_mises
 from .variables import PLASTIC_ZONE_THRESHOLD
 
 #: The classes and their flags (CF ``flag_values`` / ``flag_meanings`` of ``shakedown``).
@@ -189,3 +190,47 @@ def sliding_first_yield(friction_coefficient: float, nu: float) -> tuple[float, 
         x = np.linspace(best[0] - 0.01, best[0] + 0.01, 201)
         z = np.linspace(max(best[1] - 0.01, 1e-4), best[1] + 0.01, 201)
     return math.sqrt(3.0) / float(equivalent[i, j]), best[0], best[1]
+
+
+def melan_factor(
+    residual: np.ndarray, elastic: Iterable[np.ndarray], yield_stress: np.ndarray | float
+) -> float:
+    """Largest load factor for which a residual stress field proves shakedown (Melan 1938).
+
+    Melan's static theorem: the body shakes down if one time-independent residual stress field
+    ``rho`` keeps ``lambda sigma_e(t) + rho`` inside the yield surface everywhere at every load
+    ``sigma_e(t)`` of the cycle.  For von Mises, ``|dev(lambda s + r)|^2 = 2/3 sigma_Y^2`` is a
+    quadratic in lambda at each point; the field is admissible up to the smaller root's
+    complement, the largest root, and the factor is its least value over points and loads.
+
+    Parameters
+    ----------
+    residual : ndarray
+        ``(6, ...)`` residual stress (Pa), :mod:`solver.tensor` order.
+    elastic : iterable of ndarray
+        The elastic stress fields ``(6, ...)`` (Pa) of the load at each of its positions.
+    yield_stress : ndarray or float
+        Yield stress (Pa) at each point (the current flow stress) or one for all.
+
+    Returns
+    -------
+    float
+        The factor lambda* (1): the case's load times lambda* is the lower bound this residual
+        field gives; 0 where the residual field alone yields.
+    """
+    rho = deviator(residual)
+    limit = (2.0 / 3.0) * np.asarray(yield_stress, float) ** 2
+    c = contract(rho, rho) - limit
+    if np.any(c > 0.0):
+        return 0.0
+    best = math.inf
+    for field in elastic:
+        s = deviator(field)
+        a = contract(s, s)
+        b = contract(s, rho)
+        loaded = a > 0.0
+        # the positive root of a l^2 + 2 b l + c = 0 (c <= 0, a > 0)
+        roots = (-b[loaded] + np.sqrt(b[loaded] ** 2 - a[loaded] * c[loaded])) / a[loaded]
+        if roots.size:
+            best = min(best, float(roots.min()))
+    return best

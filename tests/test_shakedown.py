@@ -97,6 +97,8 @@ def test_below_first_yield_nothing_yields():
     assert result.status == "converged"
     assert result.shakedown.regime == "elastic"
     assert result.history["max_plastic_strain"].max() == 0.0
+    # no residual stress: Melan's factor is first yield over the load (cell centres: 1 %)
+    assert result.melan_factor == pytest.approx(1 / 0.9, rel=0.01)
 
 
 def test_gain_per_pass_dies_out_above_first_yield():
@@ -109,6 +111,9 @@ def test_gain_per_pass_dies_out_above_first_yield():
     assert np.all(np.diff(gain) < 0)
     assert result.shakedown.regime == "elastic_shakedown"
     assert int(result.to_xarray()["shakedown"]) == SHAKEDOWN_FLAGS["elastic_shakedown"]
+    # the residual stress raises the load Melan can prove above first yield (2.79 k)
+    p_yield, _ = first_yield_pressure(YIELD, PERFECT["nu"])
+    assert 4.0 * SHEAR_YIELD * result.melan_factor > 1.05 * p_yield
 
 
 def test_far_above_the_limit_every_pass_yields():

@@ -6,11 +6,12 @@ cycles, passes of a moving contact) the dataset holds the regime of every case
 cycle.  This section writes
 
 - a table per case: peak pressure over the shear yield stress p_0/k, friction coefficient,
-  regime, cycles, the gain of the first and the last cycle and the net tensor change of the
-  last one;
+  regime, the pressure up to which the case's final residual stress proves shakedown under
+  the sliding Hertz load (Melan's static theorem, :func:`solver.shakedown.melan_factor`),
+  cycles, the gain of the first and the last cycle and the net tensor change of the last one;
 - ``<name>_shakedown_map.png``: p_0/k against mu, one marker per case coloured by its regime,
   with first yield under a sliding point contact (Hamilton's field,
-  :func:`solver.shakedown.sliding_first_yield`) drawn over it.
+  :func:`solver.shakedown.sliding_first_yield`) and each case's Melan bound drawn over it.
 """
 
 from __future__ import annotations
@@ -53,6 +54,12 @@ def _cases(dataset) -> list[dict]:
                 "p0/k": float(case["hertz_pressure"]) / float(case["shear_yield_stress"]),
                 "mu": float(case["friction_coefficient"]),
                 "regime": regimes.get(int(case["shakedown"]), "?"),
+                "melan p0/k": (
+                    float(case["hertz_pressure"] * case["melan_factor"])
+                    / float(case["shear_yield_stress"])
+                    if "melan_factor" in case
+                    else np.nan
+                ),
                 "status": statuses.get(int(case["status"]), "?"),
                 "cycles": done.size,
                 "gain_first": done[0] if done.size else np.nan,
@@ -77,8 +84,12 @@ def shakedown_table(dataset):
     """
     import pandas as pd
 
-    columns = ("p0/k", "mu", "regime", "status", "cycles", "gain_first", "gain_last", "net_last")
-    return pd.DataFrame([{**c["labels"], **{k: c[k] for k in columns}} for c in _cases(dataset)])
+    columns = (
+        "p0/k", "mu", "regime", "melan p0/k", "status", "cycles", "gain_first", "gain_last",
+        "net_last",
+    )  # fmt: skip
+    table = pd.DataFrame([{**c["labels"], **{k: c[k] for k in columns}} for c in _cases(dataset)])
+    return table.dropna(axis=1, how="all")  # no Melan factor: not a sliding campaign
 
 
 def first_yield_curve(mu_max: float, nu: float, points: int = 11) -> tuple[np.ndarray, np.ndarray]:
@@ -101,6 +112,12 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
                 [c["mu"] for c in mine], [c["p0/k"] for c in mine], c=colour, s=45,
                 label=regime.replace("_", " "), edgecolors="k", linewidths=0.5, zorder=3,
             )  # fmt: skip
+    melan = [c for c in cases if np.isfinite(c["melan p0/k"])]
+    if melan:
+        ax.scatter(
+            [c["mu"] for c in melan], [c["melan p0/k"] for c in melan], marker="_", s=120,
+            c="k", label="Melan's bound of the case's residual stress", zorder=2,
+        )  # fmt: skip
     mu_max = max(0.1, 1.1 * max(c["mu"] for c in cases))
     if nu is not None:
         mu, ratio = first_yield_curve(mu_max, nu)
@@ -125,7 +142,9 @@ def section(dataset, out: Path, name: str, plt, shown: list, nu: float | None) -
         "below 0.1 of it), ratchetting (a steady net gain), undetermined (not converged, or",
         "still settling: more cycles). `gain_*`: equivalent plastic strain gained in the first",
         "and the last cycle; `net_last`: equivalent strain of the plastic strain tensor's change",
-        "over the last cycle.",
+        "over the last cycle. `melan p0/k`: the peak pressure up to which the case's final",
+        "residual stress keeps the sliding Hertz load (Hamilton's field, every loaded position)",
+        "inside the yield surface: Melan's static lower bound from that field.",
         "",
         figures.markdown_table(shakedown_table(dataset)),
         "",

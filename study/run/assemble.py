@@ -94,6 +94,11 @@ SCALARS = {
     "composite_modulus": ("Pa", "composite modulus E*"),
     "dundurs_beta": ("1", "Dundurs' second constant beta"),
     "friction_coefficient": ("1", "friction coefficient mu"),
+    "melan_factor": (
+        "1",
+        "Melan's static shakedown factor of the final residual stress under the sliding Hertz "
+        "load (solver.shakedown.melan_factor): the load times it is proven to shake down",
+    ),
     "shear_yield_stress": (
         "Pa",
         "initial shear yield stress k = sigma_Y0 / sqrt(3) of the elastic-plastic body (von Mises)",
@@ -123,6 +128,7 @@ _ATTRS = (
     "dundurs_beta",
     "friction_coefficient",
     "shear_yield_stress",
+    "melan_factor",
     "wall_time",
     "peak_rss",
 )
@@ -357,8 +363,8 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
             continue  # a closed-form reference no case of this campaign has
         if name in REDUCED and REDUCED[name][0] not in histories:
             continue  # a history no case of this campaign has (e.g. plastic ones)
-        if name == "shear_yield_stress" and np.isnan(values).all():
-            continue  # no elastic-plastic case
+        if name in ("shear_yield_stress", "melan_factor") and np.isnan(values).all():
+            continue  # no case has it (no elastic-plastic case, no sliding one)
         units, long_name = SCALARS[name]
         data_vars[name] = (dims, values, {"units": units, "long_name": long_name})
     for name in HISTORY_META:
