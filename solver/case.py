@@ -49,6 +49,7 @@ from .keys import (
     MIN_SINGLE_PLASTIC_TOLERANCE,
     MIN_YIELD_CELLS,
     MODULUS_RANGE,
+    MOVING_DEPTH_MARGIN,
     PLASTIC_WIDTH_MARGIN,
     PRESSURE_RATIO_RANGE,
     PROFILE_EXPONENT_RANGE,
@@ -1026,6 +1027,8 @@ class Case:
             grid = dataclasses.replace(grid, depth_body1=depth1)
         if grid.depth is None:
             depth = yield_depth(plastic) if plastic is not None else DEFAULT_DEPTH
+            if plastic is not None and any(any(stage.travel) for stage in stages):
+                depth *= MOVING_DEPTH_MARGIN / YIELD_DEPTH_MARGIN  # passes drive it deeper
             grid = dataclasses.replace(grid, depth=depth)
         box_key = None  # grid.plastic_half_width as the case's spec records it
         if plastic is not None:

@@ -75,6 +75,10 @@ PLASTIC_WIDTH_MARGIN = 1.25
 DEFAULT_DEPTH = 1.2
 #: Margin on the elastic yield depth that sizes an elastic-plastic case's volume grid.
 YIELD_DEPTH_MARGIN = 1.2
+#: The volume depth over the static yield depth under a sliding load: the plastic zone of
+#: repeated passes reaches below the static one's (2.2 a_H at p_0 = 5.2 k, where 1.2 times
+#: the static 1.25 a_H truncated it and the plasticity loop then failed).
+MOVING_DEPTH_MARGIN = 2.0
 #: Loop tolerances must be below this (dimensionless).
 MAX_TOLERANCE = 0.1
 #: Largest iteration cap of a loop.
@@ -337,7 +341,7 @@ CASE_KEYS: tuple[Key, ...] = (
         "every case", "Half side of the surface domain in units of the largest Hertz semi-axis "
         "(with a profile: Sneddon's contact radius) at the largest load."),
     Key("grid", "depth", "number", "a_H", f"1.2 x the Hertz yield depth (a profile: of the "
-        f"computed elastic yield region; >= {DEFAULT_DEPTH:g}); "
+        f"computed elastic yield region; >= {DEFAULT_DEPTH:g}; 2 x under a sliding load); "
         f"{DEFAULT_DEPTH:g} for elastic bodies", f"{_range(*DEPTH_RANGE)}; plastic bodies: cells "
         f"<= {MAX_CELL_DEPTH:g} a_H, the box reaches where yield starts, >= {MIN_YIELD_CELLS} "
         "cells across the Hertz yield region", "volume grids",

@@ -32,7 +32,7 @@ from .case import SMALL_STRAIN_LIMIT, Case
 from .grid import IndexBox, VolumeGrid
 from .keys import MIN_CELLS_ACROSS
 from .operators import CaseOperators
-from .plastic_loop import PlasticState, mirror, plastic_step
+from .plastic_loop import PlasticState, PlasticStepResult, mirror, plastic_step
 from .result import SEPARATED, SLIP, STICK, Result
 from .shakedown import melan_factor
 from .steps import (
@@ -54,6 +54,8 @@ from .variables import (
     PLASTIC_ZONE_THRESHOLD,
 )
 
+#: Halvings of an increment whose plasticity loop does not converge (down to 1/8 of it).
+MAX_SPLITS = 3
 #: Fewest increments per normal-loading stage for which the stick zone of a coupled
 #: (beta != 0) scene is trusted; fewer give a path-dependence note.
 MIN_COUPLED_STEPS = 20
@@ -156,6 +158,61 @@ def _touches_edge(pressure: np.ndarray) -> bool:
     """True when any cell of the surface grid's outer ring carries pressure."""
     return bool(
         pressure[0].any() or pressure[-1].any() or pressure[:, 0].any() or pressure[:, -1].any()
+    )
+
+
+def _halving_plastic_step(
+    operators: CaseOperators,
+    step_of: Callable[..., StepResult],
+    state: ContactState,
+    plastic_state: tuple[PlasticState, ...],
+    start: tuple,
+    target: tuple,
+    guess: np.ndarray | None,
+    before_guess: np.ndarray | None = None,
+    splits: int = 0,
+) -> PlasticStepResult:
+    """An increment of the plasticity loop, halved where its loop does not converge.
+
+    A load increment (or a travel: under a moving load the plastic strain is laid down where
+    the contact passes) whose fixed point the loop cannot reach from the last state is retried
+    as two halves from the same state, down to 1/2^:data:`MAX_SPLITS` of it.  A converged
+    increment is untouched (the same bits as without halving).  The halves' iterations,
+    friction work and plastic increments add up; a half that still fails is the answer, not
+    converged, with its message (the whole increment's best iterate when the first half
+    fails, so that the state is always the target's).
+    """
+    step = plastic_step(operators, step_of, state, plastic_state, target, guess, before_guess)
+    if step.converged or splits == MAX_SPLITS:
+        return step
+    middle = tuple(0.5 * (a + b) for a, b in zip(start, target, strict=True))
+    half = None if guess is None else 0.5 * guess
+    first = _halving_plastic_step(
+        operators, step_of, state, plastic_state, start, middle, half, None, splits + 1
+    )
+    if not first.converged:  # the whole increment's best iterate: the state at the target
+        return dataclasses.replace(step, iterations=step.iterations + first.iterations)
+    second = _halving_plastic_step(
+        operators, step_of, first.contact.state, first.plastic, middle, target,
+        first.increment, None, splits + 1,
+    )  # fmt: skip
+    iterations = {
+        key: step.contact.iterations.get(key, 0)
+        + first.contact.iterations.get(key, 0)
+        + second.contact.iterations.get(key, 0)
+        for key in second.contact.iterations
+    }
+    contact = dataclasses.replace(
+        second.contact,
+        iterations=iterations,
+        friction_work=first.contact.friction_work + second.contact.friction_work,
+    )
+    return dataclasses.replace(
+        second,
+        contact=contact,
+        increment=first.increment + second.increment,
+        iterations=step.iterations + first.iterations + second.iterations,
+        residual=max(first.residual, second.residual),
     )
 
 
@@ -392,9 +449,10 @@ def solve(case: Case) -> Result:
             elif guess is not None and same:  # the same load increment again: extrapolate
                 before_last = previous[0]  # the plastic increment linearly
             previous = None  # its increment is before_last now, or not needed
-            step = plastic_step(
-                operators, step_of, state, plastic_state, target, guess, before_last
-            )
+            step = _halving_plastic_step(
+                operators, step_of, state, plastic_state, previous_target, target, guess,
+                before_last,
+            )  # fmt: skip
             previous = (guess, load_step) if guess is not None else None
             outcome, plastic_state, guess = step.contact, step.plastic, step.increment
             step_ok = step.converged

@@ -84,10 +84,10 @@ class Result:
     notes: list[str] = field(default_factory=list)
     wall_time: float = 0.0
     fields: dict[str, np.ndarray] = field(default_factory=dict)
-    melan_factor: float | None = None
     depth: np.ndarray | None = None
     depth_body1: np.ndarray | None = None
     truncated: bool = False
+    melan_factor: float | None = None
 
     @property
     def status(self) -> str:

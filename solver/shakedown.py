@@ -16,9 +16,9 @@ elastic-plastic body under repeated loads into four regimes (Johnson 1985, §9.5
     the last cycle is below :data:`CLOSED_CYCLE_FRACTION` of the strain it gained (alternating
     plasticity, low-cycle fatigue);
 ``ratchetting``
-    every cycle adds a steady net plastic strain, at least that fraction of its gain and
-    falling by less than :data:`STEADY_DECAY` a cycle (incremental collapse: wear, rolling
-    contact fatigue).
+    every cycle adds a steady net plastic strain, at least that fraction of its gain and at
+    least :data:`STEADY_NET` of the cycle before's (incremental collapse: wear, rolling contact
+    fatigue).
 
 Two measures per cycle are the evidence (:data:`solver.variables.CYCLE_QUANTITIES`): the
 equivalent plastic strain gained (``plastic_strain_increment``: accumulated, it grows in a
@@ -53,6 +53,9 @@ SHAKEDOWN_FLAGS = {
 SHAKEDOWN_TOLERANCE = 1e-3
 #: A steady cycle gains at least this fraction of the cycle before's.
 STEADY_DECAY = 0.5
+#: Ratchetting: the net tensor change of a cycle is at least this fraction of the one before's
+#: (a steady rate of incremental collapse, not a transient that is still dying out).
+STEADY_NET = 0.9
 #: A closed plastic cycle's net tensor change is below this fraction of its accumulated gain.
 CLOSED_CYCLE_FRACTION = 0.1
 #: Fewest cycles for a classification other than ``elastic``.
@@ -126,7 +129,7 @@ def classify(
             f"{SHAKEDOWN_TOLERANCE:g} of the largest ({largest:.3g}): give more cycles",
         )
     closed = float(net[-1]) / last
-    if closed >= CLOSED_CYCLE_FRACTION and net[-1] < STEADY_DECAY * net[-2]:
+    if closed >= CLOSED_CYCLE_FRACTION and net[-1] < STEADY_NET * net[-2]:
         return Shakedown(
             "undetermined",
             f"steady gain {last:.3g} per cycle, but its net change still falls ({net[-2]:.3g} "

@@ -8,6 +8,7 @@ pass dies out (elastic shakedown), and well above it every pass yields as much a
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -21,6 +22,7 @@ from solver.shakedown import (
     SHAKEDOWN_FLAGS,
     SHAKEDOWN_TOLERANCE,
     STEADY_DECAY,
+    STEADY_NET,
     classify,
 )
 from solver.variables import PLASTIC_ZONE_THRESHOLD
@@ -53,11 +55,12 @@ def test_a_steady_gain_is_ratchetting_or_closed_cycles():
     assert classify(gain, gain, 5e-3).regime == "ratchetting"
     closed = gain * 0.5 * CLOSED_CYCLE_FRACTION
     assert classify(gain, closed, 5e-3).regime == "plastic_shakedown"
-    # steady means falling by less than STEADY_DECAY per cycle
+    # a steady gain falls by less than STEADY_DECAY per cycle, a steady net change less than
+    # STEADY_NET
     slow = 1e-3 * (0.5 * (1 + STEADY_DECAY)) ** np.arange(4)
-    assert classify(slow, slow, 5e-3).regime == "ratchetting"
-    # a steady gain whose net part still falls fast: not yet told apart
-    falling = gain * (0.96 * STEADY_DECAY) ** np.arange(4)
+    assert classify(slow, np.full(4, 0.5 * slow[-1]), 5e-3).regime == "ratchetting"
+    # a steady gain whose net part still falls: not yet told apart
+    falling = gain * (0.96 * STEADY_NET) ** np.arange(4)
     assert falling[-1] > CLOSED_CYCLE_FRACTION * gain[-1]
     assert "net change still falls" in classify(gain, falling, 5e-3).reason
 
@@ -79,7 +82,7 @@ def test_what_cannot_be_told_is_undetermined(gain, converged, why):
 # -- the chain: a frictionless moving load, back and forth ---------------------------------------
 def _passes(ratio: float, passes: int, travel: float = 2.0, nx: int = 40) -> solver.Result:
     """Rigid sphere at p_0 = ratio k, moved ``travel`` a forward and back ``passes`` times, mu =
-    0, 8 steps a stroke, cells of a/8."""
+    0, 8 steps a stroke, cells of a/8 (the volume twice the yield depth: 16 layers)."""
     table = dict(body1={"behaviour": "rigid", "radius": 0.01}, body2=PERFECT,
                  friction={"coefficient": 0.0})  # fmt: skip
     pressure = ratio * SHEAR_YIELD
@@ -87,7 +90,7 @@ def _passes(ratio: float, passes: int, travel: float = 2.0, nx: int = 40) -> sol
     travel *= a.hertz.radius
     stroke = [{"slide": [travel, 0.0], "steps": 8}, {"slide": [-travel, 0.0], "steps": 8}]
     path = [{"hertz_pressure": pressure, "steps": 2}, {"cycles": passes, "stages": stroke}]
-    case = Case.from_dict({**table, "load": {"path": path}, "grid": {"n": [nx, nx // 2, 12]}})
+    case = Case.from_dict({**table, "load": {"path": path}, "grid": {"n": [nx, nx // 2, 16]}})
     return solver.solve(case)
 
 
@@ -117,12 +120,13 @@ def test_gain_per_pass_dies_out_above_first_yield():
 
 
 def test_far_above_the_limit_every_pass_yields():
-    """p_0 = 6 k: the gain per pass settles at a steady value, never below the tolerance."""
+    """p_0 = 6 k: the gain per pass settles at a steady value far above the tolerance; whether
+    its cycles close is not yet told after four passes (net change still falling)."""
     result = _passes(6.0, 4, travel=3.0, nx=48)
     assert result.status == "converged", result.notes
     gain = result.to_xarray()["plastic_strain_increment"].values
-    assert gain[-1] > 0.1 * gain[0] and gain[-1] > STEADY_DECAY * gain[-2]
-    assert result.shakedown.regime in ("plastic_shakedown", "ratchetting")
+    assert gain[-1] > 30 * SHAKEDOWN_TOLERANCE * gain[0] and gain[-1] > STEADY_DECAY * gain[-2]
+    assert result.shakedown.regime not in ("elastic", "elastic_shakedown")
     assert np.isfinite(result.fields["plastic_strain"]).all()
 
 
@@ -138,3 +142,57 @@ def test_sliding_first_yield_meets_the_frictionless_closed_form_and_moves_to_the
     assert np.all(np.diff([r[0] for r in [(ratio, x, z), *ratios]]) < 0)  # friction lowers it
     assert all(r[2] > 0.3 for r in ratios[:3])  # below the surface up to mu = 0.3
     assert all(r[2] < 1e-3 and r[1] < -0.99 for r in ratios[3:])  # then at the trailing edge
+
+
+# -- halving an increment the plasticity loop cannot follow --------------------------------------
+@dataclasses.dataclass(frozen=True)
+class _Contact:
+    state: float  # the load reached
+    iterations: dict
+    friction_work: float
+
+
+@dataclasses.dataclass(frozen=True)
+class _Step:
+    contact: _Contact
+    plastic: float
+    increment: np.ndarray
+    iterations: int
+    residual: float
+    converged: bool
+
+
+def _fake_plastic_step(reach):
+    """A plasticity loop that converges on increments of at most ``reach`` of load, in 7
+    iterations, and fails otherwise after 100; its increment is the load increment."""
+
+    def step(operators, step_of, state, plastic, target, guess=None, before=None):
+        size = target[0] - state
+        ok = abs(size) <= reach + 1e-12
+        contact = _Contact(target[0], {"normal": 1}, 2.0 * size)
+        return _Step(contact, plastic + size, np.array([size]), 7 if ok else 100, 0.0, ok)
+
+    return step
+
+
+@pytest.mark.parametrize(("reach", "pieces"), [(1.0, 1), (0.5, 2), (0.25, 4), (0.125, 8)])
+def test_a_failed_increment_is_halved_until_it_converges(monkeypatch, reach, pieces):
+    from solver import loops
+
+    monkeypatch.setattr(loops, "plastic_step", _fake_plastic_step(reach))
+    out = loops._halving_plastic_step(None, None, 0.0, 0.0, (0.0,), (1.0,), None)
+    assert out.converged and out.contact.state == 1.0 and out.plastic == 1.0
+    assert out.increment[0] == pytest.approx(1.0)  # the halves' increments add up
+    assert out.contact.friction_work == pytest.approx(2.0)
+    failed = sum(2**level for level in range(int(math.log2(pieces))))  # attempts that failed
+    assert out.iterations == 100 * failed + 7 * pieces
+
+
+def test_an_increment_that_fails_at_every_halving_keeps_the_whole_increments_state(monkeypatch):
+    from solver import loops
+
+    monkeypatch.setattr(loops, "plastic_step", _fake_plastic_step(0.5 / 2**loops.MAX_SPLITS))
+    out = loops._halving_plastic_step(None, None, 0.0, 0.0, (0.0,), (1.0,), None)
+    assert not out.converged
+    assert out.contact.state == 1.0  # the target's state, not a half's
+    assert out.iterations == 100 * (loops.MAX_SPLITS + 1)  # every attempt counted

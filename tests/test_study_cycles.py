@@ -86,7 +86,7 @@ def test_shakedown_campaign_regimes_and_map(tmp_path, monkeypatch):
     pytest.importorskip("matplotlib")
     monkeypatch.setattr("study.report.figures.DPI", 40)
     text = open("campaigns/shakedown_frictionless.toml").read().replace("cycles = 10", "cycles = 3")
-    pressures = "[1.10e9, 1.15e9, 1.20e9, 1.25e9, 1.30e9, 1.35e9, 1.40e9]"
+    pressures = "[1.20e9, 1.30e9, 1.40e9, 1.50e9, 1.60e9, 1.70e9, 1.80e9]"
     assert text.count(pressures) == 2
     path = tmp_path / "shakedown.toml"
     path.write_text(text.replace(pressures, "[0.6e9, 1.4e9]"))

@@ -238,7 +238,8 @@ def test_fields_setting_and_fft_threads_are_run_time(tmp_path):
 
 def test_reserved_names_cover_the_results():
     inputs = {"hertz_radius", "hertz_semi_axis_x", "hertz_pressure", "hertz_normal_force"}
-    inputs |= {"hertz_approach", "composite_modulus", "dundurs_beta"}
+    inputs |= {"hertz_approach", "composite_modulus", "dundurs_beta", "friction_coefficient"}
+    inputs |= {"shear_yield_stress"}
     inputs |= {f"sneddon_{n}" for n in ("radius", "mean_pressure", "normal_force", "approach")}
     assert set(SCALARS) - inputs <= RESERVED_NAMES
 

@@ -35,6 +35,11 @@ RESERVED_NAMES = frozenset(
         "case_time",
         "peak_rss",
         "cycle",
+        "melan_factor",
+        "shakedown",
+        "shakedown_reason",
+        "notes",
+        "loops",
     }
     | set(reduced_scalars())
     | set(CYCLE_QUANTITIES)
