@@ -16,6 +16,7 @@ SCENES = {
     "slipstick": ("slipstick", "run_slipstick", ()),
     "cycles": ("cycles", "run_cycles", ()),
     "rough": ("rough", "run_rough", ("peers",)),
+    "moving": ("moving", "run_moving", ()),
 }
 
 DEFAULT_SIZES = {
@@ -25,6 +26,7 @@ DEFAULT_SIZES = {
     "slipstick": [64, 128],
     "cycles": [32, 64, 128],
     "rough": [128, 256],
+    "moving": [16, 32],
 }
 
 

@@ -1,0 +1,79 @@
+"""Moving-load benchmark: the cost of one frictionless pass over elastic-perfectly plastic steel.
+
+A rigid sphere (R = 10 mm) at p_0 = ``ratio`` k (k = sigma_Y / sqrt(3), sigma_Y = 433 MPa,
+E = 210 GPa, nu = 0.3) is pressed at the origin in two steps and slid 8 a along +x in steps
+of a/4, mu = 0 (issue 24's cost scene); the grid has ``n`` cells across the contact diameter
+(cells of 2a/n; the window is the track plus 1.5 a on every side, the volume twice the static
+yield depth).  One row per size: cells, wall and CPU time, peak memory, plasticity
+iterations, largest plastic strain, status.  Each row runs in a fresh process.
+
+``python -m study bench moving [--sizes N ...]`` (N: cells across the contact, default 16 32).
+"""
+
+from __future__ import annotations
+
+import math
+
+from .timing import format_table, isolated, machine, timed_solve
+
+YIELD = 433.0127e6  # Pa: k = 250 MPa
+RATIO = 5.0  # p_0 / k
+TRAVEL = 8.0  # contact radii
+STEPS_PER_RADIUS = 4
+
+
+def pass_table(across: int, ratio: float = RATIO) -> dict:
+    """The case table of one pass with ``across`` cells across the contact diameter."""
+    import solver
+
+    body2 = {
+        "behaviour": "elastic-plastic", "E": 210e9, "nu": 0.3,
+        "hardening": {"law": "perfect", "yield_stress": YIELD},
+    }  # fmt: skip
+    table = {
+        "body1": {"behaviour": "rigid", "radius": 0.01}, "body2": body2,
+        "friction": {"coefficient": 0.0},
+    }  # fmt: skip
+    pressure = ratio * YIELD / math.sqrt(3.0)
+    probe = {**table, "load": {"hertz_pressure": pressure}, "grid": {"n": [16, 16, 16]}}
+    radius = solver.Case.from_dict(probe).hertz.radius
+    cell = 2.0 * radius / across
+    nx = math.ceil((TRAVEL + 3.0) * radius / cell)
+    ny = math.ceil(3.0 * radius / cell)
+    path = [
+        {"hertz_pressure": pressure, "steps": 2},
+        {"slide": [TRAVEL * radius, 0.0], "steps": int(TRAVEL * STEPS_PER_RADIUS)},
+    ]
+    depth = solver.Case.from_dict({**table, "load": {"path": path}, "grid": {"n": [nx, ny, 64]}})
+    nz = math.ceil(depth.volume_grid.z[-1] / cell)  # cubic cells
+    return {**table, "load": {"path": path}, "grid": {"n": [nx, ny, nz]}}
+
+
+def _row(across: int) -> dict:
+    case, result, wall, cpu, memory = timed_solve(pass_table(across))
+    nx, ny, nz = case.volume_grid.shape
+    return {
+        "across": across,
+        "cells": f"{nx}x{ny}x{nz}",
+        "steps": case.total_steps,
+        "wall_s": round(wall, 1),
+        "cpu_s": round(cpu, 1),
+        "peak_MB": round(memory),
+        "plastic_its": int(result.history["plastic_iterations"].sum()),
+        "ep_max": f"{result.history['max_plastic_strain'].max():.4g}",
+        "status": result.status,
+    }
+
+
+def run_moving(sizes: list[int]) -> int:
+    """Print the table of one pass per size; 0 when every row ran."""
+    rows, failed = [], False
+    for across in sizes:
+        status, row = isolated(_row, across, timeout=7200.0)
+        if status != "ok":
+            failed = True
+            row = {"across": across, "status": f"error: {row}"}
+        rows.append(row)
+    print(f"# one frictionless pass over {TRAVEL:g} a at p_0 = {RATIO:g} k; {machine()}")
+    print(format_table(rows))
+    return 1 if failed else 0
