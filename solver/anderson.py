@@ -6,7 +6,9 @@ iterates and residuals, the next iterate is
     x+ = x + f - (dX + dF) gamma,    gamma = argmin || f - dF gamma ||_2,
 
 which is plain fixed-point iteration when ``m = 0``.  The history restarts when the residual
-grows by more than :data:`RESTART_GROWTH` over the best seen, a safeguard against stagnation.
+grows by more than :data:`RESTART_GROWTH` over the best seen, a safeguard against stagnation,
+and when its small least-squares system is no longer finite (an iteration that overflowed:
+the caller's loop then reports it, never a linear-algebra error).
 
 Every pass over the vectors runs by chunks of :data:`CHUNK` values (all the dot products, the
 differences and the mixed iterate of a chunk while it is in cache), on ``threads`` threads;
@@ -111,6 +113,11 @@ class Anderson:
 
         rhs = np.sum(self._each_chunk(size, keep), axis=0)
         out = np.empty_like(x)
+        if history_dx and not (np.isfinite(self._gram).all() and np.isfinite(rhs).all()):
+            self._dx.clear()  # a history that overflowed: restart it, a plain step now
+            self._df.clear()
+            self._gram = np.empty((0, 0))
+            self.restarts += 1
         if not history_dx:
             np.add(x, f, out=out)
             return out.reshape(shape)

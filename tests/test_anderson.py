@@ -28,3 +28,17 @@ def test_anderson_accelerates_a_slow_contraction():
     assert mixed < plain / 2
     np.testing.assert_allclose(x_mixed, exact, atol=1e-8)
     np.testing.assert_allclose(x_plain, exact, atol=1e-8)
+
+
+def test_an_overflowed_history_restarts_instead_of_raising():
+    """An iteration that overflowed (inf in the residuals) must not stop the solve with a
+    linear-algebra error: the history restarts and the step is a plain fixed-point step."""
+    mixer = Anderson(memory=3)
+    x = np.ones(8)
+    mixer(x, np.full(8, 0.5))
+    huge = np.full(8, np.inf)
+    out = mixer(x + 0.5, huge)  # the history's difference overflows
+    assert mixer.restarts == 1
+    np.testing.assert_array_equal(out, x + 0.5 + huge)  # the plain step, reported by the caller
+    finite = mixer(x, np.full(8, 0.25))
+    assert np.isfinite(finite).all()
