@@ -43,7 +43,8 @@ def cycle_summary(history: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         return {}
     out: dict[str, np.ndarray] = {}
     blocks = [np.flatnonzero(cycle == c) for c in range(1, count + 1)]
-    if "tangential_force_x" in history:
+    if "tangential_force_x" in history and "position_x" not in history:  # a sliding path
+        # has no Q - Delta loop (its shift stays; the travel is the position)
         force = np.asarray(history["tangential_force_x"], dtype=float)
         shift = np.asarray(history["tangential_shift_x"], dtype=float)
         energy, forces, shifts = [], [], []

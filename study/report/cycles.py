@@ -69,7 +69,8 @@ def cycle_table(dataset):
 
         for tag, i in (("first", 0), ("last", count - 1)):
             row[f"E_{tag}_J"] = pick("loop_energy", i)
-        row["work/E_last"] = pick("cycle_friction_work", count - 1) / row["E_last_J"]
+        energy = row["E_last_J"]
+        row["work/E_last"] = pick("cycle_friction_work", count - 1) / energy if energy else math.nan
         row["slip_amp_um"] = pick("slip_amplitude", count - 1) * 1e6
         row["Q_amp_N"] = pick("force_amplitude", count - 1)
         row["c_min/a_H"] = pick("min_stick_radius", count - 1) / float(case["hertz_radius"])
