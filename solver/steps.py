@@ -375,7 +375,7 @@ def sliding_step(
     only the pressure is unknown: a normal solve on the gap at the new position, with the
     normal displacement of that shear (the beta coupling; Goodman's approximation drops it)
     iterated to the coupling tolerance.  The rigid shift keeps its value (the travel is the
-    position); the friction work is the mean shear times the travel.
+    position); the friction work is mu times the mean normal force times the travel.
     """
     case, surface = operators.case, operators.surface
     options = case.solver
@@ -426,8 +426,11 @@ def sliding_step(
         pressure, qx, qy, previous.shift, pxs, pys, res_x, res_y, None, None, force, normal,
         position,
     )  # fmt: skip
-    mean_x, mean_y = 0.5 * (qx + previous.shear_x), 0.5 * (qy + previous.shear_y)
-    work = float(np.sum(mean_x * motion[0] + mean_y * motion[1])) * surface.grid.cell_area
+    # all the increment slips along its motion under mu p: the work is mu times the mean of
+    # the normal force at its ends times the travel (the trapezoid of the shears would count
+    # a reversal's opposite shear)
+    forces = (float(np.sum(previous.pressure)), float(np.sum(pressure)))
+    work = mu * 0.5 * sum(forces) * surface.grid.cell_area * length
     return StepResult(
         state, converged, counts, normal.residual, message, np.zeros(gap.shape, bool),
         normal.approach, work,

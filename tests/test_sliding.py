@@ -165,3 +165,18 @@ def test_the_moving_cost_scene_has_its_cells_across_the_contact():
     volume = case.volume_grid
     assert volume.z[1] - volume.z[0] == pytest.approx(grid.dx, rel=0.05)
     assert grid.x[0] < -1.5 * a + grid.dx and grid.x[-1] > (TRAVEL + 1.5) * a - grid.dx
+
+
+def test_sliding_cycles_dissipate_friction_work_without_a_fretting_loop(radius):
+    """Back and forth at mu = 0.3, elastic: each cycle dissipates mu W times the distance slid
+    (the friction work), and there is no Q - Delta loop (the shift stays, the travel is the
+    position), so no loop energy."""
+    travel = radius
+    stroke = [{"slide": [travel, 0.0], "steps": 4}, {"slide": [-travel, 0.0], "steps": 4}]
+    path = [{"normal_force": FORCE}, {"cycles": 2, "stages": stroke}]
+    result = solver.solve(_case(path, n=(64, 32), solver={"goodman": True}))
+    assert result.status == "converged"
+    dataset = result.to_xarray()
+    assert "loop_energy" not in dataset
+    work = dataset["cycle_friction_work"].values
+    np.testing.assert_allclose(work, 0.3 * FORCE * 2 * travel, rtol=1e-3)
