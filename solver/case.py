@@ -799,8 +799,10 @@ EXECUTION_KEYS = ("fft_threads", "fft_planner")
 #: Field outputs a case may request.
 FIELD_OUTPUTS = OPTIONAL_FIELDS
 #: Version of the physical model: part of every case id, so that files computed by an older
-#: model (version 1: elastic-plastic bodies solved as elastic) are never reused.
-MODEL_VERSION = 2
+#: model are never reused (version 1: elastic-plastic bodies solved as elastic; version 2: a
+#: plastic increment whose loop did not converge was kept as it was, where version 3 halves
+#: it, and a sliding increment's friction work missed the step after a reversal).
+MODEL_VERSION = 3
 
 
 def auto_depth(max_pressure: float, yield_stress: float, nu: float) -> float:
