@@ -970,7 +970,8 @@ class Case:
                     "a volume grid is scaled by the smooth shape's contact radius; with heights "
                     "only give grid.n = [nx, ny] (no stress or plastic outputs yet)",
                 )
-        if any(any(stage.travel) for stage in stages) and not body1.rigid:
+        moving = _slides(stages)
+        if moving and not body1.rigid:
             _fail(
                 "body1.behaviour",
                 "sliding takes a rigid body 1 in this release (an elastic body 1's surface "
@@ -1029,7 +1030,7 @@ class Case:
             grid = dataclasses.replace(grid, depth_body1=depth1)
         if grid.depth is None:
             depth = yield_depth(plastic) if plastic is not None else DEFAULT_DEPTH
-            if plastic is not None and any(any(stage.travel) for stage in stages):
+            if plastic is not None and moving:
                 depth *= MOVING_DEPTH_MARGIN / YIELD_DEPTH_MARGIN  # passes drive it deeper
             grid = dataclasses.replace(grid, depth=depth)
         box_key = None  # grid.plastic_half_width as the case's spec records it
@@ -1039,7 +1040,7 @@ class Case:
                 for body in plastics
             )
             chosen = grid.plastic_half_width
-            if any(any(st.travel) for st in stages):  # the box covers the track: the window
+            if moving:  # the box covers the track: the window
                 if chosen is not None:
                     _fail(
                         "grid.plastic_half_width",
@@ -1266,6 +1267,16 @@ class Case:
             # square cells of side 2 half_width a_max / n: across = n semi_min / (half_width a_max)
             n_max = max(self.grid.nx, self.grid.ny)
             need = MIN_CELLS_ACROSS * n_max / across if across > 0 else math.inf
+            if self.moving and self.grid.size is None:  # the track sets the window
+                (x0, x1), (y0, y1) = self.track
+                _fail(
+                    "load.path (slide)",
+                    f"mesh too coarse for the sliding track ({x1 - x0:.4g} m along x, "
+                    f"{y1 - y0:.4g} m along y, contact radius {semi_min:.4g} m): the contact "
+                    f"spans {across:.3g} cells of the window over the track; shorten the "
+                    f"slides or give more cells along it (n >= {need:.3g} on the longer side, "
+                    f"at most {MAX_CELLS})",
+                )
             if need <= MAX_CELLS:
                 _fail(
                     "grid.n",
@@ -1421,7 +1432,7 @@ class Case:
     @property
     def moving(self) -> bool:
         """True when a stage slides body 1 over body 2."""
-        return any(any(stage.travel) for stage in self.stages)
+        return _slides(self.stages)
 
     def step_cycles(self) -> np.ndarray:
         """Load cycle of every increment (:attr:`LoadStage.cycle`: 0 outside a cycle block)."""
@@ -1493,6 +1504,11 @@ def _domain_half_widths(grid: GridSpec, scale: float) -> tuple[float, float]:
         return half, half
     cell = 2 * half / max(grid.nx, grid.ny)
     return 0.5 * cell * grid.nx, 0.5 * cell * grid.ny
+
+
+def _slides(stages) -> bool:
+    """True when a stage moves body 1 over body 2 (a ``slide``)."""
+    return any(any(stage.travel) for stage in stages)
 
 
 def _check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> None:

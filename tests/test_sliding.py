@@ -180,3 +180,11 @@ def test_sliding_cycles_dissipate_friction_work_without_a_fretting_loop(radius):
     assert "loop_energy" not in dataset
     work = dataset["cycle_friction_work"].values
     np.testing.assert_allclose(work, 0.3 * FORCE * 2 * travel, rtol=1e-3)
+
+
+@pytest.mark.parametrize("travel", [-1.0, 1e300, 1e-2])
+def test_a_track_too_long_for_the_grid_is_refused_by_the_slide(travel):
+    """The window covers the track: a slide the grid's cells cannot resolve names the slide."""
+    path = [{"normal_force": FORCE}, {"slide": [travel, 0.0], "steps": 2}]
+    with pytest.raises(SpecError, match=r"^load\.path \(slide\): mesh too coarse for the sliding"):
+        _case(path, n=(64, 32))

@@ -92,7 +92,7 @@ def shakedown_table(dataset):
     return table.dropna(axis=1, how="all")  # no Melan factor: not a sliding campaign
 
 
-def first_yield_curve(mu_max: float, nu: float, points: int = 11) -> tuple[np.ndarray, np.ndarray]:
+def first_yield_curve(mu_max: float, nu: float, points: int = 41) -> tuple[np.ndarray, np.ndarray]:
     """(mu, p_0/k) of first yield under a sliding point contact, mu from 0 to ``mu_max``."""
     mu = np.linspace(0.0, mu_max, points)
     return mu, np.array([sliding_first_yield(m, nu)[0] for m in mu])
@@ -116,7 +116,7 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
     if melan:
         ax.scatter(
             [c["mu"] for c in melan], [c["melan p0/k"] for c in melan], marker="_", s=120,
-            c="k", label="Melan's bound of the case's residual stress", zorder=2,
+            c="k", label="Melan's bound from each case's residual stress", zorder=2,
         )  # fmt: skip
     mu_max = max(0.1, 1.1 * max(c["mu"] for c in cases))
     if nu is not None:
@@ -127,7 +127,11 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
     ax.set_ylabel("p_0 / k")
     ax.legend(fontsize=7, loc="best")
     ax.grid(alpha=0.3)
-    figures.suptitle(fig, f"{dataset.attrs.get('campaign', '')}: shakedown map")
+    total = int(np.prod([dataset.sizes[d] for d in dataset["status"].dims]))
+    shown = f"{len(cases)} of {total} cases" + (
+        " (the others failed or are pending: not drawn)" if len(cases) < total else ""
+    )
+    figures.suptitle(fig, f"{dataset.attrs.get('campaign', '')}: shakedown map", shown)
     figures.save(plt, fig, path)
     return Path(path)
 
