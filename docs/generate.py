@@ -32,6 +32,9 @@ _JSON_TYPES = {
         "anyOf": [{"type": "number"}, {"type": "array", "items": {"type": "number"}}]
     },
     "[dx, dy]": {"type": "array", "items": {"type": "number"}},
+    "number or [xi, eta]": {
+        "anyOf": [{"type": "number"}, {"type": "array", "items": {"type": "number"}}]
+    },
     "number or [Lx, Ly]": {
         "anyOf": [{"type": "number"}, {"type": "array", "items": {"type": "number"}}]
     },

@@ -33,6 +33,7 @@ from .keys import (
     MAX_ANDERSON_MEMORY,
     MAX_CELL_DEPTH,
     MAX_CELLS,
+    MAX_CREEPAGE,
     MAX_CYCLES,
     MAX_FFT_THREADS,
     MAX_FRICTION,
@@ -428,7 +429,18 @@ class LoadStage:
         Load cycle of the stage: 1, 2, ... inside cycle blocks (``cycles = N``; numbered on
         across blocks), 0 outside.
     travel : (float, float)
-        Travel (m) of body 1's apex over body 2 during the stage, in gross sliding (``slide``).
+        Travel (m) of body 1's apex over body 2 during the stage: gross sliding (``slide``) or
+        rolling (``roll``).
+    motion : str
+        ``"slide"``, ``"roll"`` or ``""`` (no travel).
+    creepage : (float, float) or None
+        Kalker's creepages (xi, eta) (dimensionless) of a rolling stage: the rigid slip of body
+        1 relative to body 2 per unit distance rolled; the tangential force is then a result.
+        ``(0, 0)`` on a stage without travel that follows one (the rigid shift held).  None:
+        the tangential force is prescribed.
+    spin : float
+        Rigid rotation of body 1 relative to body 2 about z per unit distance rolled (1/m),
+        counter-clockwise from x to y, about the contact's centre.
     """
 
     normal_force: float
@@ -436,6 +448,9 @@ class LoadStage:
     steps: int
     cycle: int = 0
     travel: tuple[float, float] = (0.0, 0.0)
+    motion: str = ""
+    creepage: tuple[float, float] | None = None
+    spin: float = 0.0
 
 
 def _parse_path(raw_stages: list, pair: Pair) -> tuple[list[LoadStage], list[str], list[dict]]:
@@ -446,7 +461,7 @@ def _parse_path(raw_stages: list, pair: Pair) -> tuple[list[LoadStage], list[str
     force keeps the previous one, also across cycles.
     """
     stages, paths, given = [], [], []
-    previous = (0.0, (0.0, 0.0))
+    previous = (0.0, (0.0, 0.0), False)  # (W, Q, the force free: a creepage stage before)
     total = 0  # increments so far
 
     def count(path: str, steps: int) -> int:
@@ -480,7 +495,7 @@ def _parse_path(raw_stages: list, pair: Pair) -> tuple[list[LoadStage], list[str
                     stage = dataclasses.replace(stage, cycle=cycle)
                     stages.append(stage)
                     paths.append(where)
-                    previous = (stage.normal_force, stage.tangential_force)
+                    previous = _after(stage)
                     total = count(f"{where}.steps", stage.steps)
                     if cycle == offset + 1:
                         block.append(spec)
@@ -491,8 +506,14 @@ def _parse_path(raw_stages: list, pair: Pair) -> tuple[list[LoadStage], list[str
         stages.append(stage)
         paths.append(path)
         given.append(spec)
-        previous = (stage.normal_force, stage.tangential_force)
+        previous = _after(stage)
     return stages, paths, given
+
+
+def _after(stage: LoadStage) -> tuple:
+    """What a stage leaves to the next: (W, Q, whether the force is free)."""
+    free = stage.creepage is not None and stage.normal_force > 0
+    return stage.normal_force, stage.tangential_force, free
 
 
 def path_cycles(path: list[dict]) -> int:
@@ -651,23 +672,82 @@ def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool
         given["tangential_force"] = list(q)
     else:
         q = previous[1]
-    travel = (0.0, 0.0)
-    if "slide" in table:
-        if "tangential_force" in table:
+    motion, travel = "", (0.0, 0.0)
+    if "slide" in table and "roll" in table:
+        _fail(f"{path}.roll", "a stage slides or rolls, not both: remove slide or roll")
+    for key in ("slide", "roll"):
+        if key not in table:
+            continue
+        if key == "slide" and "tangential_force" in table:
             _fail(
                 f"{path}.slide",
                 "a sliding stage sets the tangential force (mu W along the motion): remove "
                 "tangential_force",
             )
-        value = _plain(table["slide"])
+        value = _plain(table[key])
         if not isinstance(value, list) or len(value) != 2:
-            _fail(f"{path}.slide", f"must be [dx, dy] (m), got {value!r}")
-        travel = tuple(_number(v, f"{path}.slide") for v in value)
-        if any(travel):  # a zero slide is no slide: the same case, the same id
-            given["slide"] = list(travel)
+            _fail(f"{path}.{key}", f"must be [dx, dy] (m), got {value!r}")
+        travel = tuple(_number(v, f"{path}.{key}") for v in value)
+        if any(travel):  # a zero travel is no travel: the same case, the same id
+            given[key] = list(travel)
+            motion = key
+    creepage, spin = _parse_creepage(table, path, previous, motion, given)
+    if creepage is not None:  # the force is a result
+        q = (0.0, 0.0)
     steps = _integer(table.get("steps", 1), f"{path}.steps", 1, MAX_STAGE_STEPS)
     given["steps"] = steps
-    return LoadStage(force, q, steps, travel=travel), given
+    stage = LoadStage(force, q, steps, travel=travel, motion=motion, creepage=creepage, spin=spin)
+    return stage, given
+
+
+def _parse_creepage(table: Any, path: str, previous: tuple, motion: str, given: dict) -> tuple:
+    """(creepage, spin) of a stage: Kalker's creepages of a rolling stage, or None (force)."""
+    creep_keys = [key for key in ("creepage", "spin") if key in table]
+    if creep_keys and motion != "roll":
+        _fail(
+            f"{path}.{creep_keys[0]}",
+            "creepage and spin belong to a rolling stage: give roll = [dx, dy] (m) too"
+            if motion == ""
+            else "a sliding stage slips everywhere (mu p along the motion): remove "
+            f"{creep_keys[0]} or roll instead of slide",
+        )
+    if creep_keys and "tangential_force" in table:
+        _fail(
+            f"{path}.tangential_force",
+            "a rolling stage takes either the creepages (the force is then a result) or the "
+            "tangential force (the creepage is then a result), not both",
+        )
+    if previous[2] and "tangential_force" in table:
+        _fail(
+            f"{path}.tangential_force",
+            "the previous stage rolls at given creepages, so its creep force is a result, not "
+            "the start of a ramp: give creepage here too, or unload (normal_force = 0) first",
+        )
+    if not creep_keys:
+        # after a creepage stage the force stays free: the rigid shift is held (no travel) or
+        # rolls on at no creepage; else the force is prescribed
+        return ((0.0, 0.0) if previous[2] and "tangential_force" not in table else None), 0.0
+    creepage = (0.0, 0.0)
+    if "creepage" in table:
+        value = _plain(table["creepage"])
+        if isinstance(value, list):
+            if len(value) != 2:
+                _fail(f"{path}.creepage", f"must be [xi, eta] (dimensionless), got {value!r}")
+            creepage = tuple(_number(v, f"{path}.creepage") for v in value)
+        else:  # a number: longitudinal (along x)
+            creepage = (_number(value, f"{path}.creepage"), 0.0)
+        if any(abs(v) > MAX_CREEPAGE for v in creepage):
+            _fail(
+                f"{path}.creepage",
+                f"each creepage must be within +-{MAX_CREEPAGE:g} (a slip of that fraction of "
+                f"the distance rolled is full sliding long before), got {list(creepage)}",
+            )
+        given["creepage"] = list(creepage)
+    spin = 0.0
+    if "spin" in table:
+        spin = _number(table["spin"], f"{path}.spin")
+        given["spin"] = spin
+    return creepage, spin
 
 
 @dataclass(frozen=True)
@@ -937,7 +1017,7 @@ class Case:
                 _fail("load.path", "must be a non-empty array of tables ([[load.path]])")
             stages, paths, given = _parse_path(raw_stages, pair)
         else:
-            stage, spec = _parse_stage(load, "load", (0.0, (0.0, 0.0)), pair, True)
+            stage, spec = _parse_stage(load, "load", (0.0, (0.0, 0.0), False), pair, True)
             stages, paths, given = [stage], ["load"], [spec]
 
         friction = _check_keys(table.get("friction", {}), "friction", table_keys("friction"))
@@ -971,12 +1051,34 @@ class Case:
                     "only give grid.n = [nx, ny] (no stress or plastic outputs yet)",
                 )
         moving = _slides(stages)
-        if moving and not body1.rigid:
+        if any(stage.motion == "slide" for stage in stages) and not body1.rigid:
             _fail(
                 "body1.behaviour",
                 "sliding takes a rigid body 1 in this release (an elastic body 1's surface "
-                "moves with it, Kalker's shifted state: built with rolling); make body 1 rigid",
+                "moves with it: its displacements would have to follow the apex); make body 1 "
+                "rigid, or roll",
             )
+        rolls = any(stage.motion == "roll" for stage in stages)
+        if rolls and (math.isfinite(body2.radius_x) or math.isfinite(body2.radius_y)):
+            _fail(
+                "body2.radius",
+                "a rolling contact moves over body 2, whose curvature would stay where it is: "
+                "give body 2 flat and body 1 the pair's radius (1/R = 1/R1 + 1/R2 along each "
+                "axis), which the half-space contact sees alike",
+            )
+        if rolls and body1.behaviour == "elastic-plastic":
+            _fail(
+                "body1.behaviour",
+                "rolling over an elastic-plastic body 1 is not built (its plastic strain would "
+                "travel with its own surface); make body 1 elastic or rigid",
+            )
+        for stage, path in zip(stages, paths, strict=True):
+            if stage.creepage is not None and mu == 0.0 and (any(stage.creepage) or stage.spin):
+                _fail(
+                    f"{path}.creepage",
+                    "friction.coefficient is 0: a frictionless contact has no creep force; "
+                    "remove creepage and spin or give a friction coefficient",
+                )
         _check_plastic_scene(body1, body2, stages, grid)
         plastics = [b for b in (body2, body1) if b.behaviour == "elastic-plastic"]
         plastic = plastics[0] if plastics else None
@@ -1269,12 +1371,14 @@ class Case:
             need = MIN_CELLS_ACROSS * n_max / across if across > 0 else math.inf
             if self.moving and self.grid.size is None:  # the track sets the window
                 (x0, x1), (y0, y1) = self.track
+                key = "slide" if any(st.motion == "slide" for st in self.stages) else "roll"
+                moving = {"slide": "sliding", "roll": "rolling"}[key]
                 _fail(
-                    "load.path (slide)",
-                    f"mesh too coarse for the sliding track ({x1 - x0:.4g} m along x, "
+                    f"load.path ({key})",
+                    f"mesh too coarse for the {moving} track ({x1 - x0:.4g} m along x, "
                     f"{y1 - y0:.4g} m along y, contact radius {semi_min:.4g} m): the contact "
                     f"spans {across:.3g} cells of the window over the track; shorten the "
-                    f"slides or give more cells along it (n >= {need:.3g} on the longer side, "
+                    f"{key}s or give more cells along it (n >= {need:.3g} on the longer side, "
                     f"at most {MAX_CELLS})",
                 )
             if need <= MAX_CELLS:
@@ -1409,6 +1513,12 @@ class Case:
                 )  # fmt: skip
             w0, qx0, qy0, px0, py0 = w1, qx1, qy1, px1, py1
 
+    def increment_stages(self) -> Iterator[LoadStage]:
+        """The stage of every load increment, in order (as :meth:`step_targets`)."""
+        for stage in self.stages:
+            for _ in range(stage.steps):
+                yield stage
+
     @property
     def track(self) -> tuple[tuple[float, float], tuple[float, float]]:
         """((x_min, x_max), (y_min, y_max)) (m): the range of body 1's apex over the path.
@@ -1445,8 +1555,10 @@ class Case:
 
     @property
     def has_tangential_load(self) -> bool:
-        """True when any stage prescribes a tangential force."""
-        return any(any(stage.tangential_force) for stage in self.stages)
+        """True when any stage prescribes a tangential force or rolls at given creepages."""
+        return any(
+            any(stage.tangential_force) or stage.creepage is not None for stage in self.stages
+        )
 
     @property
     def case_id(self) -> str:
@@ -1557,7 +1669,10 @@ def _check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> No
             "volume depth and the plastic box are sized from the Hertz stress of the smooth "
             "shape",
         )
-    if symmetric and any(any(stage.tangential_force) or any(stage.travel) for stage in stages):
+    if symmetric and any(
+        any(stage.tangential_force) or any(stage.travel) or stage.creepage is not None
+        for stage in stages
+    ):
         _fail(
             "load.tangential_force",
             "a tangential load breaks the symmetry of the elastic-plastic pair (eq. 2); make "

@@ -54,6 +54,9 @@ MAX_HARDENING_RATIO = 10.0
 MAX_RECALL = 1e6
 #: Largest number of increments of one load stage.
 MAX_STAGE_STEPS = 100_000
+#: Largest creepage of a rolling stage: a rigid slip of the whole distance rolled (steel
+#: slides fully from about 0.005, rubber from about 0.1).
+MAX_CREEPAGE = 1.0
 #: Largest number of cycles of a cycle block.
 MAX_CYCLES = 10_000
 #: Largest number of load increments of a path (cycle blocks repeated): every increment is a
@@ -303,6 +306,22 @@ CASE_KEYS: tuple[Key, ...] = (
         "sliding contacts", "Travel of body 1's apex over body 2 during the stage, in gross "
         "sliding: the shear traction is mu p along the motion on body 2 (frictionless: a "
         "moving load).  The surface window covers every position of the path."),
+    Key("load", "roll", "[dx, dy]", "m", "[0, 0] (no motion)",
+        "finite; not with slide; the window grows by the travel", "rolling contacts",
+        "Travel of the contact over body 2 during the stage, in rolling: each increment's slip "
+        "is the rigid creepage times the distance rolled plus the change of the tangential "
+        "displacement difference at the same point of body 2 (Kalker's transient theory).  "
+        "With tangential_force the creepage is a result (tangential_shift over the travel), "
+        "with creepage the force is."),
+    Key("load", "creepage", "number or [xi, eta]", "1", "none (the tangential force is prescribed)",
+        f"each within +-{MAX_CREEPAGE:g}; roll stages only; not with tangential_force; "
+        "mu > 0", "rolling contacts",
+        "Kalker's creepages: the rigid slip of body 1 relative to body 2 per unit distance "
+        "rolled; the creep force on body 2 points along it.  A later stage without "
+        "creepage or tangential_force keeps the rigid shift (rolls on at zero creepage)."),
+    Key("load", "spin", "number", "1/m", "0", "finite; roll stages only; mu > 0",
+        "rolling contacts", "Rigid rotation of body 1 relative to body 2 about z per unit "
+        "distance rolled, counter-clockwise from x to y, about the contact's centre."),
     Key("load", "steps", "integer", "1", "1", f"[1, {MAX_STAGE_STEPS:,}]", _LOADS,
         "Increments of the linear ramp from the previous stage."),
     Key("load", "path", "array of tables", "", "optional (one stage)",
@@ -318,6 +337,14 @@ CASE_KEYS: tuple[Key, ...] = (
         "As load.tangential_force."),
     Key("load.path[i]", "slide", "[dx, dy]", "m", "[0, 0] (no motion)",
         "finite; not with tangential_force", "sliding contacts", "As load.slide."),
+    Key("load.path[i]", "roll", "[dx, dy]", "m", "[0, 0] (no motion)",
+        "finite; not with slide", "rolling contacts", "As load.roll."),
+    Key("load.path[i]", "creepage", "number or [xi, eta]", "1",
+        "none (the force is prescribed; after a creepage stage [0, 0])",
+        f"each within +-{MAX_CREEPAGE:g}; roll stages; not with tangential_force",
+        "rolling contacts", "As load.creepage."),
+    Key("load.path[i]", "spin", "number", "1/m", "0", "finite; roll stages only",
+        "rolling contacts", "As load.spin."),
     Key("load.path[i]", "steps", "integer", "1", "1", f"[1, {MAX_STAGE_STEPS:,}]", "load paths",
         "As load.steps."),
     Key("load.path[i] (cycle block)", "cycles", "integer", "1", "required",

@@ -22,6 +22,7 @@ per-step histories (declared in :mod:`solver.variables`) and the notes.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import time
 from collections.abc import Callable
@@ -96,10 +97,24 @@ def needs_slip_stick(case: Case) -> bool:
 def scene(case: Case) -> tuple[tuple[str, ...], Callable[..., StepResult]]:
     """The loops a case runs and its contact step.
 
-    A sliding increment runs :func:`~solver.steps.sliding_step` instead (``sliding`` in loops).
+    A sliding increment runs :func:`~solver.steps.sliding_step` instead (``sliding`` in loops);
+    a rolling one the contact step at the moved position (``rolling``).
     """
     loops, step = _scene(case)
-    return ((*loops[:1], "sliding", *loops[1:]) if case.moving else loops), step
+    motions = tuple(
+        name for name, kind in (("sliding", "slide"), ("rolling", "roll"))
+        if any(stage.motion == kind for stage in case.stages)
+    )  # fmt: skip
+    return (*loops[:1], *motions, *loops[1:]), step
+
+
+def _increment_step(contact_step, stage, moving: bool) -> Callable[..., StepResult]:
+    """The contact step of one increment of ``stage``: sliding, rolling (creepage) or static."""
+    if moving and stage.motion == "slide":
+        return sliding_step
+    if stage.creepage is not None and contact_step is slip_stick_step:
+        return functools.partial(slip_stick_step, creepage=stage.creepage, spin=stage.spin)
+    return contact_step
 
 
 def _scene(case: Case) -> tuple[tuple[str, ...], Callable[..., StepResult]]:
@@ -405,7 +420,7 @@ def solve(case: Case) -> Result:
     cycle_start = None
     loaded_positions: set[tuple[float, float, float, float]] = set()  # (p_x, p_y, sign_x, sign_y)
     before = None  # (state, load increment) of the step before the last (elastic predictor)
-    for k, target in enumerate(targets):
+    for k, (target, stage) in enumerate(zip(targets, case.increment_stages(), strict=True)):
         work = 0.0  # friction work of the step, its sub-steps included
         sub_iterations = dict.fromkeys((*_ITERATION_HISTORY.values(), "plastic_iterations"), 0)
         if plastic and cycles[k] and (k == 0 or cycles[k] != cycles[k - 1]):
@@ -416,12 +431,12 @@ def solve(case: Case) -> Result:
                 guess = previous = None
             direction = new_direction
         moving = position_of(target) != position_of(previous_target)
-        step_of = sliding_step if moving else contact_step  # the increment's contact step
+        step_of = _increment_step(contact_step, stage, moving)
         if plastic and moving and target[0] > 0:  # a load position of Melan's check
             loaded_positions.add(
                 (*position_of(target), *np.sign(np.subtract(target, previous_target)[3:]))
             )
-        if coupled and not moving:  # a sliding step iterates its own coupling
+        if coupled and not moving:  # no load sub-steps while the contact moves
             for sub in load_substeps(previous_target, target, case.solver.max_load_ratio, smallest):
                 if plastic:  # sub-steps are increments of the plastic history too
                     step = plastic_step(operators, contact_step, state, plastic_state, sub, guess)
@@ -536,7 +551,7 @@ def solve(case: Case) -> Result:
                 f"range ({SMALL_STRAIN_LIMIT:g}) the theory rests on"
             )
     contact = state.pressure > 0
-    if moving:  # the last increment slid: every contact cell slips
+    if moving and stage.motion == "slide":  # the last increment slid: every contact cell slips
         contact_state = np.where(contact, SLIP, SEPARATED)
     elif contact_step is slip_stick_step:
         contact_state = np.where(contact, np.where(outcome.stick, STICK, SLIP), SEPARATED)

@@ -324,3 +324,26 @@ FE_SWIFT_8GPA = {
     "plastic_zone_depth_over_a": 2.11,
     "residual_depth": 8.48e-6,
 }
+
+
+#: Kalker's linear creep coefficients of a circular contact (a/b = 1) by Poisson's ratio:
+#: (C11, C22).  Kalker (1967), *On the rolling contact of two elastic bodies in the presence of
+#: dry friction*, thesis, Delft, as tabulated in Johnson, *Contact Mechanics* (1985), §8.4 and
+#: in Kalker (1990), *Three-dimensional elastic bodies in rolling contact*: numbers from those
+#: tables, not derived here.
+KALKER_CIRCLE_COEFFICIENTS = {0.0: (3.40, 3.40), 0.25: (4.12, 3.67), 0.5: (5.20, 3.98)}
+
+
+def kalker_linear_force(
+    creepage: tuple[float, float], shear_modulus: float, radius: float, nu: float
+) -> tuple[float, float]:
+    """Kalker's linear creep force (N) on body 2 of a circular contact at small creepage.
+
+    ``(F_x, F_y) = G a^2 (C11 xi, C22 eta)`` (``G`` the pair's shear modulus, 2/G = 1/G1 +
+    1/G2; ``a`` the contact radius), with the signs of :mod:`solver.case` (the force on body 2
+    points along the rigid slip of body 1).  Valid where the contact nearly adheres (a
+    force well below ``mu W``); ``nu`` one of :data:`KALKER_CIRCLE_COEFFICIENTS`.
+    """
+    c11, c22 = KALKER_CIRCLE_COEFFICIENTS[nu]
+    scale = shear_modulus * radius * radius
+    return scale * c11 * creepage[0], scale * c22 * creepage[1]

@@ -254,8 +254,20 @@ def slip_stick_step(
     target: tuple[float, float, float],
     residual: ResidualDisplacement | None = None,
     initial: ContactState | None = None,
+    *,
+    creepage: tuple[float, float] | None = None,
+    spin: float = 0.0,
 ) -> StepResult:
-    """Slip-stick loop for one increment (module docstring)."""
+    """Slip-stick loop for one increment (module docstring), static or rolling.
+
+    A target position away from ``previous.position`` rolls the contact over body 2 (the gap
+    moves, every other term stays at its point of body 2: Kalker's transient theory in body
+    2's frame, the slip of a point the change of its displacement difference less the rigid
+    slip).  ``creepage`` (xi, eta) and ``spin`` (1/m) prescribe that rigid slip of body 1
+    relative to body 2 per unit distance rolled, ``(xi d, eta d) + spin d (-(y - y_c),
+    x - x_c)`` over a travel d about the travel's midpoint (x_c, y_c); the tangential force is
+    then a result and the target's ignored.  None: the force is prescribed.
+    """
     case, surface = operators.case, operators.surface
     options = case.solver
     mu = case.friction_coefficient
@@ -275,6 +287,19 @@ def slip_stick_step(
         prev_ux, prev_uy = previous.shear_slip_x, previous.shear_slip_y
     known_x = -prev_ux + previous.shift[0] - previous.pressure_slip_x + res_x - previous.residual_x
     known_y = -prev_uy + previous.shift[1] - previous.pressure_slip_y + res_y - previous.residual_y
+    shift = None  # the rigid shift at the end of the increment when prescribed
+    if creepage is not None:  # the force is free: the rigid slip goes into the known part
+        qx_target = qy_target = None
+        travel = np.subtract(position, previous.position)
+        distance = float(np.hypot(*travel))
+        shift = np.asarray(previous.shift, dtype=float) + distance * np.asarray(creepage)
+        known_x, known_y = known_x - shift[0], known_y - shift[1]
+        if spin and distance:
+            centre = np.add(position, previous.position) * 0.5
+            x, y = surface.grid.mesh()
+            known_x = known_x + spin * distance * (y - centre[1])
+            known_y = known_y - spin * distance * (x - centre[0])
+    target_force = None if shift is not None else (qx_target, qy_target)
 
     start = initial if initial is not None else previous
     pressure = _start_pressure(operators, force, start, previous)
@@ -284,13 +309,13 @@ def slip_stick_step(
     messages = []
     if coupled and MERGED_COUPLING:
         tangential, normal, pxs, pys = _merged_coupling(
-            operators, base_gap, force, (known_x, known_y), (qx_target, qy_target),
+            operators, base_gap, force, (known_x, known_y), target_force,
             pressure, (qx, qy), counts,
         )  # fmt: skip
         if tangential.converged:
             return _step_result(
                 operators, previous, tangential, normal, (pxs, pys), (res_x, res_y), force,
-                counts, max(normal.residual, tangential.residual), True, "",
+                counts, max(normal.residual, tangential.residual), True, "", position, shift,
             )  # fmt: skip
         # fall back on alternating whole solves from where it stopped
         pressure, qx, qy = normal.pressure, tangential.shear_x, tangential.shear_y
@@ -302,7 +327,11 @@ def slip_stick_step(
         # inner solves were at least that tight.
         inexact = min(1e-2, INEXACT * change) if coupled else 0.0
         # uncoupled, no residual print: the normal problem depends on W alone
-        normal = None if coupled or residual is not None else _reusable_normal(previous, force)
+        normal = (
+            None
+            if coupled or residual is not None or position != previous.position
+            else _reusable_normal(previous, force)
+        )
         if normal is None:
             extra = base_gap + surface.normal_from_shear(qx, qy) if coupled else base_gap
             normal = solve_normal(
@@ -324,7 +353,7 @@ def slip_stick_step(
             pressure,
             mu,
             (known_x + pxs, known_y + pys),
-            (qx_target, qy_target),
+            target_force,
             initial=(qx, qy),
             tolerance=max(options.slip_tolerance, inexact),
             max_iterations=options.slip_max_iterations,
@@ -357,7 +386,7 @@ def slip_stick_step(
     # the state is the last solve's (not the mixed iterate)
     return _step_result(
         operators, previous, tangential, normal, (pxs, pys), (res_x, res_y), force, counts,
-        worst, converged_all, "; ".join(messages),
+        worst, converged_all, "; ".join(messages), position, shift,
     )  # fmt: skip
 
 
@@ -439,13 +468,16 @@ def sliding_step(
 
 def _step_result(
     operators, previous, tangential, normal, pressure_slip, residual, force, counts, worst,
-    converged, message,
+    converged, message, position, shift=None,
 ) -> StepResult:  # fmt: skip
-    """The slip-stick step's outcome from its last normal and tangential solves."""
+    """The slip-stick step's outcome from its last normal and tangential solves.
+
+    ``shift``: the prescribed rigid shift (m) of a creepage increment, else the solve's.
+    """
     state = ContactState(
-        normal.pressure, tangential.shear_x, tangential.shear_y, np.array(tangential.shift),
-        *pressure_slip, *residual, tangential.displacement_x, tangential.displacement_y, force,
-        normal, previous.position,
+        normal.pressure, tangential.shear_x, tangential.shear_y,
+        np.array(tangential.shift if shift is None else shift), *pressure_slip, *residual,
+        tangential.displacement_x, tangential.displacement_y, force, normal, position,
     )  # fmt: skip
     mean_x = 0.5 * (tangential.shear_x + previous.shear_x)
     mean_y = 0.5 * (tangential.shear_y + previous.shear_y)

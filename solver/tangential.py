@@ -122,8 +122,9 @@ def project_onto_feasible(
         Point to project (Pa).
     bound : ndarray
         Disk radii mu p (Pa).
-    target : ndarray
-        Required sums (sum q_x, sum q_y) (Pa, i.e. force / cell area).
+    target : ndarray or None
+        Required sums (sum q_x, sum q_y) (Pa, i.e. force / cell area); None: no force
+        constraint (the projection onto the disks alone, ``multiplier`` returned unchanged).
     multiplier : ndarray
         Starting lambda (Pa).
     max_iterations : int
@@ -135,6 +136,10 @@ def project_onto_feasible(
     """
     lam = np.array(multiplier, dtype=float)
     scale = max(_sum(bound), 1e-300)
+    if target is None:  # no force constraint: each traction onto its disk
+        norm = np.hypot(zx, zy)
+        ratio = np.where(norm > bound, bound / np.where(norm > bound, norm, 1.0), 1.0)
+        return zx * ratio, zy * ratio, lam
 
     def evaluate(lam):
         wx, wy = zx - lam[0], zy - lam[1]
@@ -212,7 +217,9 @@ NEWTON_MAX_ITERATIONS = 100
 FORCING, SETTLED_FORCING = 0.1, 0.03
 
 
-def _newton_solve(operator, qx, qy, ux, uy, cx, cy, stick, slip, bound, tolerance, max_iterations):
+def _newton_solve(
+    operator, qx, qy, ux, uy, cx, cy, stick, slip, bound, tolerance, max_iterations, free=False
+):
     """One Newton step for a fixed stick/slip split, solved by preconditioned CG.
 
     Unknowns: the traction of every stick cell and the direction of every slip cell (whose
@@ -221,7 +228,8 @@ def _newton_solve(operator, qx, qy, ux, uy, cx, cy, stick, slip, bound, toleranc
     the slip multiplier: the curvature of the circle); the preconditioner is the inverse
     Cerruti symbol (:meth:`SurfaceOperator.inverse_tangential`) restricted alike.  Updates
     ``q`` (slip tractions retracted to their circles, the force restored on the stick cells)
-    and ``u = K_t q`` in place; returns (shift, operator applications).
+    and ``u = K_t q`` in place; returns (shift, operator applications).  ``free``: no force
+    constraint (the shift is then zero: the caller folded it into ``c``).
     """
     magnitude = np.hypot(qx, qy)
     slip = slip & (magnitude > 0.0)
@@ -241,7 +249,7 @@ def _newton_solve(operator, qx, qy, ux, uy, cx, cy, stick, slip, bound, toleranc
     gram = np.array(
         [[_dot(rxx, rxx) + _dot(rxy, rxy), cross], [cross, _dot(rxy, rxy) + _dot(ryy, ryy)]]
     )
-    gram_inverse = np.linalg.pinv(gram)
+    gram_inverse = np.zeros((2, 2)) if free else np.linalg.pinv(gram)
 
     def coefficients(fx, fy):
         # least-squares components of f along the admissible unit forces; f is always
@@ -293,9 +301,10 @@ def _newton_solve(operator, qx, qy, ux, uy, cx, cy, stick, slip, bound, toleranc
     ratio = np.where(slip, bound / np.where(norm > 0.0, norm, 1.0), 1.0)
     new_x *= ratio
     new_y *= ratio
-    n_stick = max(float(stick.sum()), 1.0)
-    new_x += on_stick * ((_sum(qx) - _sum(new_x)) / n_stick)
-    new_y += on_stick * ((_sum(qy) - _sum(new_y)) / n_stick)
+    if not free:  # the force restored on the stick cells
+        n_stick = max(float(stick.sum()), 1.0)
+        new_x += on_stick * ((_sum(qx) - _sum(new_x)) / n_stick)
+        new_y += on_stick * ((_sum(qy) - _sum(new_y)) / n_stick)
     # u follows linearly; the retraction's (second-order) correction needs one more product
     cor_x, cor_y = new_x - qx - dx, new_y - qy - dy
     if np.any(cor_x) or np.any(cor_y):
@@ -335,7 +344,8 @@ def _active_set(
     """
     compliance = operator.tangential_diagonal()
     rho = SPLIT / compliance
-    area_target = np.asarray(target, dtype=float)
+    free = target is None  # no force constraint: the shift is in c
+    area_target = None if free else np.asarray(target, dtype=float)
     settled = True
     if renew is not None:
         bound, contact, cx, cy, settled = renew(qx, qy, np.inf)
@@ -347,7 +357,9 @@ def _active_set(
     # the starting shift: the mean rigid motion of the cells inside their disks
     inside = contact & (np.hypot(qx, qy) < bound)
     weight = (inside if inside.any() else contact).astype(float)
-    shift = np.array([_sum((ux + cx) * weight), _sum((uy + cy) * weight)]) / _sum(weight)
+    shift = np.zeros(2)
+    if not free and weight.any():
+        shift = np.array([_sum((ux + cx) * weight), _sum((uy + cy) * weight)]) / _sum(weight)
     residual, stick = _optimality(ux, uy, qx, qy, cx, cy, shift, bound, contact, scale, compliance)
     best = (residual, qx.copy(), qy.copy(), ux.copy(), uy.copy(), shift.copy(), stick)
     stagnant = 0
@@ -359,7 +371,7 @@ def _active_set(
         zx = qx - rho * (ux + cx - shift[0])
         zy = qy - rho * (uy + cy - shift[1])
         stick_set = contact & (np.hypot(zx, zy) <= bound)
-        if not stick_set.any():
+        if not stick_set.any() and not free:  # full slip under a force below mu W: no split
             break
         # the force is restored by the projection's multiplier on every cell, not by the few
         # stick cells alone (which would overload them when the stick zone is small)
@@ -380,7 +392,7 @@ def _active_set(
         inner = displacement * max(0.3 * tolerance, min(1e-3, forcing * residual))
         shift, used = _newton_solve(
             operator, qx, qy, ux, uy, cx, cy, stick_set, contact & ~stick_set, bound, inner,
-            min(budget - applications, NEWTON_MAX_ITERATIONS),
+            min(budget - applications, NEWTON_MAX_ITERATIONS), free,
         )  # fmt: skip
         applications += used
         residual, stick = _optimality(
@@ -460,7 +472,7 @@ def solve_tangential(
     pressure: np.ndarray,
     friction_coefficient: float,
     offset: tuple[np.ndarray, np.ndarray],
-    force: tuple[float, float],
+    force: tuple[float, float] | None,
     *,
     initial: tuple[np.ndarray, np.ndarray] | None = None,
     scale: float | None = None,
@@ -480,8 +492,10 @@ def solve_tangential(
         mu (dimensionless), > 0.
     offset : (ndarray, ndarray)
         The known part ``c`` of the slip increment (m), see the module docstring.
-    force : (float, float)
-        Prescribed tangential force (Q_x, Q_y) on body 2 (N); must satisfy |Q| < mu W.
+    force : (float, float) or None
+        Prescribed tangential force (Q_x, Q_y) on body 2 (N); must satisfy |Q| < mu W.  None:
+        the force is free and the rigid shift prescribed (rolling at a given creepage): the
+        caller subtracts it from ``offset`` and the returned shift is zero.
     initial : (ndarray, ndarray), optional
         Starting shear tractions (Pa), e.g. the previous step's.
     scale : float, optional
@@ -504,7 +518,7 @@ def solve_tangential(
     n_contact = max(int(contact.sum()), 1)
     bound = friction_coefficient * np.where(contact, pressure, 0.0)
     cx, cy = offset
-    target = np.array(force, dtype=float) / area
+    target = None if force is None else np.array(force, dtype=float) / area
     if scale is None:
         scale = np.sqrt(_sum((cx * cx + cy * cy) * contact) / n_contact)
     scale = max(scale, 1e-300)
@@ -542,7 +556,7 @@ def solve_tangential_coupled(
     operator: SurfaceOperator,
     friction_coefficient: float,
     renew: Callable[[np.ndarray, np.ndarray, float], tuple],
-    force: tuple[float, float],
+    force: tuple[float, float] | None,
     initial: tuple[np.ndarray, np.ndarray],
     *,
     tolerance: float = 1e-8,
@@ -570,8 +584,9 @@ def solve_tangential_coupled(
         mu (dimensionless), > 0.
     renew : callable
         See above.
-    force : (float, float)
-        Prescribed tangential force (N).
+    force : (float, float) or None
+        Prescribed tangential force (N); None: free, the shift in the offset
+        (:func:`solve_tangential`).
     initial : (ndarray, ndarray)
         Starting shear tractions (Pa).
     tolerance : float
@@ -592,7 +607,7 @@ def solve_tangential_coupled(
         data.append((contact, cx, cy))
         return friction_coefficient * np.where(contact, pressure, 0.0), contact, cx, cy, settled
 
-    target = np.array(force, dtype=float) / area
+    target = None if force is None else np.array(force, dtype=float) / area
     zero = np.zeros_like(initial[0])  # placeholders: the first renewal sets the disks
     qx, qy, ux, uy, shift, residual, stick, iterations, converged = _active_set(
         operator, zero, zero > 0, zero, zero, target, initial[0], initial[1], None, tolerance,

@@ -1,0 +1,237 @@
+"""Rolling stages (issue 24): the contact rolls over body 2 at given creepages or force.
+
+Each increment's slip is the change of the tangential displacement difference at the same
+point of body 2 less the rigid creepage times the distance rolled (Kalker's transient theory in
+body 2's frame).  Checks: a roll of zero is the static answer; rolling along -x is the mirror of
+rolling along +x, spin -phi the mirror in y of spin phi; the steady creep force of two identical
+elastic bodies approaches Kalker's linear coefficients C11, C22 as the rolled step shrinks; the
+stick zone sits at the leading edge; large creepage slides fully at mu W; from a Cattaneo start
+the creep force is steady after two diameters; the force-controlled roll finds the creepage the
+creepage-controlled one was given; bad stages are refused by name.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import solver
+from solver import Case, SpecError
+from solver.reference import KALKER_CIRCLE_COEFFICIENTS, kalker_linear_force
+
+E, NU, MU, FORCE = 210e9, 0.25, 0.3, 1000.0
+#: Body 1 carries the pair's curvature (R = 25 mm: two 50 mm spheres), body 2 is flat (a
+#: rolling contact moves over body 2); the same steel: beta = 0.
+BALL = {"behaviour": "elastic", "E": E, "nu": NU, "radius": 0.025}
+FLAT = {"behaviour": "elastic", "E": E, "nu": NU}
+SHEAR_MODULUS = E / (2 * (1 + NU))
+
+
+def _case(path, n, body1=BALL, body2=FLAT, mu=MU, **grid) -> Case:
+    table = {
+        "body1": dict(body1), "body2": dict(body2), "friction": {"coefficient": mu},
+        "load": {"path": path}, "grid": {"n": list(n), **grid},
+    }  # fmt: skip
+    return Case.from_dict(table)
+
+
+@pytest.fixture(scope="module")
+def radius():
+    return _case([{"normal_force": FORCE}], (32, 32)).hertz.radius
+
+
+def _creepage(normalised: float, radius: float) -> float:
+    """Creepage of the normalised creepage G a^2 C11 xi / (3 mu W) (1: about full slip)."""
+    c11 = KALKER_CIRCLE_COEFFICIENTS[NU][0]
+    return normalised * 3 * MU * FORCE / (SHEAR_MODULUS * radius * radius * c11)
+
+
+def _roll(radius, travel, per_radius, cells_per_radius, *, creepage=None, force=None, start=()):
+    """Load, then roll ``travel`` radii along x in ``per_radius`` steps a radius."""
+    stage = {"roll": [travel * radius, 0.0], "steps": round(travel * per_radius)}
+    if creepage is not None:
+        stage["creepage"] = list(creepage)
+    if force is not None:
+        stage["tangential_force"] = list(force)
+    n = (round((2.4 + travel) * cells_per_radius), round(2.4 * cells_per_radius))
+    return _case([{"normal_force": FORCE}, *start, stage], n, half_width=1.2)
+
+
+def test_a_roll_of_zero_is_the_static_answer():
+    static = _case(
+        [{"normal_force": FORCE}, {"tangential_force": [50.0, 0.0], "steps": 2}], (32, 32)
+    )
+    still = _case(
+        [
+            {"normal_force": FORCE},
+            {"tangential_force": [50.0, 0.0], "roll": [0.0, 0.0], "steps": 2},
+        ],
+        (32, 32),
+    )
+    assert still.case_id == static.case_id and not still.moving
+    a, b = solver.solve(static), solver.solve(still)
+    assert np.array_equal(a.shear_x, b.shear_x) and np.array_equal(a.pressure, b.pressure)
+
+
+def test_rolling_back_is_the_mirror_and_spin_mirrors_in_y(radius):
+    """A rigid ball on steel (beta != 0: the shear moves the pressure, the coupling runs)."""
+    rigid = {"behaviour": "rigid", "radius": 0.025}
+    xi = _creepage(0.4, radius)
+    out = {}
+    for sign in (1.0, -1.0):
+        path = [
+            {"normal_force": FORCE},
+            {"roll": [sign * 2 * radius, 0.0], "creepage": [sign * xi, 0.0], "steps": 12},
+        ]
+        out[sign] = solver.solve(_case(path, (72, 32), body1=rigid, half_width=1.3))
+        assert out[sign].status == "converged"
+    forward, back = out[1.0], out[-1.0]
+    assert abs(forward.history["tangential_force_x"][-1]) > 0.3 * MU * FORCE
+    assert np.allclose(
+        forward.pressure, back.pressure[::-1], rtol=0, atol=1e-7 * forward.pressure.max()
+    )
+    assert np.allclose(
+        forward.shear_x, -back.shear_x[::-1], rtol=0, atol=1e-7 * forward.pressure.max()
+    )
+    spun = {}
+    for sign in (1.0, -1.0):
+        path = [
+            {"normal_force": FORCE},
+            {
+                "roll": [radius, 0.0],
+                "creepage": [xi, 0.0],
+                "spin": sign * 0.5 * xi / radius,
+                "steps": 6,
+            },
+        ]
+        spun[sign] = solver.solve(_case(path, (48, 32), half_width=1.3))
+    left, right = spun[1.0], spun[-1.0]
+    assert abs(left.history["tangential_force_y"][-1]) > 1e-3 * MU * FORCE  # spin drives F_y
+    scale = 1e-5 * left.pressure.max()  # the slip tolerance's reach, 8e-7 seen
+    assert np.allclose(left.shear_x, right.shear_x[:, ::-1], rtol=0, atol=scale)
+    assert np.allclose(left.shear_y, -right.shear_y[:, ::-1], rtol=0, atol=scale)
+
+
+def _steady_coefficient(result, component: str, creepage: float, radius: float, per_radius):
+    """Creep force over G a^2 xi, averaged over the last two radii rolled (phase noise)."""
+    force = result.history[f"tangential_force_{component}"]
+    return float(np.mean(force[-2 * per_radius :])) / (SHEAR_MODULUS * radius**2 * creepage)
+
+
+@pytest.mark.parametrize("component", ["x", "y"])
+def test_steady_creep_force_approaches_kalkers_coefficients(radius, component):
+    """Two identical steel bodies (beta = 0), nu = 0.25, 16 cells a radius, creepage 1/1000
+    of full slip (the linear regime), 8 radii rolled.  The step of the roll is the error: a
+    radius in 16 then 32 steps; the error falls and ends within 1.5 % of Kalker's table."""
+    xi = _creepage(1e-3, radius)
+    creepage = (xi, 0.0) if component == "x" else (0.0, xi)
+    expected = kalker_linear_force(creepage, SHEAR_MODULUS, radius, NU)["xy".index(component)]
+    errors = []
+    for per_radius in (16, 32):
+        result = solver.solve(_roll(radius, 8, per_radius, 16, creepage=creepage))
+        assert result.status == "converged"
+        coefficient = _steady_coefficient(result, component, xi, radius, per_radius)
+        errors.append(abs(coefficient * SHEAR_MODULUS * radius**2 * xi / expected - 1.0))
+    assert errors[1] < errors[0] and errors[1] < 0.015, errors
+
+
+def test_stick_at_the_leading_edge_and_full_slip_at_large_creepage(radius):
+    """Half of the saturation creepage: stick ahead (x > centre), slip behind (and on the
+    rim, where mu p is small); five times it:
+    every contact cell slips at mu p and the creep force is mu W along x within 1e-4."""
+    half = solver.solve(_roll(radius, 4, 16, 12, creepage=(_creepage(0.5, radius), 0.0)))
+    assert half.status == "converged"
+    x = half.grid.mesh()[0] - half.history["position_x"][-1]
+    stick, slip = (
+        half.contact_state == solver.result.STICK,
+        half.contact_state == solver.result.SLIP,
+    )
+    assert stick.any() and slip.any()
+    assert x[stick].mean() > 0.3 * radius and x[slip].mean() < 0.0
+    middle = np.argmin(np.abs(half.grid.y))  # along the centre line, behind: all slip
+    behind = (x[:, middle] < -0.3 * radius) & (half.pressure[:, middle] > 0)
+    assert behind.any() and slip[behind, middle].all()
+    assert 0.5 * MU * FORCE < half.history["tangential_force_x"][-1] < MU * FORCE
+    full = solver.solve(_roll(radius, 2, 16, 12, creepage=(_creepage(5.0, radius), 0.0)))
+    assert full.status == "converged" and not (full.contact_state == solver.result.STICK).any()
+    magnitude = np.hypot(full.shear_x, full.shear_y).sum() * full.grid.cell_area
+    assert magnitude == pytest.approx(MU * full.pressure.sum() * full.grid.cell_area, rel=1e-9)
+    # the slip turns a little off x where the displacement changes: F_x a hair below mu W
+    assert 0.9999 * MU * FORCE < full.history["tangential_force_x"][-1] <= MU * FORCE
+
+
+def test_cattaneo_start_is_steady_after_two_diameters_and_force_control_finds_the_creepage(
+    radius,
+):
+    """Steady force F at creepage xi from 8 radii rolled; then from a Cattaneo start at F (a
+    static shift to F), rolling at xi: within 1 % of F after 4 radii; and rolling at the
+    prescribed force F: the shift per distance rolled is xi within 2 %."""
+    xi = _creepage(0.5, radius)
+    steady = solver.solve(_roll(radius, 8, 16, 12, creepage=(xi, 0.0)))
+    force = float(np.mean(steady.history["tangential_force_x"][-32:]))
+    cattaneo = [{"tangential_force": [force, 0.0], "steps": 4}]
+    started = solver.solve(_roll(radius, 4, 16, 12, creepage=(xi, 0.0), start=cattaneo))
+    assert started.status == "converged"
+    assert started.history["tangential_force_x"][-1] == pytest.approx(force, rel=0.01)
+    controlled = solver.solve(_roll(radius, 4, 16, 12, force=(force, 0.0), start=cattaneo))
+    assert controlled.status == "converged"
+    shift, position = controlled.history["tangential_shift_x"], controlled.history["position_x"]
+    rate = (shift[-1] - shift[-17]) / (position[-1] - position[-17])  # the last radius
+    assert rate == pytest.approx(xi, rel=0.02)
+
+
+def test_lifting_after_a_creepage_stage_holds_the_shift(radius):
+    xi = _creepage(0.3, radius)
+    path = [
+        {"normal_force": FORCE},
+        {"roll": [radius, 0.0], "creepage": [xi, 0.0], "steps": 8},
+        {"normal_force": 0.0, "steps": 4},
+    ]
+    result = solver.solve(_case(path, (40, 28), half_width=1.2))
+    assert result.status == "converged"
+    history = result.history
+    assert np.all(history["tangential_shift_x"][-4:] == history["tangential_shift_x"][-5])
+    assert history["tangential_force_x"][-1] == 0.0
+    assert abs(history["tangential_force_x"][-2]) < abs(history["tangential_force_x"][-5])
+
+
+ROLL = {"roll": [1e-4, 0.0], "steps": 2}
+
+
+@pytest.mark.parametrize(
+    ("stage", "extra", "field"),
+    [
+        ({"creepage": [1e-3, 0.0]}, {}, "load.path[1].creepage"),
+        ({"spin": 1.0}, {}, "load.path[1].spin"),
+        ({"slide": [1e-4, 0.0], "creepage": [1e-3, 0.0]}, {}, "load.path[1].creepage"),
+        ({**ROLL, "slide": [1e-4, 0.0]}, {}, "load.path[1].roll"),
+        ({**ROLL, "creepage": [1e-3, 0.0], "tangential_force": [1.0, 0.0]}, {},
+         "load.path[1].tangential_force"),
+        ({**ROLL, "creepage": [1e-3]}, {}, "load.path[1].creepage"),
+        ({**ROLL, "creepage": "fast"}, {}, "load.path[1].creepage"),
+        ({**ROLL, "creepage": [2.0, 0.0]}, {}, "load.path[1].creepage"),
+        ({**ROLL, "creepage": [math.nan, 0.0]}, {}, "load.path[1].creepage"),
+        ({**ROLL, "spin": math.inf}, {}, "load.path[1].spin"),
+        ({**ROLL, "creepage": [1e-3, 0.0]}, {"mu": 0.0}, "load.path[1].creepage"),
+        ({**ROLL, "creepage": [1e-3, 0.0]}, {"body2": {**FLAT, "radius": 0.05}}, "body2.radius"),
+        ({**ROLL, "creepage": [1e-3, 0.0]},
+         {"body1": {**BALL, "behaviour": "elastic-plastic",
+                    "hardening": {"law": "perfect", "yield_stress": 1e9}}},
+         "body1.behaviour"),
+    ],
+)  # fmt: skip
+def test_bad_rolling_stages_are_refused(stage, extra, field):
+    with pytest.raises(SpecError, match="^" + field.replace("[", r"\[").replace("]", r"\]")):
+        _case([{"normal_force": FORCE}, stage], (32, 32), **{"half_width": 1.5}, **extra)
+
+
+def test_a_force_ramp_after_a_creepage_stage_is_refused():
+    path = [
+        {"normal_force": FORCE},
+        {**ROLL, "creepage": [1e-3, 0.0]},
+        {"tangential_force": [10.0, 0.0]},
+    ]
+    with pytest.raises(SpecError, match=r"^load\.path\[2\]\.tangential_force: the previous stage"):
+        _case(path, (32, 32))
