@@ -61,6 +61,15 @@ def cycle_summary(history: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         out["slip_amplitude"] = np.array(shifts)
         stick = np.asarray(history["stick_area"], dtype=float)
         out["min_stick_radius"] = np.array([math.sqrt(stick[s].min() / math.pi) for s in blocks])
+    if "tangential_force_x" in history and "position_x" in history:  # a moving path
+        position = np.stack([np.asarray(history[f"position_{a}"], dtype=float) for a in "xy"])
+        moved = np.any(np.diff(position, axis=1, prepend=0.0) != 0.0, axis=0)
+        loaded_moves = moved & (np.asarray(history["normal_force"], dtype=float) > 0)
+        for axis in "xy":
+            force = np.asarray(history[f"tangential_force_{axis}"], dtype=float)
+            out[f"creep_force_{axis}"] = np.array(
+                [force[s[loaded_moves[s]][-1]] if loaded_moves[s].any() else np.nan for s in blocks]
+            )
     if "friction_work" in history:
         work = np.asarray(history["friction_work"], dtype=float)
         out["cycle_friction_work"] = np.array([float(work[s].sum()) for s in blocks])

@@ -131,6 +131,15 @@ CYCLE_QUANTITIES: dict[str, tuple[str, str]] = {
         "area of the cycle's Q_x-Delta_x loop, sum (Q_k + Q_(k-1))/2 (Delta_k - Delta_(k-1))",
     ),
     "cycle_friction_work": ("J", "energy dissipated by friction over the cycle's surface"),
+    "creep_force_x": (
+        "N",
+        "tangential force on body 2 along x at the cycle's last loaded moving step (a rolling "
+        "pass's creep force; mu W along the motion in sliding)",
+    ),
+    "creep_force_y": (
+        "N",
+        "tangential force on body 2 along y at the cycle's last loaded moving step",
+    ),
     "slip_amplitude": ("m", "half the range of the tangential shift Delta_x over the cycle"),
     "min_stick_radius": (
         "m",

@@ -17,6 +17,7 @@ SCENES = {
     "cycles": ("cycles", "run_cycles", ()),
     "rough": ("rough", "run_rough", ("peers",)),
     "moving": ("moving", "run_moving", ()),
+    "rolling": ("rolling", "run_rolling", ("peers",)),
 }
 
 DEFAULT_SIZES = {
@@ -27,6 +28,7 @@ DEFAULT_SIZES = {
     "cycles": [32, 64, 128],
     "rough": [128, 256],
     "moving": [16, 32],
+    "rolling": [32, 64],
 }
 
 

@@ -1,0 +1,195 @@
+"""Rolling benchmark: steady creep force against creepage, slipstick beside CONTACT.
+
+Scene: two identical elastic bodies (E = 210 GPa, nu = 0.25: Dundurs beta = 0), a circular
+Hertz contact of radius a = 1 mm (two 100 mm spheres: W = 2987 N, p_0 = 1.43 GPa), mu = 0.3,
+longitudinal creepage ``xi = xi_n 3 mu W / (G a^2 C11)`` (C11 = 4.12, Kalker's table: xi_n = 1
+is about full slip), rolling along +x, no spin.
+
+- **slipstick**: body 1 a ball of the pair's radius (50 mm), body 2 flat (the contact moves over
+  it); loaded, then rolled 8 a at the creepage from rest (Kalker's transient theory), in
+  ``2 n`` steps a contact radius for ``n`` cells across the contact (a step of half a cell:
+  the step is the error, O(step)); the steady force is the mean over the last 2 a.
+- **CONTACT** (E.A.H. Vollebregt's program, Apache-2.0, built from its public sources; not
+  part of this project: give its executable in ``CONTACT_EXE``): the same scene in its steady
+  rolling mode (``T = 3``, Hertzian semi-axes prescribed, ``n`` elements across the contact,
+  rolling step one element), one input file per creepage, run in the same process tree.
+
+The linear rows (``xi_n = 1e-3``, along x and along y) give C11 and C22 beside Kalker's table
+(:data:`solver.reference.KALKER_CIRCLE_COEFFICIENTS`).  Columns: code, cells across, steps a
+radius, creepage, creep force over mu W (the linear rows: the coefficient), its difference from
+CONTACT on 120 elements across (the reference) and from Kalker's table, CPU and wall time, peak
+memory (ours: growth of the resident set; CONTACT's: its peak resident set),
+tangential-operator applications (ours).
+
+``python -m study bench rolling [--sizes N ...] [--peers]`` (N: cells across, default 32 64).
+"""
+
+from __future__ import annotations
+
+import os
+import resource
+import shutil
+import subprocess
+import tempfile
+import time
+
+from .timing import format_table, isolated, machine, timed_solve
+
+E, NU, MU = 210e9, 0.25, 0.3
+RADIUS = 1e-3  # m, the contact radius
+PAIR_RADIUS = 0.05  # m: two 100 mm spheres
+#: Kalker's C11, C22 of the scene's nu (placing the creepages; the linear rows compare them)
+C11, C22 = 4.12, 3.67
+XI_N = (0.1, 0.3, 0.5, 0.7, 1.0)
+LINEAR = 1e-3
+TRAVEL, AVERAGE = 8.0, 2.0  # contact radii rolled; the last ones averaged
+#: CONTACT's elements across the contact of the reference rows
+REFERENCE_ACROSS = 120
+SHEAR = E / (2 * (1 + NU))
+FORCE = 4.0 * E / (2 * (1 - NU * NU)) * RADIUS**3 / (3.0 * PAIR_RADIUS)
+
+
+def creepage(xi_n: float, coefficient: float = C11) -> float:
+    """The creepage of a normalised creepage ``xi_n`` (1: about full slip)."""
+    return xi_n * 3.0 * MU * FORCE / (SHEAR * RADIUS**2 * coefficient)
+
+
+def rolling_table(across: int, xi: tuple[float, float]) -> dict:
+    """The case table: load, then roll TRAVEL radii at creepage ``xi`` (2 ``across`` steps/a)."""
+    per_radius = 2 * across
+    n = (round((TRAVEL + 2.4) * across / 2), round(2.4 * across / 2))
+    return {
+        "body1": {"behaviour": "elastic", "E": E, "nu": NU, "radius": PAIR_RADIUS},
+        "body2": {"behaviour": "elastic", "E": E, "nu": NU},
+        "friction": {"coefficient": MU},
+        "load": {"path": [
+            {"normal_force": FORCE},
+            {"roll": [TRAVEL * RADIUS, 0.0], "creepage": list(xi),
+             "steps": round(TRAVEL * per_radius)},
+        ]},
+        "grid": {"n": list(n), "half_width": 1.2},
+    }  # fmt: skip
+
+
+def _ours(across: int, xi: tuple[float, float]) -> dict:
+    import numpy as np
+
+    case, result, wall, cpu, memory = timed_solve(rolling_table(across, xi))
+    axis = "x" if xi[0] else "y"
+    last = round(AVERAGE * 2 * across)
+    force = float(np.mean(result.history[f"tangential_force_{axis}"][-last:]))
+    return {
+        "force": force, "cpu": cpu, "wall": wall, "memory": memory,
+        "iterations": int(result.history["slip_iterations"].sum()), "status": result.status,
+    }  # fmt: skip
+
+
+def _contact_input(across: int, xi: tuple[float, float]) -> str:
+    """CONTACT's input (module 3, units mm, N, N/mm^2) for steady rolling at ``xi``."""
+    elements = round(1.1 * across)  # the potential contact: 1.1 a on each side
+    scale, step = elements / across, 2.0 * RADIUS * 1e3 / across
+    shear = SHEAR * 1e-6
+    lines = [
+        "% slipstick bench rolling: steady rolling, Hertzian circle a = 1 mm",
+        " 3  MODULE",
+        "  203100     P-B-T-N-F-S",  # steady rolling (T = 3), Hertzian normal problem
+        "  022020     L-D-C-M-Z-E",
+        " 0000331   H-G-I-A-O-W-R",
+        "   999   200    30     1   1e-6    MAXGS, MAXIN, MAXNR, MAXOUT, EPS",
+        f"  {FORCE:.6f}  {xi[0]:.10e}  {xi[1]:.10e}  0.0    FN, CKSI, CETA, CPHI",
+        f"  {MU:.3f}  {MU:.3f}    FSTAT, FKIN",
+        f"  0.000  {step:.8f}  1000.0    CHI, DQ, VELOC",
+        f"  {NU:.4f}  {NU:.4f}  {shear:.4f}  {shear:.4f}    POISS 1,2, GG 1,2",
+        "   -3    IPOTCN",
+        f"  {elements}  {elements}  {RADIUS * 1e3:.4f}  {RADIUS * 1e3:.4f}  {scale:.8f}"
+        "    MX, MY, AA, BB, SCALE",
+        "",
+        " 0  MODULE",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def _contact(executable: str, across: int, xi: tuple[float, float]) -> dict:
+    """Run CONTACT on the scene; its force on body 2 (the opposite of its force on body 1)."""
+    folder = tempfile.mkdtemp(prefix="contact_")
+    try:
+        with open(os.path.join(folder, "bench.inp"), "w") as handle:
+            handle.write(_contact_input(across, xi))
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        start = time.perf_counter()
+        done = subprocess.run(
+            [executable, "2", "bench"], cwd=folder, capture_output=True, text=True, timeout=3600
+        )
+        wall = time.perf_counter() - start
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if done.returncode != 0:
+            raise RuntimeError(f"CONTACT exited with {done.returncode}: {done.stdout[-300:]}")
+        with open(os.path.join(folder, "bench.out")) as handle:
+            lines = handle.read().splitlines()
+        totals = next(k for k, line in enumerate(lines) if line.split()[:3] == ["FN", "FX", "FY"])
+        fn, fx, fy = (float(v) for v in lines[totals + 1].split()[:3])
+        cpu = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+        return {
+            "force": -(fx if xi[0] else fy), "normal": fn, "cpu": cpu, "wall": wall,
+            "memory": after.ru_maxrss / 1024.0, "iterations": None, "status": "converged",
+        }  # fmt: skip
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def contact_executable() -> str | None:
+    """CONTACT's executable from ``CONTACT_EXE``, if it is there."""
+    path = os.environ.get("CONTACT_EXE")
+    return path if path and os.access(path, os.X_OK) else None
+
+
+def run_rolling(sizes: list[int], peers: bool = False) -> int:
+    """Print the creep-curve and linear-coefficient table; 0 when every row ran."""
+    executable = contact_executable() if peers else None
+    if peers:
+        print("peers:", f"CONTACT {executable}" if executable else "CONTACT_EXE not set")
+    points = [(f"{x:g}", (creepage(x), 0.0), MU * FORCE, None) for x in XI_N]
+    for name, axis, kalker in (("C11", 0, C11), ("C22", 1, C22)):
+        xi = [0.0, 0.0]
+        xi[axis] = creepage(LINEAR, kalker)
+        points.append((name, tuple(xi), SHEAR * RADIUS**2 * xi[axis], kalker))
+    rows, failures = [], 0
+
+    def add(code, across, label, status, out, unit, kalker, reference):
+        nonlocal failures
+        if status != "ok":
+            failures += 1
+            rows.append({"code": code, "across": across, "xi_n": label, "status": out})
+            return None
+        value = out["force"] / unit
+        rows.append({
+            "code": code, "across": across,
+            "steps_per_a": 2 * across if code == "slipstick" else across // 2,
+            "xi_n": label, "F_over_muW_or_C": value,
+            "vs_CONTACT_ref_%": None if reference is None else 100 * (value / reference - 1),
+            "vs_Kalker_%": None if kalker is None else 100 * (value / kalker - 1),
+            "cpu_s": round(out["cpu"], 2), "wall_s": round(out["wall"], 2),
+            "peak_MB": round(out["memory"]), "iterations": out["iterations"],
+            "status": out["status"],
+        })  # fmt: skip
+        return value
+
+    for label, xi, unit, kalker in points:
+        reference = None
+        if executable:  # CONTACT on its finest grid: the reference of the row's sizes
+            status, out = isolated(_contact, executable, REFERENCE_ACROSS, xi, timeout=7200.0)
+            reference = add("CONTACT", REFERENCE_ACROSS, label, status, out, unit, kalker, None)
+        for across in sizes:
+            status, out = isolated(_ours, across, xi, timeout=7200.0)
+            add("slipstick", across, label, status, out, unit, kalker, reference)
+            if executable:
+                status, out = isolated(_contact, executable, across, xi, timeout=7200.0)
+                add("CONTACT", across, label, status, out, unit, kalker, reference)
+    print(
+        f"# steady rolling, identical steel bodies (nu = {NU:g}), a = 1 mm, mu = {MU:g}, "
+        f"W = {FORCE:.1f} N; xi_n = G a^2 C11 xi / (3 mu W); C11/C22 rows: the coefficient at "
+        f"xi_n = {LINEAR:g}; reference: CONTACT at {REFERENCE_ACROSS} across; {machine()}"
+    )
+    print(format_table(rows))
+    return 1 if failures else 0
