@@ -49,6 +49,7 @@ from .tensor import Y_REFLECTION, equivalent_strain, von_mises
 from .variables import (
     BODY1_SUFFIX,
     CYCLE_PLASTIC_HISTORIES,
+    CYCLE_PROFILES,
     FIELDS,
     HISTORIES,
     PLASTIC_BODY_HISTORIES,
@@ -318,7 +319,9 @@ def _on_common_axes(name: str, values: np.ndarray) -> np.ndarray:
     components.  Depths stay into the body.
     """
     declared = FIELDS[name]
-    out = mirror(values, axis=declared.dims.index("y")) * declared.swap_sign
+    out = values * declared.swap_sign
+    if "y" in declared.dims:
+        out = mirror(out, axis=declared.dims.index("y"))
     if "component" in declared.dims:
         out = out * Y_REFLECTION.reshape((6,) + (1,) * (out.ndim - 1))
     return out
@@ -418,6 +421,7 @@ def solve(case: Case) -> Result:
     faces_noted = edge_noted = False
     outcome = None
     cycle_start = None
+    cycle_profiles: dict[str, list] = {}  # CYCLE_PROFILES at the end of every cycle
     loaded_positions: set[tuple[float, float, float, float]] = set()  # (p_x, p_y, sign_x, sign_y)
     before = None  # (state, load increment) of the step before the last (elastic predictor)
     for k, (target, stage) in enumerate(zip(targets, case.increment_stages(), strict=True)):
@@ -498,9 +502,10 @@ def solve(case: Case) -> Result:
                 for p, (_, start) in zip(plastic_state, cycle_start, strict=True)
             )
             if k + 1 == total or cycles[k + 1] != cycles[k]:  # the cycle's last step
-                history["cycle_residual_stress"][cycles == cycles[k]] = _max_residual_stress(
-                    operators, plastic_state
-                )
+                largest, profiles = _cycle_end(operators, plastic_state)
+                history["cycle_residual_stress"][cycles == cycles[k]] = largest
+                for name, values in profiles.items():
+                    cycle_profiles.setdefault(name, []).append(values)
         history["residual"][k] = residual
         history["step_converged"][k] = float(step_ok)
         if not edge_noted and _touches_edge(state.pressure):
@@ -582,6 +587,7 @@ def solve(case: Case) -> Result:
         result.fields["von_mises"] = von_mises(stress)
     if plastic:
         _plastic_fields(result, operators, plastic_state)
+        result.fields.update({name: np.array(rows) for name, rows in cycle_profiles.items()})
         if loaded_positions:
             result.melan_factor = _melan(case, operators, plastic_state, loaded_positions)
     geometry = case.pair.geometry
@@ -696,14 +702,30 @@ def _melan(
     return melan_factor(residual, loads, body.hardening.flow_stress(plastic.equivalent))
 
 
-def _max_residual_stress(operators: CaseOperators, states: tuple[PlasticState, ...]) -> float:
-    """Largest von Mises stress of the plastic strain alone (Pa), over the plastic bodies."""
-    return max(
-        float(von_mises(operators.volume(body)[1].stress(p.strain)).max())
-        if p.strain.any()
-        else 0.0
-        for body, p in zip(operators.case.plastic_bodies, states, strict=True)
-    )
+def _cycle_end(
+    operators: CaseOperators, states: tuple[PlasticState, ...]
+) -> tuple[float, dict[str, np.ndarray]]:
+    """The largest residual stress and the first plastic body's profiles at a cycle's end.
+
+    The largest von Mises stress of the plastic strain alone (Pa, over the plastic bodies); the
+    profiles (:data:`CYCLE_PROFILES`): the residual normal stresses on the contact axis against
+    depth, the residual dent along y through it.
+    """
+    largest, profiles = 0.0, {}
+    for body, plastic in zip(operators.case.plastic_bodies, states, strict=True):
+        stress = (
+            operators.volume(body)[1].stress(plastic.strain)
+            if plastic.strain.any()
+            else np.zeros_like(plastic.strain)
+        )
+        largest = max(largest, float(von_mises(stress).max()))
+        if not profiles:
+            for i, name in enumerate(CYCLE_PROFILES[:3]):
+                profiles[name] = axis_value(stress[i])
+            dent = plastic.displacement[2]
+            nx = dent.shape[0]
+            profiles["cycle_rut_profile"] = dent[(nx - 1) // 2 : nx // 2 + 1].mean(axis=0)
+    return largest, profiles
 
 
 def _plastic_fields(

@@ -190,7 +190,29 @@ FIELDS: dict[str, Field] = {
     "residual_displacement_z": Field(
         ("x", "y"), "m", "residual surface displacement of the elastic-plastic body into it"
     ),
+    **{
+        f"cycle_residual_stress_{c}": Field(
+            ("cycle", "z"),
+            "Pa",
+            f"residual stress sigma_{c} of the plastic strain on the contact axis (the middle "
+            "of a moving contact's track) at the end of each load cycle",
+        )
+        for c in ("xx", "yy", "zz")
+    },
+    "cycle_rut_profile": Field(
+        ("cycle", "y"),
+        "m",
+        "residual surface displacement u_z^r into the elastic-plastic body along y through the "
+        "contact axis (across the middle of a moving contact's track) at the end of each load "
+        "cycle",
+    ),
 }
+#: Per-cycle profiles of an elastic-plastic body 2 on a cyclic path: residual stress against
+#: depth, the rut across the track.
+CYCLE_PROFILES = (
+    "cycle_residual_stress_xx", "cycle_residual_stress_yy", "cycle_residual_stress_zz",
+    "cycle_rut_profile",
+)  # fmt: skip
 
 #: Histories and fields of an elastic-plastic body, declared for body 2 above; a second plastic
 #: body 1 (two different elastic-plastic bodies) has each under the name + :data:`BODY1_SUFFIX`.

@@ -16,6 +16,7 @@ import pytest
 
 import solver
 from solver import Case
+from solver.loops import axis_value
 from solver.reference import first_yield_pressure
 from solver.shakedown import (
     CLOSED_CYCLE_FRACTION,
@@ -80,7 +81,7 @@ def test_what_cannot_be_told_is_undetermined(gain, converged, why):
 
 
 # -- the chain: a frictionless moving load, back and forth ---------------------------------------
-def _passes(ratio: float, passes: int, travel: float = 2.0, nx: int = 40) -> solver.Result:
+def _passes(ratio: float, passes: int, travel: float = 2.0, nx: int = 40, **extra) -> solver.Result:
     """Rigid sphere at p_0 = ratio k, moved ``travel`` a forward and back ``passes`` times, mu =
     0, 8 steps a stroke, cells of a/8 (the volume twice the yield depth: 16 layers)."""
     table = dict(body1={"behaviour": "rigid", "radius": 0.01}, body2=PERFECT,
@@ -90,8 +91,8 @@ def _passes(ratio: float, passes: int, travel: float = 2.0, nx: int = 40) -> sol
     travel *= a.hertz.radius
     stroke = [{"slide": [travel, 0.0], "steps": 8}, {"slide": [-travel, 0.0], "steps": 8}]
     path = [{"hertz_pressure": pressure, "steps": 2}, {"cycles": passes, "stages": stroke}]
-    case = Case.from_dict({**table, "load": {"path": path}, "grid": {"n": [nx, nx // 2, 16]}})
-    return solver.solve(case)
+    grid = {"n": [nx, nx // 2, 16]}
+    return solver.solve(Case.from_dict({**table, "load": {"path": path}, "grid": grid, **extra}))
 
 
 def test_below_first_yield_nothing_yields():
@@ -107,7 +108,7 @@ def test_below_first_yield_nothing_yields():
 def test_gain_per_pass_dies_out_above_first_yield():
     """p_0 = 4 k (first yield at 2.79 k for nu = 0.3): elastic shakedown within four passes;
     the pass gains and their flag reach the dataset."""
-    result = _passes(4.0, 4)
+    result = _passes(4.0, 4, output={"fields": ["residual_stress"]})
     assert result.status == "converged", result.notes
     gain = result.to_xarray()["plastic_strain_increment"].values
     assert gain[0] > 1e-4 and gain[-1] < SHAKEDOWN_TOLERANCE * gain[0]
@@ -117,6 +118,22 @@ def test_gain_per_pass_dies_out_above_first_yield():
     # the residual stress raises the load Melan can prove above first yield (2.79 k)
     p_yield, _ = first_yield_pressure(YIELD, PERFECT["nu"])
     assert 4.0 * SHEAR_YIELD * result.melan_factor > 1.05 * p_yield
+    # per-pass profiles: the last pass's are the final fields' on the track's middle
+    data = result.to_xarray()
+    assert data["cycle_residual_stress_xx"].dims == ("cycle", "z")
+    assert data["cycle_rut_profile"].dims == ("cycle", "y")
+    final = result.fields["residual_stress"]
+    for i, component in enumerate(("xx", "yy", "zz")):
+        column = axis_value(final[i])
+        assert np.allclose(data[f"cycle_residual_stress_{component}"][-1], column, rtol=1e-12)
+    nx = result.grid.nx
+    centre = result.fields["residual_displacement_z"][(nx - 1) // 2 : nx // 2 + 1].mean(axis=0)
+    # the loop's print and the final fields' re-evaluation: the same to 4e-7 (seen)
+    assert np.allclose(data["cycle_rut_profile"][-1], centre, rtol=1e-5, atol=0)
+    rut = data["cycle_rut_profile"].values.max(axis=1)
+    assert rut[0] > 0 and np.all(np.diff(rut) >= 0)  # the rut deepens, ever more slowly
+    # rolling leaves the track in longitudinal compression below the surface
+    assert data["cycle_residual_stress_xx"][-1].min() < -0.2 * SHEAR_YIELD
 
 
 def test_far_above_the_limit_every_pass_yields():
