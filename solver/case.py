@@ -1373,13 +1373,15 @@ class Case:
                 (x0, x1), (y0, y1) = self.track
                 key = "slide" if any(st.motion == "slide" for st in self.stages) else "roll"
                 moving = {"slide": "sliding", "roll": "rolling"}[key]
+                cell = 2 * semi_min / MIN_CELLS_ACROSS  # the largest cell that resolves it
+                half = self.grid.half_width * reference.max_semi_axis
+                counts = [math.ceil((2 * half + hi - lo) / cell) for lo, hi in ((x0, x1), (y0, y1))]
                 _fail(
                     f"load.path ({key})",
                     f"mesh too coarse for the {moving} track ({x1 - x0:.4g} m along x, "
                     f"{y1 - y0:.4g} m along y, contact radius {semi_min:.4g} m): the contact "
                     f"spans {across:.3g} cells of the window over the track; shorten the "
-                    f"{key}s or give more cells along it (n >= {need:.3g} on the longer side, "
-                    f"at most {MAX_CELLS})",
+                    f"{key}s or give more cells (n = {counts} or more, at most {MAX_CELLS} a side)",
                 )
             if need <= MAX_CELLS:
                 _fail(

@@ -289,7 +289,6 @@ def slip_stick_step(
     known_y = -prev_uy + previous.shift[1] - previous.pressure_slip_y + res_y - previous.residual_y
     shift = None  # the rigid shift at the end of the increment when prescribed
     if creepage is not None:  # the force is free: the rigid slip goes into the known part
-        qx_target = qy_target = None
         travel = np.subtract(position, previous.position)
         distance = float(np.hypot(*travel))
         shift = np.asarray(previous.shift, dtype=float) + distance * np.asarray(creepage)

@@ -8,8 +8,10 @@ where ``K_t`` is the tangential 2x2 block of :class:`solver.convolution.SurfaceO
 shear traction on body 2 (Pa), ``c`` everything the caller knows (minus the previous step's
 ``K_t q_{k-1}``, plus the pressure-induced tangential displacement increment, the residual
 displacement increment, plus the previous shift), and ``Delta`` the rigid tangential shift of
-body 1 relative to body 2 (m), an unknown when the tangential force is prescribed.  Coulomb's law
-with memory:  stick ``s = 0, |q| <= mu p``;  slip ``|q| = mu p, q = -mu p s/|s|``.
+body 1 relative to body 2 (m), an unknown when the tangential force is prescribed (a rolling
+increment at a given creepage prescribes it instead: the force is then free, ``force=None``,
+and the caller folds ``Delta`` into ``c``).  Coulomb's law with memory:  stick ``s = 0,
+|q| <= mu p``;  slip ``|q| = mu p, q = -mu p s/|s|``.
 
 For a given pressure these are the optimality conditions of the convex problem (Kalker's
 minimum complementary energy)
