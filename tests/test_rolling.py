@@ -235,3 +235,15 @@ def test_a_force_ramp_after_a_creepage_stage_is_refused():
     ]
     with pytest.raises(SpecError, match=r"^load\.path\[2\]\.tangential_force: the previous stage"):
         _case(path, (32, 32))
+
+
+def test_a_track_too_coarse_is_told_the_cells_that_resolve_it(radius):
+    """The cells asked for along both sides are enough (the short side bound the cell here)."""
+    import re
+
+    path = [{"normal_force": FORCE}, {"roll": [6 * radius, 0.0], "steps": 4}]
+    with pytest.raises(SpecError, match=r"^load\.path \(roll\): mesh too coarse") as refused:
+        _case(path, (64, 8))
+    nx, ny = (int(v) for v in re.search(r"n = \[(\d+), (\d+)\]", str(refused.value)).groups())
+    assert nx <= 64 and ny > 8  # more cells across the track, not along it
+    assert _case(path, (nx, ny)).surface_grid.shape == (nx, ny)
