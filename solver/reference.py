@@ -327,23 +327,34 @@ FE_SWIFT_8GPA = {
 
 
 #: Kalker's linear creep coefficients of a circular contact (a/b = 1) by Poisson's ratio:
-#: (C11, C22).  Kalker (1967), *On the rolling contact of two elastic bodies in the presence of
-#: dry friction*, thesis, Delft, as tabulated in Johnson, *Contact Mechanics* (1985), §8.4 and
-#: in Kalker (1990), *Three-dimensional elastic bodies in rolling contact*: numbers from those
-#: tables, not derived here.
-KALKER_CIRCLE_COEFFICIENTS = {0.0: (3.40, 3.40), 0.25: (4.12, 3.67), 0.5: (5.20, 3.98)}
+#: (C11, C22, C23).  Kalker (1967), *On the rolling contact of two elastic bodies in the
+#: presence of dry friction*, thesis, Delft, as tabulated in Johnson, *Contact Mechanics*
+#: (1985), §8.4 and in Kalker (1990), *Three-dimensional elastic bodies in rolling contact*,
+#: Table E.3 (the same numbers are in CONTACT's sources): numbers from those tables, not
+#: derived here.
+KALKER_CIRCLE_COEFFICIENTS = {
+    0.0: (3.40, 3.40, 1.33),
+    0.25: (4.12, 3.67, 1.47),
+    0.5: (5.20, 3.98, 1.63),
+}
 
 
 def kalker_linear_force(
-    creepage: tuple[float, float], shear_modulus: float, radius: float, nu: float
+    creepage: tuple[float, float],
+    shear_modulus: float,
+    radius: float,
+    nu: float,
+    spin: float = 0.0,
 ) -> tuple[float, float]:
     """Kalker's linear creep force (N) on body 2 of a circular contact at small creepage.
 
-    ``(F_x, F_y) = G a^2 (C11 xi, C22 eta)`` (``G`` the pair's shear modulus, 2/G = 1/G1 +
-    1/G2; ``a`` the contact radius), with the signs of :mod:`solver.case` (the force on body 2
-    points along the rigid slip of body 1).  Valid where the contact nearly adheres (a
-    force well below ``mu W``); ``nu`` one of :data:`KALKER_CIRCLE_COEFFICIENTS`.
+    ``F_x = G a^2 C11 xi``, ``F_y = G a^2 C22 eta + G a^3 C23 phi`` (``G`` the pair's shear
+    modulus, 2/G = 1/G1 + 1/G2; ``a`` the contact radius; ``phi`` the spin, 1/m), with the
+    signs of :mod:`solver.case` (the force on body 2 points along the rigid slip of body 1; a
+    positive spin turns x towards y and pushes body 2 towards +y, as tested).  Valid where the
+    contact nearly adheres (a force well below ``mu W``); ``nu`` one of
+    :data:`KALKER_CIRCLE_COEFFICIENTS`.
     """
-    c11, c22 = KALKER_CIRCLE_COEFFICIENTS[nu]
+    c11, c22, c23 = KALKER_CIRCLE_COEFFICIENTS[nu]
     scale = shear_modulus * radius * radius
-    return scale * c11 * creepage[0], scale * c22 * creepage[1]
+    return scale * c11 * creepage[0], scale * (c22 * creepage[1] + c23 * radius * spin)

@@ -252,3 +252,23 @@ def test_a_track_too_coarse_is_told_the_cells_that_resolve_it(radius):
     nx, ny = (int(v) for v in re.search(r"n = \[(\d+), (\d+)\]", str(refused.value)).groups())
     assert nx <= 64 and ny > 8  # more cells across the track, not along it
     assert _case(path, (nx, ny)).surface_grid.shape == (nx, ny)
+
+
+def test_spin_creep_force_approaches_kalkers_c23(radius):
+    """Pure spin phi = xi/a (xi of 1/1000 of full slip: linear), 16 cells a radius, rolled 8
+    radii from rest: F_y = G a^3 C23 phi.  Steps of a/16 then a/32: the error falls, and the
+    first-order extrapolation is within 2 % of Kalker's table (its 1.47 at nu = 0.25)."""
+    phi = _creepage(1e-3, radius) / radius
+    expected = kalker_linear_force((0.0, 0.0), SHEAR_MODULUS, radius, NU, spin=phi)[1]
+    values = []
+    for per_radius in (16, 32):
+        stage = {
+            "roll": [8 * radius, 0.0], "creepage": [0.0, 0.0], "spin": phi,
+            "steps": 8 * per_radius,
+        }  # fmt: skip
+        result = solver.solve(_case([{"normal_force": FORCE}, stage], (166, 38), half_width=1.2))
+        assert result.status == "converged"
+        values.append(float(np.mean(result.history["tangential_force_y"][-2 * per_radius :])))
+    errors = [value / expected - 1.0 for value in values]
+    assert errors[0] > errors[1] > 0, errors  # positive spin pushes body 2 towards +y
+    assert abs((2 * values[1] - values[0]) / expected - 1.0) < 0.02, errors
