@@ -109,3 +109,46 @@ def test_shakedown_campaign_regimes_and_map(tmp_path, monkeypatch):
     report = build_report(out).read_text()
     assert "## Shakedown" in report and "p0/k" in report and "elastic" in report
     assert (out / "shakedown_frictionless_shakedown_map.png").stat().st_size > 1000
+
+
+def test_tractive_rolling_campaign_creep_curves(tmp_path, monkeypatch):
+    """The shipped tractive-rolling campaign, coarsened (the elastic pair, two creepages, two
+    passes of 16 steps): the creep force of every pass reaches the dataset, equal to the case
+    file's tangential force at the pass's last rolling step; full slip is mu W; the report
+    tabulates and draws the creep curves."""
+    pytest.importorskip("matplotlib")
+    monkeypatch.setattr("study.report.figures.DPI", 40)
+    text = open("campaigns/tractive_rolling.toml").read()
+    edits = {
+        "cycles = 3": "cycles = 2",
+        'body2 = ["steel", "steel_epp"]': 'body2 = ["steel"]',
+        "[0.5e-3, 1.0e-3, 2.0e-3, 3.5e-3, 6.0e-3]": "[1.0e-3, 6.0e-3]",
+        "steps = 48 ": "steps = 16 ",
+    }
+    for old, new in edits.items():
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    text = text[: text.index("[define.steel_epp]")] + text[text.index("[[base.load.path]]") :]
+    path = tmp_path / "rolling.toml"
+    path.write_text(text)
+    campaign = load_campaign(path)
+    out = tmp_path / "out"
+    assert run_campaign(campaign, out, options=RunOptions()).exit_status == 0
+    ds = assemble(out, campaign)
+    assert ds.creep_force_x.dims == ("body2", "xi", "cycle")
+    for case in campaign.cases:
+        with xr.open_dataset(storage.case_path(out, case.case_id)) as one:
+            cycle, force = one.step_cycle.values, one.tangential_force_x.values
+            moved = np.diff(one.position_x.values, prepend=0.0) != 0
+            loaded = one.normal_force.values > 0
+            for c in (1, 2):
+                last = np.flatnonzero((cycle == c) & moved & loaded)[-1]
+                assert ds.creep_force_x.isel(cycle=c - 1)[case.index] == force[last]
+    mu_w = 0.3 * ds.hertz_normal_force
+    ratio = (ds.creep_force_x / mu_w).isel(body2=0)
+    assert 0.3 < float(ratio.isel(xi=0, cycle=-1)) < 0.7  # partial slip at 1e-3
+    np.testing.assert_allclose(ratio.isel(xi=1), 1.0, atol=2e-3)  # full slip at 6e-3
+    report = build_report(out).read_text()
+    assert "## Creep curves" in report and "pass 2" in report
+    assert (out / "tractive_rolling_creep_curves.png").stat().st_size > 1000
+    assert not (out / "tractive_rolling_fretting_loops.png").exists()  # no Q - Delta loop

@@ -2,8 +2,8 @@
 
 The top of :mod:`study.report`: it assembles the dataset if needed, writes the summary, the
 convergence and speed-error tables and figures (:mod:`.elastic`), and the plastic
-(:mod:`.plastic`), cyclic (:mod:`.cycles`) and shakedown (:mod:`.shakedown`) sections when the
-campaign has them.
+(:mod:`.plastic`), cyclic (:mod:`.cycles`), shakedown (:mod:`.shakedown`) and rolling
+(:mod:`.rolling`) sections when the campaign has them.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ import numpy as np
 from solver.result import STATUS_FLAGS
 
 from .. import analysis
-from . import cycles, plastic, shakedown
+from . import cycles, plastic, rolling, shakedown
 from .elastic import (
     _convergence_note,
     plot_convergence,
@@ -223,6 +223,8 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
     if "shakedown" in dataset:
         nu = _yielding_poisson_ratio(out)
         lines += shakedown.section(dataset, out, name, plt, figures, nu)
+    if "creep_force_x" in dataset:
+        lines += rolling.section(dataset, out, name, plt, figures)
     if figures:
         lines += ["## Figures", ""]
         lines += [f"- {title}: `{png.name}` ({note})" for title, png, note in figures]
