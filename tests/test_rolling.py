@@ -272,3 +272,35 @@ def test_spin_creep_force_approaches_kalkers_c23(radius):
     errors = [value / expected - 1.0 for value in values]
     assert errors[0] > errors[1] > 0, errors  # positive spin pushes body 2 towards +y
     assert abs((2 * values[1] - values[0]) / expected - 1.0) < 0.02, errors
+
+
+@pytest.mark.slow
+def test_full_slip_rolling_far_past_the_limit_ends_with_a_status():
+    """A hard case: an elastic ball rolls at full slip (creepage 0.05, mu = 0.5) over
+    elastic-perfectly plastic steel at p_0 = 14 k (three times the published 4.7 k), three
+    passes on a coarse grid.  It must end with a status and its reasons, finite everywhere
+    (204 s CPU seen: not_converged, the plastic strain past the small-strain range, told)."""
+    plate = {
+        "behaviour": "elastic-plastic", "E": 210e9, "nu": 0.3,
+        "hardening": {"law": "perfect", "yield_stress": 433.0127e6},
+    }  # fmt: skip
+    ball = {"behaviour": "elastic", "E": 210e9, "nu": 0.3, "radius": 0.01}
+    pressure = 14 * 250e6
+    probe = {"hertz_pressure": pressure}
+    radius = _case([probe], (16, 16, 16), body1=ball, body2=plate, mu=0.5).hertz.radius
+    travel = [3 * radius, 0.0]
+    passes = {"cycles": 3, "stages": [
+        {"roll": travel, "creepage": 0.05, "steps": 4}, {"hertz_pressure": 0.0},
+        {"roll": [-travel[0], 0.0]}, {"hertz_pressure": pressure, "steps": 2},
+    ]}  # fmt: skip
+    case = Case.from_dict({
+        "body1": ball, "body2": plate, "friction": {"coefficient": 0.5},
+        "load": {"path": [{"hertz_pressure": pressure, "steps": 2}, passes]},
+        "grid": {"n": [30, 15, 24]}, "solver": {"plastic_tolerance": 1e-4},
+    })  # fmt: skip
+    result = solver.solve(case)
+    assert result.status in ("converged", "not_converged", "truncated")
+    assert all(np.isfinite(values).all() for values in result.history.values())
+    assert all(np.isfinite(values).all() for values in result.fields.values())
+    assert result.shakedown is not None and result.shakedown.reason
+    assert result.converged or any("not converged" in note for note in result.notes)
