@@ -1222,6 +1222,15 @@ class Case:
         )  # fmt: skip
         case._check_resolution()
         case._check_surfaces()
+        for stage, path in zip(stages, paths, strict=True):
+            reach = abs(stage.spin) * case.reference.max_semi_axis if stage.spin else 0.0
+            if reach > MAX_CREEPAGE:  # the spin's rigid slip at the contact's edge
+                _fail(
+                    f"{path}.spin",
+                    f"the spin's rigid slip at the contact's edge, |spin| a = {reach:.3g}, "
+                    f"must be within {MAX_CREEPAGE:g} like a creepage (a = "
+                    f"{case.reference.max_semi_axis:.4g} m), got spin = {stage.spin:g} 1/m",
+                )
         return case
 
     @property

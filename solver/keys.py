@@ -319,7 +319,8 @@ CASE_KEYS: tuple[Key, ...] = (
         "Kalker's creepages: the rigid slip of body 1 relative to body 2 per unit distance "
         "rolled; the creep force on body 2 points along it.  A later stage without "
         "creepage or tangential_force keeps the rigid shift (rolls on at zero creepage)."),
-    Key("load", "spin", "number", "1/m", "0", "finite; roll stages only; mu > 0",
+    Key("load", "spin", "number", "1/m", "0",
+        f"|spin| a within {MAX_CREEPAGE:g} (a the contact radius); roll stages only; mu > 0",
         "rolling contacts", "Rigid rotation of body 1 relative to body 2 about z per unit "
         "distance rolled, counter-clockwise from x to y, about the contact's centre."),
     Key("load", "steps", "integer", "1", "1", f"[1, {MAX_STAGE_STEPS:,}]", _LOADS,
@@ -343,7 +344,8 @@ CASE_KEYS: tuple[Key, ...] = (
         "none (the force is prescribed; after a creepage stage [0, 0])",
         f"each within +-{MAX_CREEPAGE:g}; roll stages; not with tangential_force",
         "rolling contacts", "As load.creepage."),
-    Key("load.path[i]", "spin", "number", "1/m", "0", "finite; roll stages only",
+    Key("load.path[i]", "spin", "number", "1/m", "0",
+        f"|spin| a within {MAX_CREEPAGE:g}; roll stages only",
         "rolling contacts", "As load.spin."),
     Key("load.path[i]", "steps", "integer", "1", "1", f"[1, {MAX_STAGE_STEPS:,}]", "load paths",
         "As load.steps."),

@@ -219,6 +219,7 @@ ROLL = {"roll": [1e-4, 0.0], "steps": 2}
         ({**ROLL, "creepage": [2.0, 0.0]}, {}, "load.path[1].creepage"),
         ({**ROLL, "creepage": [math.nan, 0.0]}, {}, "load.path[1].creepage"),
         ({**ROLL, "spin": math.inf}, {}, "load.path[1].spin"),
+        ({**ROLL, "spin": 1e300}, {}, "load.path[1].spin"),
         ({**ROLL, "creepage": [1e-3, 0.0]}, {"mu": 0.0}, "load.path[1].creepage"),
         ({**ROLL, "creepage": [1e-3, 0.0]}, {"body2": {**FLAT, "radius": 0.05}}, "body2.radius"),
         ({**ROLL, "creepage": [1e-3, 0.0]},
