@@ -11,7 +11,8 @@ cycle.  This section writes
   cycles, the gain of the first and the last cycle and the net tensor change of the last one;
 - ``<name>_shakedown_map.png``: p_0/k against mu, one marker per case coloured by its regime,
   with first yield under a sliding point contact (Hamilton's field,
-  :func:`solver.shakedown.sliding_first_yield`) and each case's Melan bound drawn over it.
+  :func:`solver.shakedown.sliding_first_yield`) and each converged case's Melan bound drawn
+  over it.
 """
 
 from __future__ import annotations
@@ -104,7 +105,7 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
     if not cases:
         return None
     plt = figures.pyplot()
-    fig, ax = plt.subplots(figsize=(6.0, 4.5))
+    fig, ax = plt.subplots(figsize=(6.0, 5.4), layout="constrained")
     for regime, colour in COLOURS.items():
         mine = [c for c in cases if c["regime"] == regime]
         if mine:
@@ -112,7 +113,8 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
                 [c["mu"] for c in mine], [c["p0/k"] for c in mine], c=colour, s=45,
                 label=regime.replace("_", " "), edgecolors="k", linewidths=0.5, zorder=3,
             )  # fmt: skip
-    melan = [c for c in cases if np.isfinite(c["melan p0/k"])]
+    # a case that did not converge has no trusted residual field: no bound drawn from it
+    melan = [c for c in cases if np.isfinite(c["melan p0/k"]) and c["status"] == "converged"]
     if melan:
         ax.scatter(
             [c["mu"] for c in melan], [c["melan p0/k"] for c in melan], marker="_", s=120,
@@ -125,12 +127,16 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
     ax.set_xlim(-0.02, mu_max)
     ax.set_xlabel("traction coefficient mu (sliding)")
     ax.set_ylabel("p_0 / k")
-    ax.legend(fontsize=7, loc="best")
+    # below the axes: every marker of the map stays visible
+    fig.legend(fontsize=7, loc="outside lower center", ncol=2)
     ax.grid(alpha=0.3)
     total = int(np.prod([dataset.sizes[d] for d in dataset["status"].dims]))
     shown = f"{len(cases)} of {total} cases" + (
         " (the others failed or are pending: not drawn)" if len(cases) < total else ""
     )
+    unconverged = sum(c["status"] != "converged" for c in cases)
+    if unconverged:
+        shown += f"; {unconverged} not converged (no Melan bound drawn)"
     figures.suptitle(fig, f"{dataset.attrs.get('campaign', '')}: shakedown map", shown)
     figures.save(plt, fig, path)
     return Path(path)
