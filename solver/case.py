@@ -872,6 +872,7 @@ class GridSpec:
     depth_body1: float | None = None
     plastic_half_width: float | None = None
     size: tuple[float, float] | None = None
+    follow_contact: bool = True
 
 
 #: Solver keys of how a case is computed, not what: kept in the table, not in the case id.
@@ -1205,6 +1206,7 @@ class Case:
                 **({"depth": grid.depth} if grid.nz else {}),
                 **({"depth_body1": grid.depth_body1} if grid.depth_body1 else {}),
                 **({"plastic_half_width": box_key} if box_key is not None else {}),
+                **({"follow_contact": grid.follow_contact} if moving else {}),
             },
             # FFT threads and planner are kept (a campaign's cases are solved from this table)
             # but change no result beyond round-off: not in the case id (EXECUTION_KEYS); the
@@ -1489,6 +1491,48 @@ class Case:
             return None
         return IndexBox(ranges[0], ranges[1], (0, self.grid.nz))
 
+    @property
+    def moving_window(self) -> tuple[int, int] | None:
+        """Cells (nx, ny) of the window that follows a moving contact, or None: the whole track.
+
+        ``grid.half_width`` times the largest Hertz semi-axis on every side of the contact plus
+        the travel of the longest step that starts or ends loaded (the window holds the
+        contact at both ends of an increment), plus a cell for the snapping to whole cells,
+        each side's cell count rounded up to a fast FFT size of the track's parity.  None
+        (every increment on the whole track's window) without a moving load, with
+        ``grid.follow_contact = false``, a given ``grid.size``, a height map or roughness, or
+        two elastic-plastic bodies, and when the window would be the track's along both axes.
+        """
+        bodies = (self.body1, self.body2)
+        if (
+            not self.moving
+            or not self.grid.follow_contact
+            or self.grid.size is not None
+            or any(b.surface is not None or b.roughness is not None for b in bodies)
+            or self.plastic_bodies not in ((), (2,))
+        ):
+            return None
+        travel = [0.0, 0.0]
+        force = 0.0
+        for stage in self.stages:
+            if stage.steps and (force > 0.0 or stage.normal_force > 0.0):
+                for axis in (0, 1):
+                    travel[axis] = max(travel[axis], abs(stage.travel[axis]) / stage.steps)
+            force = stage.normal_force
+        surface = self.surface_grid
+        half = self.grid.half_width * self.reference.max_semi_axis
+        cells = []
+        along = ((surface.nx, surface.dx, travel[0]), (surface.ny, surface.dy, travel[1]))
+        for n, d, length in along:
+            count = math.ceil((2.0 * half + length) / d - 1e-9) + 2
+            # the track's parity: a window placed as far left as its mirror is right
+            while count < n and (fft_size(2 * count) != 2 * count or (n - count) % 2):
+                count += 1
+            cells.append(min(n, count))
+        if cells == [surface.nx, surface.ny]:
+            return None
+        return cells[0], cells[1]
+
     def volume_grid_of(self, body: int) -> VolumeGrid | None:
         """The volume grid of body ``body`` (1 or 2).
 
@@ -1762,6 +1806,9 @@ def _parse_grid(table: Any) -> GridSpec:
                 f"the Hertz radius a_H), got {plastic_half_width:g}; leave it out for a box sized "
                 "from the yield region, or give half_width for the whole window",
             )
+    follow = _plain(table.get("follow_contact", True))
+    if not isinstance(follow, bool):
+        _fail("grid.follow_contact", f"must be true or false, got {follow!r}")
     return GridSpec(
         sizes[0],
         sizes[1],
@@ -1771,6 +1818,7 @@ def _parse_grid(table: Any) -> GridSpec:
         depths.get("depth_body1"),
         plastic_half_width,
         size,
+        follow,
     )
 
 

@@ -81,6 +81,20 @@ class SurfaceOperator:
         self._diagonal = None
         self._planner = planner
 
+    def place(self, grid: SurfaceGrid) -> SurfaceOperator:
+        """Put this operator's cells at another place: ``grid``, the same cells (returns self).
+
+        The convolution depends on the cells' offsets only (kernels, plans and preconditioners
+        stay); the grid's place serves the coordinates (:meth:`SurfaceGrid.mesh`): the window
+        that follows a moving contact (:mod:`solver.window`) is placed anew every increment.
+        """
+        if (grid.nx, grid.ny, grid.dx, grid.dy) != (
+            self.grid.nx, self.grid.ny, self.grid.dx, self.grid.dy
+        ):  # fmt: skip
+            raise ValueError(f"a placed grid must have the same cells: {grid} vs {self.grid}")
+        self.grid = grid
+        return self
+
     def kernel_spectrum(self, name: str) -> np.ndarray:
         """Normalised spectrum of kernel block ``name`` (:data:`solver.influence.COMPONENTS`).
 

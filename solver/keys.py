@@ -386,6 +386,13 @@ CASE_KEYS: tuple[Key, ...] = (
         "of the path's largest |Q|/W, where it exceeds the initial "
         "yield stress, its cell count rounded up to a fast FFT size; a plastic zone reaching "
         "its sides is a note and the status truncated."),
+    Key("grid", "follow_contact", "boolean", "", "true", "true or false", "sliding and rolling",
+        "Solve each increment of a moving contact on a window that follows it (grid.half_width "
+        "around the contact, plus the step's travel) instead of the whole track: the plastic "
+        "strain stays in body 2's volume under the whole track and enters every later increment "
+        "once per increment; the plasticity iterations run on the window's volume alone.  false: "
+        "every increment on the whole track's window (slower; the reference to check it).  "
+        "Not with a height map, roughness or two elastic-plastic bodies (the whole track then)."),
     Key("grid", "depth_body1", "number", "a_H", "depth if given, else body 1's yield depth",
         "as grid.depth", "two different elastic-plastic bodies",
         "Depth of body 1's own volume grid."),

@@ -55,6 +55,7 @@ from .variables import (
     PLASTIC_BODY_HISTORIES,
     PLASTIC_ZONE_THRESHOLD,
 )
+from .window import Follower
 
 #: Halvings of an increment whose plasticity loop does not converge (down to 1/8 of it).
 MAX_SPLITS = 3
@@ -232,6 +233,33 @@ def _halving_plastic_step(
     )
 
 
+def _placed(
+    follower: Follower | None,
+    operators: CaseOperators,
+    state: ContactState,
+    plastic: tuple[PlasticState, ...],
+    start: tuple,
+    target: tuple,
+) -> tuple[CaseOperators, ContactState, tuple[PlasticState, ...], tuple[int, int]]:
+    """What an increment is solved with: the case's operators and states, or the window's.
+
+    With a window that follows the contact (:mod:`solver.window`): its operators placed for the
+    increment, the state moved into it, the plastic state on it, the cells it moved by.
+    """
+    if follower is None:
+        return operators, state, plastic, (0, 0)
+    return follower.enter(state, plastic, start, target)
+
+
+def _left(
+    follower: Follower | None,
+    track: tuple[PlasticState, ...],
+    window: tuple[PlasticState, ...],
+) -> tuple[PlasticState, ...]:
+    """The plastic state after an increment (the window's put back into the track's)."""
+    return window if follower is None else follower.leave(track, window)
+
+
 def _moved(increment: np.ndarray, cells_x: float, cells_y: float) -> np.ndarray:
     """``increment`` (..., nx, ny, nz) moved by (cells_x, cells_y) cells, zero where it enters.
 
@@ -397,7 +425,8 @@ def solve(case: Case) -> Result:
     volume: VolumeGrid | None = case.volume_grid
     area = case.surface_grid.cell_area
 
-    state = ContactState.unloaded(operators.gap.shape)
+    follower = Follower(operators) if operators.local is not None else None
+    state = follower.unloaded() if follower else ContactState.unloaded(operators.gap.shape)
     box = case.plastic_box or (IndexBox.full(volume) if volume is not None else None)
     plastic_state = tuple(
         PlasticState.virgin(box.shape, case.surface_grid.shape) for _ in case.plastic_bodies
@@ -442,9 +471,13 @@ def solve(case: Case) -> Result:
             )
         if coupled and not moving:  # no load sub-steps while the contact moves
             for sub in load_substeps(previous_target, target, case.solver.max_load_ratio, smallest):
+                placed, state, window_plastic, _ = _placed(
+                    follower, operators, state, plastic_state, previous_target, sub
+                )
                 if plastic:  # sub-steps are increments of the plastic history too
-                    step = plastic_step(operators, contact_step, state, plastic_state, sub, guess)
-                    state, plastic_state = step.contact.state, step.plastic
+                    step = plastic_step(placed, contact_step, state, window_plastic, sub, guess)
+                    state = step.contact.state
+                    plastic_state = _left(follower, plastic_state, step.plastic)
                     guess, previous = step.increment, None  # no extrapolation across sub-steps
                     work += step.contact.friction_work
                     _count(sub_iterations, step.contact.iterations, step.iterations)
@@ -454,26 +487,32 @@ def solve(case: Case) -> Result:
                             f"step {k + 1} (sub-step to W = {sub[0]:.4g} N): {step.message}"
                         )
                 else:
-                    sub_outcome = contact_step(operators, state, sub)
+                    sub_outcome = contact_step(placed, state, sub)
                     state = sub_outcome.state
                     work += sub_outcome.friction_work
                     _count(sub_iterations, sub_outcome.iterations)
         messages = []
+        placed, state, window_plastic, (di, dj) = _placed(
+            follower, operators, state, plastic_state, previous_target, target
+        )
         if plastic:
             load_step = np.subtract(target, previous_target)
             before_last = None
             same = previous is not None and np.allclose(load_step, previous[1], rtol=1e-9, atol=0.0)
             if guess is not None and same and moving:  # the last increment's pattern, moved on
-                guess = _moved(guess, load_step[3] / grid.dx, load_step[4] / grid.dy)
+                guess = _moved(guess, load_step[3] / grid.dx - di, load_step[4] / grid.dy - dj)
+            elif guess is not None and (di or dj):  # in the window's new place
+                guess = _moved(guess, -di, -dj)
             elif guess is not None and same:  # the same load increment again: extrapolate
                 before_last = previous[0]  # the plastic increment linearly
             previous = None  # its increment is before_last now, or not needed
             step = _halving_plastic_step(
-                operators, step_of, state, plastic_state, previous_target, target, guess,
+                placed, step_of, state, window_plastic, previous_target, target, guess,
                 before_last,
             )  # fmt: skip
             previous = (guess, load_step) if guess is not None else None
-            outcome, plastic_state, guess = step.contact, step.plastic, step.increment
+            outcome, guess = step.contact, step.increment
+            plastic_state = _left(follower, plastic_state, step.plastic)
             step_ok = step.converged
             residual = max(outcome.residual, step.residual)
             if step.message:
@@ -483,7 +522,7 @@ def solve(case: Case) -> Result:
             if not coupled and step_of is slip_stick_step:
                 initial = _extrapolated(state, before, np.subtract(target, previous_target))
                 before = (state, np.subtract(target, previous_target))
-            outcome = step_of(operators, state, target, None, initial)
+            outcome = step_of(placed, state, target, None, initial)
             step_ok, residual = outcome.converged, outcome.residual
             if outcome.message:
                 messages.append(outcome.message)
@@ -516,11 +555,14 @@ def solve(case: Case) -> Result:
                 "grid.size)"
             )
         if plastic:
-            _record_plastic(history, k, step, case)
+            _record_plastic(history, k, step.iterations, plastic_state, case)
             sides = "grid.plastic_half_width" if case.plastic_box else "grid.half_width"
             reached = sorted(
                 {f for p in plastic_state for f in _box_faces_reached(p.equivalent, sides)}
             )
+            if follower is not None:
+                cut = follower.sides_reached(window_plastic[0], step.plastic[0])
+                reached += [f"side {axis} of the window that follows the contact" for axis in cut]
             if reached and not faces_noted:
                 faces_noted = True
                 notes.append(
@@ -554,6 +596,19 @@ def solve(case: Case) -> Result:
             notes.append(
                 f"the equivalent plastic strain reaches {largest:.3g}, beyond the small-strain "
                 f"range ({SMALL_STRAIN_LIMIT:g}) the theory rests on"
+            )
+    if follower is not None:  # the last window's tractions on the whole track's grid
+        state = dataclasses.replace(
+            state, pressure=follower.on_track(state.pressure),
+            shear_x=follower.on_track(state.shear_x), shear_y=follower.on_track(state.shear_y),
+        )  # fmt: skip
+        if outcome is not None and outcome.stick is not None:
+            outcome = dataclasses.replace(outcome, stick=follower.on_track(outcome.stick))
+        if follower.lost:
+            converged = False
+            notes.append(
+                "an increment's tractions did not fit the window that follows the contact: "
+                "enlarge grid.half_width or set grid.follow_contact = false"
             )
     contact = state.pressure > 0
     if moving and stage.motion == "slide":  # the last increment slid: every contact cell slips
@@ -648,9 +703,11 @@ def _record(history: dict, k: int, outcome: StepResult, area: float) -> None:
         history["stick_area"][k] = np.count_nonzero(outcome.stick) * area
 
 
-def _record_plastic(history: dict, k: int, step, case: Case) -> None:
-    history["plastic_iterations"][k] = step.iterations
-    for body, plastic in zip(case.plastic_bodies, step.plastic, strict=True):
+def _record_plastic(
+    history: dict, k: int, iterations: int, states: tuple[PlasticState, ...], case: Case
+) -> None:
+    history["plastic_iterations"][k] = iterations
+    for body, plastic in zip(case.plastic_bodies, states, strict=True):
         suffix = BODY1_SUFFIX if body == 1 else ""
         volume = case.volume_grid_of(body)
         equivalent = plastic.equivalent

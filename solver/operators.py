@@ -19,6 +19,7 @@ from .case import Case, SolverOptions
 from .convolution import SurfaceOperator, surface_operator
 from .eigenstrain import VOLUME_PRECISIONS, EigenstrainOperator
 from .fftw import PLANNER_FLAGS
+from .grid import SurfaceGrid, VolumeGrid
 from .materials import Pair
 from .stress import SubsurfaceStressOperator
 
@@ -82,6 +83,9 @@ class CaseOperators:
     stress1, eigenstrain1 : optional
         The same for body 1 when both bodies are elastic-plastic and different (each in its
         own frame, z into body 1).
+    local : CaseOperators or None
+        The bundle on the window that follows a moving contact (:attr:`Case.moving_window`
+        cells, body 2's volume under it), placed by :meth:`at`; None without one.
     """
 
     case: Case
@@ -91,19 +95,34 @@ class CaseOperators:
     eigenstrain: EigenstrainOperator | None = None
     stress1: SubsurfaceStressOperator | None = None
     eigenstrain1: EigenstrainOperator | None = None
+    local: CaseOperators | None = None
     _moved: tuple | None = field(default=None, init=False, repr=False)
 
     def gap_at(self, position: tuple[float, float]) -> np.ndarray:
         """Undeformed gap (m) with body 1's apex at ``position`` (m) over body 2 (sliding).
 
-        :attr:`gap` at the origin; the last other position's gap is kept.
+        On the surface operator's grid; :attr:`gap` at the origin; the last other position's
+        gap is kept.
         """
         if position[0] == 0.0 and position[1] == 0.0:
             return self.gap
         key = (float(position[0]), float(position[1]))
         if self._moved is None or self._moved[0] != key:
-            self._moved = (key, self.case.pair.gap(*self.case.surface_grid.mesh(), key))
+            self._moved = (key, self.case.pair.gap(*self.surface.grid.mesh(), key))
         return self._moved[1]
+
+    def at(self, grid: SurfaceGrid) -> CaseOperators:
+        """The bundle on a grid of the same cells placed elsewhere (the same kernels).
+
+        The surface operator is placed there (:meth:`SurfaceOperator.place`): the bundle it
+        came from is there too from now on.
+
+        The window that follows a moving contact (:mod:`solver.window`) is :attr:`local`
+        placed at the contact, increment by increment.
+        """
+        surface = self.surface.place(grid)
+        gap = self.case.pair.geometry.gap(*grid.mesh())
+        return CaseOperators(self.case, surface, gap, self.stress, self.eigenstrain)
 
     def volume(self, body: int) -> tuple[SubsurfaceStressOperator, EigenstrainOperator]:
         """(stress, eigenstrain) operators of body ``body`` (1 or 2)."""
@@ -134,9 +153,23 @@ class CaseOperators:
         if 1 in case.plastic_bodies:
             volume1 = case.volume_grid_of(1)
             keys.append((volume1, case.body1, threads, planner, True, box, precision))
-        volumes = _volume_operators(keys) + [(None, None)] * (2 - len(keys))
+        window = case.moving_window
+        if window is not None:  # the volume under the window that follows the contact
+            grid = SurfaceGrid(*window, case.surface_grid.dx, case.surface_grid.dy)
+            if case.volume_grid is not None:
+                local_volume = VolumeGrid(grid, case.volume_grid.nz, case.volume_grid.dz)
+                key = (local_volume, case.body2, threads, planner, plastic_case, None, precision)
+                keys.append(key)
+        volumes = _volume_operators(keys)
+        local = None
+        if window is not None:
+            stress, plastic = volumes.pop() if case.volume_grid is not None else (None, None)
+            local_surface = surface_operator(grid, case.pair, options.fft_threads, planner)
+            gap = case.pair.geometry.gap(*grid.mesh())
+            local = cls(case, local_surface, gap, stress, plastic)
+        volumes += [(None, None)] * (2 - len(volumes))
         (stress, plastic), (stress1, plastic1) = volumes
-        return cls(case, surface, initial_gap(case), stress, plastic, stress1, plastic1)
+        return cls(case, surface, initial_gap(case), stress, plastic, stress1, plastic1, local)
 
     @staticmethod
     def memory_bytes(case: Case) -> int:
@@ -154,6 +187,10 @@ class CaseOperators:
         total = PROCESS_BYTES + SurfaceOperator.memory_bytes(case.surface_grid, tangential)
         total += 8 * nx * ny * 40 + 8 * 16 * case.total_steps
         volume = case.volume_grid
+        window = case.moving_window
+        if window is not None:  # the window's own surface operator
+            cells_grid = SurfaceGrid(*window, case.surface_grid.dx, case.surface_grid.dy)
+            total += SurfaceOperator.memory_bytes(cells_grid, tangential)
         if case.plastic_body is not None:
             box = case.plastic_box.shape[:2] if case.plastic_box else (nx, ny)
             cells = 8 * 6 * box[0] * box[1] * volume.nz
@@ -165,6 +202,14 @@ class CaseOperators:
                 precision=case.solver.volume_precision,
                 threads=case.solver.fft_threads,
             )
+            if window is not None:  # the loop on the window; the track's fields kept apart
+                local = VolumeGrid(SurfaceGrid(*window, 1.0, 1.0), volume.nz, 1.0)
+                total += EigenstrainOperator.memory_bytes(
+                    local, deviatoric=True, precision=case.solver.volume_precision,
+                    threads=case.solver.fft_threads,
+                )  # fmt: skip
+                total += TRACK_FIELDS * cells
+                cells = 8 * 6 * window[0] * window[1] * volume.nz
             work = plastic_work_arrays(case.solver, box=case.plastic_box is not None)
             total += int(bodies * work * cells)
             pair = (case.body1, case.body2)
@@ -192,6 +237,12 @@ PLASTIC_VOLUME_ARRAYS = 6
 #: More when the plastic box is narrower than the window: the traction stress and its deviator
 #: (with the box as the window they join the residual stress's layer spectra).
 BOX_SURFACE_ARRAYS = 2
+
+
+#: Six-component float64 fields of the track a case solved on the window that follows its
+#: contact (:mod:`solver.window`) holds besides the window's loop: the plastic strain and its
+#: copy as the window's goes back in, the frozen residual stress and its evaluation's output.
+TRACK_FIELDS = 4
 
 
 def plastic_work_arrays(options: SolverOptions, box: bool = False) -> float:

@@ -61,12 +61,19 @@ class PlasticState:
         own frame (z into the body).
     back_stress : ndarray or None
         ``(6, nx, ny, nz)`` back stress (Pa) of kinematic hardening; None: zero.
+    frozen_stress : ndarray or None
+        On a window of the body's volume (:mod:`solver.window`): the deviatoric residual stress
+        ``(6, nx, ny, nz)`` (Pa) there of the body's whole plastic strain, inside the window
+        and out, with ``displacement`` its residual displacements; the plasticity loop then
+        adds those of the increment alone (linear superposition).  None: ``strain`` is all
+        the body's plastic strain.
     """
 
     strain: np.ndarray
     equivalent: np.ndarray
     displacement: tuple[np.ndarray, np.ndarray, np.ndarray]
     back_stress: np.ndarray | None = None
+    frozen_stress: np.ndarray | None = None
 
     @classmethod
     def virgin(cls, shape: tuple[int, int, int], surface: tuple[int, int]) -> PlasticState:
@@ -221,6 +228,10 @@ def plastic_step(
     else:  # 2 guess - before_guess, no further temporary
         increment = np.multiply(guess, 2.0)
         increment -= before_guess
+    # on a window of the volume: the residual fields of the increment alone, added to the
+    # frozen ones of all the plastic strain at the start (PlasticState.frozen_stress)
+    frozen = [p.frozen_stress for p in previous_plastic]
+    incremental = frozen[0] is not None
     strain = np.empty_like(previous_strain)  # eps_p of the iterate, rewritten in place
     change = np.empty_like(previous_strain)  # G(d) - d, rewritten in place
     mixer = Anderson(options.anderson_memory, history_dtype=np.float32, threads=options.fft_threads)
@@ -232,15 +243,19 @@ def plastic_step(
     while iterations < options.plastic_max_iterations:
         iterations += 1
         np.add(previous_strain, increment, out=strain)
+        source = increment if incremental else strain  # whose residual fields are computed
         layers, displacements = [], {}
         for i, body in enumerate(bodies):
             eigenstrain = operators.volume(body)[1]
-            layers.append(eigenstrain.layer_spectra(strain[i]) if strain[i].any() else None)
-            displacements[body] = (  # nothing has yielded yet: skip the volume transforms
-                eigenstrain.displacement_from_layers(layers[i])
-                if layers[i] is not None
-                else previous_plastic[i].displacement
-            )
+            layers.append(eigenstrain.layer_spectra(source[i]) if source[i].any() else None)
+            own = previous_plastic[i].displacement
+            if layers[i] is None:  # nothing has yielded yet: skip the volume transforms
+                displacements[body] = own
+            elif incremental:
+                moved = eigenstrain.displacement_from_layers(layers[i])
+                displacements[body] = tuple(u + du for u, du in zip(own, moved, strict=True))
+            else:
+                displacements[body] = eigenstrain.displacement_from_layers(layers[i])
         contact = contact_step(
             operators, previous, target, relative_residual(operators, displacements), contact_guess
         )
@@ -253,7 +268,7 @@ def plastic_step(
             tractions = body_tractions(contact.state, body)
             if layers[i] is not None:  # residual and traction stress in one pass, deviators
                 trial = eigenstrain.deviatoric_stress_with_tractions(
-                    strain[i],
+                    source[i],
                     layers[i],
                     tractions,
                     consume=True,  # their last use
@@ -263,6 +278,8 @@ def plastic_step(
                 trial = deviator(stress_operator.stress(**tractions, box=eigenstrain.box))
             else:
                 trial = np.zeros_like(strain[i])
+            if incremental:
+                trial += frozen[i]
             for component, values in zip(trial, increment[i], strict=True):  # no full temporary
                 component += 2.0 * material.shear_modulus * values
             mapped.append(
@@ -301,12 +318,21 @@ def plastic_step(
     if not contact.converged:
         message = "; ".join(filter(None, (message, contact.message)))
     increment = np.stack([m.plastic_strain_increment for m in mapped])
+    if incremental:  # the frozen stress of the strain at the end (a halved increment's second
+        for i, body in enumerate(bodies):  # half starts from it)
+            if increment[i].any():
+                eigenstrain = operators.volume(body)[1]
+                layers_i = eigenstrain.layer_spectra(increment[i])
+                frozen[i] = frozen[i] + eigenstrain.deviatoric_stress_with_tractions(
+                    increment[i], layers_i, {}, consume=True
+                )
     plastic = tuple(
         PlasticState(
             previous_plastic[i].strain + increment[i],
             previous_plastic[i].equivalent + mapped[i].equivalent_increment,
             displacements[body],
             mapped[i].back_stress,
+            frozen[i],
         )
         for i, body in enumerate(bodies)
     )

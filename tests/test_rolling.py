@@ -92,8 +92,12 @@ def test_rolling_back_is_the_mirror_and_spin_mirrors_in_y(radius):
     assert np.allclose(
         forward.pressure, back.pressure[::-1], rtol=0, atol=1e-7 * forward.pressure.max()
     )
+    # the shear to the slip solve's tolerance: the window that follows the contact mirrors
+    # too, but its solves start from states placed differently (1.7e-7 seen)
+    tolerance = forward.case.solver.slip_tolerance
+    assert forward.case.moving_window is not None
     assert np.allclose(
-        forward.shear_x, -back.shear_x[::-1], rtol=0, atol=1e-7 * forward.pressure.max()
+        forward.shear_x, -back.shear_x[::-1], rtol=0, atol=tolerance * forward.pressure.max()
     )
     spun = {}
     for sign in (1.0, -1.0):
