@@ -80,7 +80,7 @@ class Follower:
         self.case = operators.case
         self.grid = self.case.surface_grid
         self.shape = self.local.surface.grid.shape
-        self.offset = self._offset(position_of((0.0,) * 5), position_of((0.0,) * 5))
+        self.offset = self._offset((0.0, 0.0), (0.0, 0.0))
         self.frozen: np.ndarray | None = None
         self.lost = False
 
