@@ -154,8 +154,8 @@ def test_window_covers_the_track(radius):
 
 
 def test_the_moving_cost_scene_has_its_cells_across_the_contact():
-    """`python -m study bench moving`: n cells across the contact diameter, cubic cells, the
-    window over the whole pass."""
+    """`python -m study bench moving`: n cells across the contact diameter, layers half a cell
+    thick (no note on them), the window over the whole pass."""
     from study.bench.moving import TRAVEL, pass_table
 
     case = Case.from_dict(pass_table(16))
@@ -163,7 +163,8 @@ def test_the_moving_cost_scene_has_its_cells_across_the_contact():
     grid = case.surface_grid
     assert 2 * a / grid.dx == pytest.approx(16, rel=0.05)
     volume = case.volume_grid
-    assert volume.z[1] - volume.z[0] == pytest.approx(grid.dx, rel=0.05)
+    assert volume.z[1] - volume.z[0] == pytest.approx(0.5 * grid.dx, rel=0.05)
+    assert not case.warnings
     assert grid.x[0] < -1.5 * a + grid.dx and grid.x[-1] > (TRAVEL + 1.5) * a - grid.dx
 
 

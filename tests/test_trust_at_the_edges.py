@@ -48,13 +48,17 @@ def swift_case(p_h=4e9, n=16, nz=16, steps=4, **grid):
 
 
 def perfect_case(ratio, law=None, load=None, n=16):
-    """A rigid sphere on a 1 GPa steel, loaded to p_H = ratio x 1 GPa."""
+    """A rigid sphere on a 1 GPa steel, loaded to p_H = ratio x 1 GPa.
+
+    2n layers (thinner than 0.62 of a cell at these loads): a perfectly plastic body on
+    thicker ones has a note of its own (:meth:`solver.Case._layer_note`).
+    """
     law = law or {"law": "perfect", "yield_stress": 1e9}
     return {
         "body1": {"behaviour": "rigid", "radius": 0.015},
         "body2": {"behaviour": "elastic-plastic", "radius": "inf", **STEEL, "hardening": law},
         "load": load or {"hertz_pressure": ratio * 1e9, "steps": 10},
-        "grid": {"n": [n, n, n]},
+        "grid": {"n": [n, n, 2 * n]},
     }
 
 
@@ -299,3 +303,53 @@ def _toml(table: dict) -> str:
     from test_fuzz_inputs import to_toml
 
     return to_toml(table)
+
+
+# -- 6. layers under a perfectly plastic body ------------------------------------------------------
+def _rayleigh_quotient(thickness: float, pattern: str) -> float:
+    """-<sigma, e> / (2 G <e, e>) of an xx - zz eigenstrain alternating in x and z.
+
+    The block of 12 x 12 x (nz / 2) cells in a 16^2 grid of cells 1 m wide and ``thickness``
+    thick; 1 for an eigenstrain its own stress fully resists, negative for one its stress
+    drives on.
+    """
+    from solver.eigenstrain import EigenstrainOperator
+    from solver.grid import SurfaceGrid, VolumeGrid
+    from solver.tensor import WEIGHTS, deviator
+
+    n, nz = 16, round(16 / thickness)
+    grid = VolumeGrid(SurfaceGrid(n, n, 1.0, 1.0), nz, thickness)
+    operator = EigenstrainOperator(grid, STEEL["E"], STEEL["nu"])
+    i, j, k = np.meshgrid(np.arange(n), np.arange(n), np.arange(nz), indexing="ij")
+    block = (abs(i - n / 2) < 6) & (abs(j - n / 2) < 6) & (k >= nz / 4) & (k < 3 * nz / 4)
+    sign = {"x": (-1.0) ** i, "xz": (-1.0) ** (i + k)}[pattern]
+    strain = np.zeros((6, n, n, nz))
+    strain[0], strain[2] = sign * block, -sign * block
+    stress = deviator(operator.stress(strain))
+    weights = np.asarray(WEIGHTS)[:, None, None, None]
+    shear_modulus = STEEL["E"] / (2 * (1 + STEEL["nu"]))
+    energy = (weights * stress * strain).sum()
+    return float(-energy / (2 * shear_modulus * (weights * strain**2).sum()))
+
+
+def test_cubic_cells_have_a_checkerboard_their_stress_drives_and_thin_layers_do_not():
+    """Why the layer note: the cell-centre stress of a cell-wise eigenstrain drives xx - zz
+    alternating in x and z on cubic cells (nothing but hardening holds it back), and resists
+    it on layers half a cell thick; a smooth pattern is resisted on both."""
+    assert _rayleigh_quotient(1.0, "xz") < -0.1
+    assert _rayleigh_quotient(0.5, "xz") > 0.1
+    assert _rayleigh_quotient(1.0, "x") > 0.1 and _rayleigh_quotient(0.5, "x") > 0.1
+
+
+def test_a_perfectly_plastic_body_on_thick_layers_is_told_the_layers_to_use():
+    table = perfect_case(6)
+    table["grid"]["n"] = [16, 16, 16]
+    (note,) = solver.Case.from_dict(table).warnings
+    assert note.startswith("layers 0.91 of a cell thick") and "grid.n" in note
+    nz = int(note.rsplit("nz >= ", 1)[1].split()[0])
+    table["grid"]["n"] = [16, 16, nz]
+    case = solver.Case.from_dict(table)
+    assert case.warnings == () and case.volume_grid.dz <= 0.62 * case.surface_grid.dx
+    hardening = perfect_case(6, law={"law": "linear", "yield_stress": 1e9, "modulus": 10e9})
+    hardening["grid"]["n"] = [16, 16, 16]
+    assert solver.Case.from_dict(hardening).warnings == ()  # hardening holds the pattern back
