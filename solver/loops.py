@@ -562,7 +562,8 @@ def solve(case: Case) -> Result:
             )
             if follower is not None:
                 cut = follower.sides_reached(window_plastic[0], step.plastic[0])
-                reached += [f"side {axis} of the window that follows the contact" for axis in cut]
+                window = "grid.half_width: the window follows the contact"
+                reached += [f"window side {axis} ({window})" for axis in cut]
             if reached and not faces_noted:
                 faces_noted = True
                 notes.append(
