@@ -164,8 +164,12 @@ def project_onto_feasible(
         jxx = n_in + _sum(weight * (1.0 - ux * ux))
         jyy = n_in + _sum(weight * (1.0 - uy * uy))
         jxy = -_sum(weight * ux * uy)
-        jacobian = np.array([[jxx, jxy], [jxy, jyy]]) + 1e-12 * np.eye(2) * (jxx + jyy + 1e-300)
+        if not jxx + jyy > 0.0:  # no cell can take more force (every bound 0): the target
+            break  # cannot be met; the caller's residual says so (an infinite step would NaN)
+        jacobian = np.array([[jxx, jxy], [jxy, jyy]]) + 1e-12 * np.eye(2) * (jxx + jyy)
         step = np.linalg.solve(jacobian, residual)
+        if not np.isfinite(step).all():
+            break
         length = 1.0
         for _ in range(40):  # backtracking on |residual|
             trial = lam + length * step

@@ -465,3 +465,24 @@ def test_merged_coupling_equals_alternating_solves(monkeypatch, path):
     assert np.allclose(h_m["approach"], h_a["approach"], rtol=1e-6)
     assert abs(np.sum(merged.contact_state == 1) - np.sum(alternating.contact_state == 1)) <= 4
     assert h_m["slip_iterations"].sum() < h_a["slip_iterations"].sum()
+
+
+def test_the_force_projection_stays_finite_when_no_cell_can_carry_the_force():
+    """Every friction bound 0 (no pressure left) and a tangential force asked: the projection's
+    force multiplier had no slope to follow and went to inf (NaN tractions, seen in a 50-pass
+    rolling run); it now stops there, finite, and the force it misses is the caller's residual."""
+    import warnings
+
+    from solver.tangential import project_onto_feasible
+
+    z = np.ones((4, 4))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # an invalid value or overflow fails the test
+        qx, qy, multiplier = project_onto_feasible(
+            z, 0 * z, np.zeros((4, 4)), np.array([1.0, 0.0]), np.zeros(2)
+        )
+    assert np.isfinite(multiplier).all() and not qx.any() and not qy.any()
+    z = np.linspace(0.1, 1.0, 16).reshape(4, 4)  # bounds that can carry it: the force is met
+    bound = np.full((4, 4), 0.5)
+    qx, qy, _ = project_onto_feasible(z, 0 * z, bound, np.array([2.0, 0.0]), np.zeros(2))
+    assert qx.sum() == pytest.approx(2.0, rel=1e-12) and np.all(np.hypot(qx, qy) <= bound + 1e-15)
