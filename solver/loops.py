@@ -55,7 +55,7 @@ from .variables import (
     PLASTIC_BODY_HISTORIES,
     PLASTIC_ZONE_THRESHOLD,
 )
-from .window import Follower
+from .window import Follower, shifted
 
 #: Halvings of an increment whose plasticity loop does not converge (down to 1/8 of it).
 MAX_SPLITS = 3
@@ -270,21 +270,9 @@ def _moved(increment: np.ndarray, cells_x: float, cells_y: float) -> np.ndarray:
     for axis, cells in ((-3, cells_x), (-2, cells_y)):
         whole = math.floor(cells)
         part = cells - whole
-        out = (1.0 - part) * _shift(out, whole, axis) + part * _shift(out, whole + 1, axis)
-    return out
-
-
-def _shift(values: np.ndarray, cells: int, axis: int) -> np.ndarray:
-    """``values`` moved by ``cells`` along ``axis``, zero-filled (no wrap-around)."""
-    out = np.zeros_like(values)
-    n = values.shape[axis]
-    if abs(cells) >= n:
-        return out
-    src = [slice(None)] * values.ndim
-    dst = [slice(None)] * values.ndim
-    src[axis] = slice(max(-cells, 0), n - max(cells, 0))
-    dst[axis] = slice(max(cells, 0), n - max(-cells, 0))
-    out[tuple(dst)] = values[tuple(src)]
+        out = (1.0 - part) * shifted(out, (whole,), (axis,)) + part * shifted(
+            out, (whole + 1,), (axis,)
+        )
     return out
 
 

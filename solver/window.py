@@ -40,17 +40,17 @@ from .steps import ContactState, position_of
 from .variables import PLASTIC_ZONE_THRESHOLD
 
 
-def _cells(values: np.ndarray, di: int, dj: int, axes: tuple[int, int]) -> np.ndarray:
-    """``values`` moved by (di, dj) cells along ``axes``, zero where cells enter."""
+def shifted(values: np.ndarray, cells: tuple[int, ...], axes: tuple[int, ...]) -> np.ndarray:
+    """``values`` moved by ``cells[k]`` cells along ``axes[k]``, zero where cells enter."""
     out = np.zeros_like(values)
     src = [slice(None)] * values.ndim
     dst = [slice(None)] * values.ndim
-    for axis, cells in zip(axes, (di, dj), strict=True):
+    for axis, count in zip(axes, cells, strict=True):
         n = values.shape[axis]
-        if abs(cells) >= n:
+        if abs(count) >= n:
             return out
-        src[axis] = slice(max(cells, 0), n + min(cells, 0))
-        dst[axis] = slice(max(-cells, 0), n + min(-cells, 0))
+        src[axis] = slice(max(-count, 0), n - max(count, 0))
+        dst[axis] = slice(max(count, 0), n - max(-count, 0))
     out[tuple(dst)] = values[tuple(src)]
     return out
 
@@ -154,10 +154,10 @@ class Follower:
         Tractions moved, the displacements they cause recomputed (no traction may leave:
         :attr:`lost` otherwise).
         """
-        axes = (0, 1)
-        pressure = _cells(state.pressure, di, dj, axes)
-        shear_x = _cells(state.shear_x, di, dj, axes)
-        shear_y = _cells(state.shear_y, di, dj, axes)
+        back, axes = (-di, -dj), (0, 1)  # the window moved on: its fields move back
+        pressure = shifted(state.pressure, back, axes)
+        shear_x = shifted(state.shear_x, back, axes)
+        shear_y = shifted(state.shear_y, back, axes)
         kept = sum(float(np.abs(v).sum()) for v in (pressure, shear_x, shear_y))
         total = sum(float(np.abs(v).sum()) for v in (state.pressure, state.shear_x, state.shear_y))
         if kept < total * (1.0 - 1e-12):
