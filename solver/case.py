@@ -1070,11 +1070,11 @@ class Case:
                 "give body 2 flat and body 1 the pair's radius (1/R = 1/R1 + 1/R2 along each "
                 "axis), which the half-space contact sees alike",
             )
-        if rolls and body1.behaviour == "elastic-plastic":
+        if rolls and body1.behaviour == body2.behaviour == "elastic-plastic":
             _fail(
                 "body1.behaviour",
-                "rolling over an elastic-plastic body 1 is not built (its plastic strain would "
-                "travel with its own surface); make body 1 elastic or rigid",
+                "rolling with two elastic-plastic bodies is not built (one plastic body, "
+                "either, is); make body 1 or body 2 elastic",
             )
         for stage, path in zip(stages, paths, strict=True):
             if stage.creepage is not None and mu == 0.0 and (any(stage.creepage) or stage.spin):
@@ -1285,10 +1285,13 @@ class Case:
         table = self.to_dict()
         table["body1"], table["body2"] = table["body2"], table["body1"]
         path = table["load"]["path"]
-        for stage in [s for e in path for s in (e["stages"] if "cycles" in e else [e])]:
+        stages = [s for e in path for s in (e["stages"] if "cycles" in e else [e])]
+        for stage in stages:
             if "tangential_force" in stage:
                 qx, qy = stage["tangential_force"]
                 stage["tangential_force"] = [-qx if qx else 0.0, qy]
+        if any("roll" in stage for stage in stages):
+            _swap_rolling(table, stages)
         return Case.from_dict(table)
 
     def _check_surfaces(self) -> None:
@@ -1709,6 +1712,29 @@ def _domain_half_widths(grid: GridSpec, scale: float) -> tuple[float, float]:
 def _slides(stages) -> bool:
     """True when a stage moves body 1 over body 2 (a ``slide``)."""
     return any(any(stage.travel) for stage in stages)
+
+
+def _swap_rolling(table: dict, stages: list[dict]) -> None:
+    """A rolling case's table told in body 1's frame (x, -y, -z), in place (:meth:`Case.swapped`).
+
+    Under a rolling contact the surface material of both bodies stands still in body 2's frame
+    (Kalker's transient theory), so the bodies may change roles: the travel over body 1 is the
+    travel over body 2, ``(dx, -dy)`` in body 1's frame; the rigid slip of the other body is
+    the opposite, ``(xi, eta) -> (-xi, eta)`` with the y flip, and the spin (the rotation about
+    z, which turns too) keeps its value.  The pair's curvature stays on body 1, the body the
+    contact moves with (the half-space contact sees the pair's 1/R alike).
+    """
+    keys = ("radius", "radius_x", "radius_y")
+    shapes = [{k: table[b].pop(k) for k in keys if k in table[b]} for b in ("body2", "body1")]
+    table["body1"].update(shapes[0])  # the swapped-in body 2 holds body 1's former shape
+    table["body2"].update(shapes[1])
+    for stage in stages:
+        if "roll" in stage:
+            dx, dy = stage["roll"]
+            stage["roll"] = [dx, -dy if dy else 0.0]
+        if "creepage" in stage:
+            xi, eta = stage["creepage"]
+            stage["creepage"] = [-xi if xi else 0.0, eta]
 
 
 def _check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> None:

@@ -367,6 +367,7 @@ def _relabelled(result: Result, case: Case) -> Result:
         result.depth,
         result.depth_body1,
         result.truncated,
+        result.melan_factor,  # of the plastic body's own residual stress, either label
     )
 
 
@@ -453,7 +454,10 @@ def solve(case: Case) -> Result:
             direction = new_direction
         moving = position_of(target) != position_of(previous_target)
         step_of = _increment_step(contact_step, stage, moving)
-        if plastic and moving and target[0] > 0:  # a load position of Melan's check
+        # a load position of Melan's check: Hamilton's field is a slide's load, or a
+        # frictionless roll's (a rolling contact's shear is not mu p)
+        hamilton = stage.motion == "slide" or case.friction_coefficient == 0.0
+        if plastic and moving and target[0] > 0 and hamilton:
             loaded_positions.add(
                 (*position_of(target), *np.sign(np.subtract(target, previous_target)[3:]))
             )
@@ -718,8 +722,8 @@ def _melan(
     The elastic loads are Hamilton's (1983) field of the largest Hertz pressure with the shear
     ``mu p`` along the motion, at every loaded position of the path (sliding along x only);
     the yield stress is each cell's current flow stress.  None where that field is not the
-    load's: a non-circular or non-Hertzian contact, sliding along y, kinematic hardening, a
-    plastic body 1.
+    load's: a non-circular or non-Hertzian contact, sliding along y, kinematic hardening,
+    two plastic bodies, a rolling contact with friction (its positions are not collected).
     """
     reference, body = case.reference, case.body2
     circular = case.pair.geometry.hertzian and math.isclose(

@@ -65,8 +65,12 @@ HISTORIES: dict[str, History] = {
         "m", "rigid tangential shift of body 1 relative to body 2 along y", None
     ),
     "stick_area": History("m2", "stick area"),
-    "position_x": History("m", "position of body 1's apex over body 2 along x (sliding)", None),
-    "position_y": History("m", "position of body 1's apex over body 2 along y (sliding)", None),
+    "position_x": History(
+        "m", "position of body 1's apex over body 2 along x (sliding, rolling)", None
+    ),
+    "position_y": History(
+        "m", "position of body 1's apex over body 2 along y (sliding, rolling)", None, None, -1.0
+    ),
     "normal_iterations": History(
         "1", "normal-solver CG iterations (summed over the step's loops)", "sum"
     ),

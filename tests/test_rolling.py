@@ -228,7 +228,9 @@ ROLL = {"roll": [1e-4, 0.0], "steps": 2}
         ({**ROLL, "creepage": [1e-3, 0.0]}, {"body2": {**FLAT, "radius": 0.05}}, "body2.radius"),
         ({**ROLL, "creepage": [1e-3, 0.0]},
          {"body1": {**BALL, "behaviour": "elastic-plastic",
-                    "hardening": {"law": "perfect", "yield_stress": 1e9}}},
+                    "hardening": {"law": "perfect", "yield_stress": 1e9}},
+          "body2": {**FLAT, "behaviour": "elastic-plastic",
+                    "hardening": {"law": "perfect", "yield_stress": 2e9}}},
          "body1.behaviour"),
     ],
 )  # fmt: skip
