@@ -1227,9 +1227,9 @@ class Case:
         )  # fmt: skip
         case._check_resolution()
         case._check_surfaces()
-        note = case._layer_note()
-        if note:
-            case = dataclasses.replace(case, warnings=(*case.warnings, note))
+        notes = tuple(filter(None, (case._layer_note(), case._surface_shear_note())))
+        if notes:
+            case = dataclasses.replace(case, warnings=(*case.warnings, *notes))
         for stage, path in zip(stages, paths, strict=True):
             reach = abs(stage.spin) * case.reference.max_semi_axis if stage.spin else 0.0
             if reach > MAX_CREEPAGE:  # the spin's rigid slip at the contact's edge
@@ -1525,6 +1525,35 @@ class Case:
             f"such cells its plasticity loop can stall and its plastic strain stray (a cell-wise "
             f"eigenstrain's checkerboard patterns can release elastic energy there); give "
             f"grid.n = [nx, ny, nz] with nz >= {nz} (layers <= {MAX_PERFECT_LAYER:g} cell)"
+        )
+
+    def _surface_shear_note(self) -> str | None:
+        """A note when a slide's shear mu p_0 exceeds what the plastic body can carry.
+
+        A body whose flow stress is bounded (:attr:`Hardening.shear_limit`) cannot carry a
+        surface shear traction above that limit: no stress field in equilibrium with it stays
+        inside the yield surface, and the plasticity loop of such an increment cannot
+        converge.  Said at Hertz's peak pressure of the largest load (plastic flow flattens
+        the pressure, which may bring the shear back under the limit).
+        """
+        body, reference = self.plastic_body, self.reference
+        mu = self.friction_coefficient
+        if body is None or reference is None or not mu:
+            return None
+        if not any(stage.motion == "slide" for stage in self.stages):
+            return None
+        limit = body.hardening.shear_limit
+        ratio = mu * reference.max_pressure / limit
+        if ratio <= 1.0:
+            return None
+        return (
+            f"the sliding shear mu p_0 = {ratio:.3g} x {limit / 1e6:.4g} MPa, the largest "
+            f"shear stress the elastic-plastic body can carry (sigma_Y / sqrt 3 without "
+            f"hardening): where the pressure stays that high no stress field in equilibrium "
+            f"with the surface shear stays within yield, the top layer's plastic strain is set "
+            f"by grid.nz and the plasticity loop may not converge; lower the load or "
+            f"friction.coefficient below p_0 = {limit / mu / 1e6:.4g} MPa, or give the body "
+            f"hardening"
         )
 
     @property

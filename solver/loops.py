@@ -437,6 +437,7 @@ def solve(case: Case) -> Result:
     guess, direction = None, 0.0
     previous = None  # (plastic increment, load increment) of the step before the last
     faces_noted = edge_noted = False
+    shear_peak = (0.0, 0)  # the largest surface shear over the shear limit, and its step
     outcome = None
     cycle_start = None
     cycle_profiles: dict[str, list] = {}  # CYCLE_PROFILES at the end of every cycle
@@ -509,6 +510,7 @@ def solve(case: Case) -> Result:
             residual = max(outcome.residual, step.residual)
             if step.message:
                 messages.append(step.message)
+            shear_peak = max(shear_peak, (_shear_excess(case, outcome.state), k + 1))
         else:
             initial = None
             if not coupled and step_of is slip_stick_step:
@@ -633,6 +635,15 @@ def solve(case: Case) -> Result:
         stress = operators.stress.stress(state.pressure, *shears)
         result.fields["stress"] = stress
         result.fields["von_mises"] = von_mises(stress)
+    if shear_peak[0] > 1.0:
+        result.notes.append(
+            f"step {shear_peak[1]}: the surface shear traction reaches {shear_peak[0]:.3g} x "
+            "the largest shear stress the elastic-plastic body can carry (sigma_Y / sqrt 3 "
+            "without hardening): no stress field in equilibrium with it stays within yield, so "
+            "the top layer shears without bound as the layers thin (its plastic strain is set "
+            "by grid.nz, not by the material) and the plasticity loop may not converge; lower "
+            "the load or the friction, or give the body hardening"
+        )
     if plastic:
         _plastic_fields(result, operators, plastic_state)
         result.fields.update({name: np.array(rows) for name, rows in cycle_profiles.items()})
@@ -712,6 +723,19 @@ def _record_plastic(
             axis_value(equivalent), volume.z, PLASTIC_ZONE_THRESHOLD
         )
         history["residual_depth" + suffix][k] = float(axis_value(plastic.displacement[2]))
+
+
+def _shear_excess(case: Case, state) -> float:
+    """The largest surface shear traction over the plastic bodies' shear limit (0: none).
+
+    :attr:`solver.materials.Hardening.shear_limit`: above 1 no stress field in equilibrium
+    with the tractions stays within yield.
+    """
+    limit = min((case.body2 if b == 2 else case.body1).hardening.shear_limit
+                for b in case.plastic_bodies)  # fmt: skip
+    if not math.isfinite(limit):
+        return 0.0
+    return float(np.hypot(state.shear_x, state.shear_y).max()) / limit
 
 
 def _melan(

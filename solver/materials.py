@@ -94,6 +94,22 @@ class Hardening:
         return 0.0 * e
 
     @property
+    def shear_limit(self) -> float:
+        """The largest shear stress (Pa) the material can carry at any plastic strain.
+
+        Von Mises bounds a shear stress tau by sqrt(3) |tau| <= sigma_eq, so a perfectly
+        plastic body carries at most k = sigma_Y0 / sqrt 3, and one with a saturating
+        (Armstrong-Frederick) back stress (sigma_Y0 + C_k / gamma) / sqrt 3; inf where the
+        flow stress or the back stress grows without bound (linear, Swift, Prager).  A surface
+        shear traction above it has no stress field in equilibrium with it inside the yield
+        surface: at the surface sigma_xz = q_x and sigma_yz = q_y.
+        """
+        if self.law != "perfect" or (self.kinematic and self.kinematic_recall == 0.0):
+            return math.inf
+        saturated = self.kinematic_modulus / self.kinematic_recall if self.kinematic else 0.0
+        return (self.yield_stress + saturated) / math.sqrt(3.0)
+
+    @property
     def initial_yield_stress(self) -> float:
         """sigma_Y at zero plastic strain (Pa)."""
         return float(self.flow_stress(0.0))

@@ -213,3 +213,51 @@ def test_an_increment_that_fails_at_every_halving_keeps_the_whole_increments_sta
     assert not out.converged
     assert out.contact.state == 1.0  # the target's state, not a half's
     assert out.iterations == 100 * (loops.MAX_SPLITS + 1)  # every attempt counted
+
+
+# -- the surface shear a perfectly plastic body can carry ----------------------------------------
+def test_the_shear_limit_is_k_for_bounded_flow_and_inf_for_hardening():
+    """sqrt(3) |tau| <= sigma_eq: k = sigma_Y / sqrt 3, raised by a saturated back stress."""
+    from solver.materials import Hardening
+
+    perfect = Hardening("perfect", yield_stress=YIELD)
+    assert perfect.shear_limit == pytest.approx(SHEAR_YIELD, rel=1e-15)
+    saturating = Hardening(
+        "perfect", yield_stress=YIELD, kinematic_modulus=20e9, kinematic_recall=200.0
+    )
+    assert saturating.shear_limit == pytest.approx((YIELD + 20e9 / 200.0) / math.sqrt(3))
+    assert Hardening("perfect", yield_stress=YIELD, kinematic_modulus=20e9).shear_limit == math.inf
+    assert Hardening("linear", yield_stress=YIELD, modulus=1e9).shear_limit == math.inf
+
+
+def _slide(mu: float, ratio: float, nz: int) -> Case:
+    probe = {"body1": {"behaviour": "rigid", "radius": 0.01}, "body2": PERFECT}
+    pressure = ratio * SHEAR_YIELD
+    a = Case.from_dict(
+        {**probe, "load": {"hertz_pressure": pressure}, "grid": {"n": [16, 16, 16]}}
+    ).hertz.radius
+    return Case.from_dict(
+        {
+            **probe, "friction": {"coefficient": mu},
+            "load": {"path": [{"hertz_pressure": pressure, "steps": 2},
+                              {"slide": [3 * a, 0.0], "steps": 12}]},
+            "grid": {"n": [40, 16, nz]}, "solver": {"plastic_tolerance": 1e-4},
+        }
+    )  # fmt: skip
+
+
+def test_a_sliding_shear_past_k_is_told_and_its_surface_strain_follows_the_layers():
+    """mu = 0.5 at p_0 = 3 k: mu p past k where the pressure stays above 2 k.  No stress field
+    in equilibrium with such a shear stays within yield, so the top layer's plastic strain is
+    set by the layer thickness: it grows as the layers thin (0.038 on 24 layers, 0.100 on 48
+    seen).  At mu = 0.3 nothing is said."""
+    assert not any("sliding shear" in note for note in _slide(0.3, 3.0, 24).warnings)
+    coarse, fine = _slide(0.5, 3.0, 24), _slide(0.5, 3.0, 48)
+    assert any("sliding shear mu p_0 = 1.5 x" in note for note in coarse.warnings)
+    results = [solver.solve(case) for case in (coarse, fine)]
+    for result in results:
+        peak = np.hypot(result.shear_x, result.shear_y).max() / SHEAR_YIELD
+        assert peak > 1.0  # the flattened pressure still carries mu p above k
+        assert any("surface shear traction reaches" in note for note in result.notes)
+    strains = [r.history["max_plastic_strain"][-1] for r in results]
+    assert strains[1] > 1.5 * strains[0]

@@ -11,7 +11,9 @@ cycle.  This section writes
   cycles, the gain of the first and the last cycle and the net tensor change of the last one;
 - ``<name>_shakedown_map.png``: p_0/k against mu, one marker per case coloured by its regime,
   with first yield under a sliding point contact (Hamilton's field,
-  :func:`solver.shakedown.sliding_first_yield`) and each converged case's Melan bound drawn
+  :func:`solver.shakedown.sliding_first_yield`), the line mu p_0 = k (above it the sliding
+  shear at Hertz's peak exceeds what a perfectly plastic surface can carry:
+  :attr:`solver.materials.Hardening.shear_limit`) and each converged case's Melan bound drawn
   over it.
 """
 
@@ -124,6 +126,12 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
     if nu is not None:
         mu, ratio = first_yield_curve(mu_max, nu)
         ax.plot(mu, ratio, "k-", lw=1, label=f"first yield (Hamilton 1983, nu = {nu:g})")
+    # mu p_0 = k: past it the sliding shear at Hertz's peak exceeds the shear a perfectly
+    # plastic surface can carry (solver.materials.Hardening.shear_limit)
+    top = ax.get_ylim()[1]
+    if mu_max > 1.0 / top:
+        mu = np.linspace(1.0 / top, mu_max, 41)
+        ax.plot(mu, 1.0 / mu, "k--", lw=1, label="mu p_0 = k: the sliding shear reaches k")
     ax.set_xlim(-0.02, mu_max)
     ax.set_xlabel("traction coefficient mu (sliding)")
     ax.set_ylabel("p_0 / k")
