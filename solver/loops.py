@@ -838,13 +838,18 @@ def _plastic_fields(
 
 
 def _path_dependence_notes(case: Case) -> list[str]:
-    notes, previous_force = [], 0.0
+    """One note naming every stage that raises the normal force in too few steps."""
+    few, previous_force = [], 0.0
     for i, stage in enumerate(case.stages):
         if stage.normal_force > previous_force and stage.steps < MIN_COUPLED_STEPS:
-            notes.append(
-                f"path dependence: load stage {i + 1} raises the normal force in "
-                f"{stage.steps} step(s); the stick zone of a dissimilar pair (beta != 0) "
-                f"depends on the loading path, use >= {MIN_COUPLED_STEPS} steps"
-            )
+            few.append(f"{i + 1} ({stage.steps} step{'s' if stage.steps > 1 else ''})")
         previous_force = stage.normal_force
-    return notes
+    if not few:
+        return []
+    stages = (
+        f"load stage {few[0]} raises" if len(few) == 1 else (f"load stages {', '.join(few)} raise")
+    )
+    return [
+        f"path dependence: {stages} the normal force in fewer than {MIN_COUPLED_STEPS} steps; "
+        f"the stick zone of a dissimilar pair (beta != 0) depends on the loading path"
+    ]
