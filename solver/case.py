@@ -1544,7 +1544,7 @@ class Case:
             return None
         limit = body.hardening.shear_limit
         ratio = mu * reference.max_pressure / limit
-        if ratio <= 1.0:
+        if ratio <= 1.0 + 1e-9:  # at the limit to rounding (mu = 0.5, p_0 = 2 k) is not past it
             return None
         return (
             f"the sliding shear mu p_0 = {ratio:.3g} x {limit / 1e6:.4g} MPa, the largest "
