@@ -438,6 +438,7 @@ def solve(case: Case) -> Result:
     previous = None  # (plastic increment, load increment) of the step before the last
     faces_noted = edge_noted = False
     shear_peak = (0.0, 0)  # the largest surface shear over the shear limit, and its step
+    failures: list[tuple[int, str]] = []  # (step, what did not converge)
     outcome = None
     cycle_start = None
     cycle_profiles: dict[str, list] = {}  # CYCLE_PROFILES at the end of every cycle
@@ -476,8 +477,8 @@ def solve(case: Case) -> Result:
                     _count(sub_iterations, step.contact.iterations, step.iterations)
                     if not step.converged:
                         converged = False
-                        notes.append(
-                            f"step {k + 1} (sub-step to W = {sub[0]:.4g} N): {step.message}"
+                        failures.append(
+                            (k + 1, f"(sub-step to W = {sub[0]:.4g} N): {step.message}")
                         )
                 else:
                     sub_outcome = contact_step(placed, state, sub)
@@ -569,7 +570,8 @@ def solve(case: Case) -> Result:
                 history[name][k] += count
         if not step_ok:
             converged = False
-            notes.extend(f"step {k + 1}: {m}" for m in messages)
+            failures.extend((k + 1, m) for m in dict.fromkeys(messages))
+    notes.extend(_failure_notes(failures))
     notes.extend(_path_dependence_notes(case) if coupled else [])
     if case.reference is None:  # heights only: the mesh check the case could not make before
         across = 2.0 * math.sqrt(history["contact_area"].max() / math.pi) / max(grid.dx, grid.dy)
@@ -835,6 +837,32 @@ def _plastic_fields(
                 result.fields[name + BODY1_SUFFIX] = _on_common_axes(name, values)
             else:
                 result.fields[name] = values
+
+
+#: Failed increments told one by one; more are told in one note (first, last, the steps).
+MAX_FAILURE_NOTES = 3
+
+
+def _failure_notes(failures: list[tuple[int, str]]) -> list[str]:
+    """Notes of the increments that did not converge: each, or one for many.
+
+    A case whose every pass fails (a load past what the body can carry) would otherwise
+    carry a note per increment and sub-step; beyond :data:`MAX_FAILURE_NOTES` one note names
+    the steps and tells the first and the last failure in full.
+    """
+    told = [f"step {k}{'' if m.startswith('(') else ':'} {m}" for k, m in failures]
+    if len(told) <= MAX_FAILURE_NOTES:
+        return told
+    steps = sorted({k for k, _ in failures})
+    runs, start = [], steps[0]
+    for a, b in zip(steps, [*steps[1:], None], strict=True):
+        if b != a + 1:
+            runs.append(f"{start}" if start == a else f"{start}-{a}")
+            start = b
+    return [
+        f"{len(failures)} increments did not converge, in steps {', '.join(runs)}; the first: "
+        f"{told[0]}; the last: {told[-1]}"
+    ]
 
 
 def _path_dependence_notes(case: Case) -> list[str]:
