@@ -1070,12 +1070,6 @@ class Case:
                 "give body 2 flat and body 1 the pair's radius (1/R = 1/R1 + 1/R2 along each "
                 "axis), which the half-space contact sees alike",
             )
-        if rolls and body1.behaviour == body2.behaviour == "elastic-plastic":
-            _fail(
-                "body1.behaviour",
-                "rolling with two elastic-plastic bodies is not built (one plastic body, "
-                "either, is); make body 1 or body 2 elastic",
-            )
         for stage, path in zip(stages, paths, strict=True):
             if stage.creepage is not None and mu == 0.0 and (any(stage.creepage) or stage.spin):
                 _fail(
@@ -1227,7 +1221,8 @@ class Case:
         )  # fmt: skip
         case._check_resolution()
         case._check_surfaces()
-        notes = tuple(filter(None, (case._layer_note(), case._surface_shear_note())))
+        notes = (case._layer_note(), case._surface_shear_note(), case._window_note())
+        notes = tuple(filter(None, notes))
         if notes:
             case = dataclasses.replace(case, warnings=(*case.warnings, *notes))
         for stage, path in zip(stages, paths, strict=True):
@@ -1554,6 +1549,33 @@ class Case:
             f"by grid.nz and the plasticity loop may not converge; lower the load or "
             f"friction.coefficient below p_0 = {limit / mu / 1e6:.4g} MPa, or give the body "
             f"hardening"
+        )
+
+    def _window_note(self) -> str | None:
+        """A note when a moving case asks for the window but is solved on the whole track."""
+        if not self.moving or not self.grid.follow_contact:
+            return None
+        reasons = [
+            reason
+            for reason, applies in (
+                ("a given grid.size", self.grid.size is not None),
+                (
+                    "a height map or roughness",
+                    any(
+                        b.surface is not None or b.roughness is not None
+                        for b in (self.body1, self.body2)
+                    ),
+                ),  # fmt: skip
+                ("two elastic-plastic bodies", self.plastic_bodies not in ((), (2,))),
+            )
+            if applies
+        ]
+        if not reasons:
+            return None
+        return (
+            "every increment is solved on the whole track, not on a window that follows the "
+            f"contact ({', '.join(reasons)}: the window is not built for them): the same "
+            "answer, slower"
         )
 
     @property

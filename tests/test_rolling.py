@@ -226,12 +226,6 @@ ROLL = {"roll": [1e-4, 0.0], "steps": 2}
         ({**ROLL, "spin": 1e300}, {}, "load.path[1].spin"),
         ({**ROLL, "creepage": [1e-3, 0.0]}, {"mu": 0.0}, "load.path[1].creepage"),
         ({**ROLL, "creepage": [1e-3, 0.0]}, {"body2": {**FLAT, "radius": 0.05}}, "body2.radius"),
-        ({**ROLL, "creepage": [1e-3, 0.0]},
-         {"body1": {**BALL, "behaviour": "elastic-plastic",
-                    "hardening": {"law": "perfect", "yield_stress": 1e9}},
-          "body2": {**FLAT, "behaviour": "elastic-plastic",
-                    "hardening": {"law": "perfect", "yield_stress": 2e9}}},
-         "body1.behaviour"),
     ],
 )  # fmt: skip
 def test_bad_rolling_stages_are_refused(stage, extra, field):

@@ -7,7 +7,10 @@ spin told in body 1's frame (x, -y, -z) are ``(dx, -dy)``, ``(-xi, eta)`` and th
 (beta != 0), which are solved as given, not relabelled; a frictionless roll of a plastic ball
 over a rigid flat leaves the plastic strain, rut and Melan factor of a rigid ball sliding
 over the plastic flat; a plastic ball under creepage is told on the common axes (forces,
-tractions, fields and per-pass profiles of the plastic flat it mirrors).
+tractions, fields and per-pass profiles of the plastic flat it mirrors).  Two elastic-plastic
+bodies roll with a plastic strain field each (not relabelled): a flat that never yields leaves
+the plastic ball's answer, and two bodies of the same steel rolling frictionless carry mirror
+images of each other's plastic strain.
 """
 
 from __future__ import annotations
@@ -145,3 +148,50 @@ def test_a_plastic_ball_under_creepage_is_told_on_the_common_axes():
     per_pass = ball.to_xarray()["creep_force_x"].values
     assert np.array_equal(per_pass, -flat.to_xarray()["creep_force_x"].values)
     assert ball.melan_factor is None  # a rolling contact's shear is not Hamilton's mu p
+
+
+def _linear(yield_stress: float) -> dict:
+    return {**PLASTIC, "hardening": {"law": "linear", "yield_stress": yield_stress,
+                                     "modulus": 20e9}}  # fmt: skip
+
+
+def _two_bodies(body2: dict, mu: float, depth: float | None = None) -> Case:
+    """A plastic ball rolling 2 a on ``body2``, both volumes ``depth`` deep (a_H; default:
+    sized from the yield region)."""
+    a = _contact_radius()
+    stage = {"roll": [2 * a, 0.0], "steps": 8, **({"creepage": [5e-3, 0.0]} if mu else {})}
+    grid = {"n": [32, 16, 24], "follow_contact": False}
+    if depth is not None:
+        grid["depth"] = depth
+        if body2["behaviour"] == "elastic-plastic":
+            grid["depth_body1"] = depth
+    return Case.from_dict(
+        {
+            "body1": _ball(_linear(433e6)), "body2": body2, "friction": {"coefficient": mu},
+            "load": {"path": [{"hertz_pressure": P0, "steps": 2}, stage]}, "grid": grid,
+        }
+    )  # fmt: skip
+
+
+def test_two_plastic_bodies_roll_with_a_field_each():
+    """Not relabelled: body 1's plastic strain on its own volume grid, in body 2's frame."""
+    depth = _two_bodies(STEEL, 0.3).swapped().grid.depth  # the relabelled case's volume
+    alone = solver.solve(_two_bodies(STEEL, 0.3, depth))  # relabelled
+    hard = _two_bodies(_linear(20e9), 0.3, depth)  # a flat that never yields
+    assert hard.plastic_bodies == (2, 1)
+    both = solver.solve(hard)
+    assert alone.status == both.status == "converged"
+    assert both.fields["plastic_strain"].max() == 0.0
+    peak = alone.fields["plastic_strain"].max()
+    assert peak > 1e-3
+    assert np.allclose(
+        both.fields["plastic_strain_body1"], alone.fields["plastic_strain"], rtol=0,
+        atol=1e-6 * peak,
+    )  # fmt: skip
+    assert np.allclose(
+        both.history["tangential_force_x"], alone.history["tangential_force_x"], rtol=1e-6
+    )
+    same = solver.solve(_two_bodies(_linear(433.000001e6), 0.0, depth))  # frictionless
+    upper, lower = same.fields["plastic_strain_body1"], same.fields["plastic_strain"]
+    assert lower.max() > 1e-3
+    assert np.allclose(upper, lower[:, ::-1], rtol=0, atol=1e-6 * lower.max())

@@ -124,3 +124,20 @@ def test_follow_contact_is_a_moving_case_key():
     for bad in ("yes", 1, None):
         with pytest.raises(SpecError, match="grid.follow_contact"):
             Case.from_dict({**static, "grid": {"n": 32, "follow_contact": bad}})
+
+
+def test_a_moving_case_the_window_is_not_built_for_is_told_it_runs_on_the_track():
+    """A given grid.size (or a height map, roughness, two plastic bodies): the whole track."""
+    a = _radius({"body1": RIGID, "body2": STEEL, "load": {"path": [{"hertz_pressure": 1e9}]}})
+    table = {
+        "body1": RIGID, "body2": STEEL, "friction": {"coefficient": 0.3},
+        "load": {"path": [{"hertz_pressure": 1e9}, {"slide": [4 * a, 0.0], "steps": 4}]},
+    }  # fmt: skip
+    sized = Case.from_dict({**table, "grid": {"n": [96, 32], "size": [7.5 * a, 2.5 * a]}})
+    assert sized.moving_window is None
+    assert any("whole track" in note and "grid.size" in note for note in sized.warnings)
+    scaled = Case.from_dict({**table, "grid": {"n": [96, 32]}})
+    assert scaled.moving_window is not None
+    assert not any("whole track" in note for note in scaled.warnings)
+    told = Case.from_dict({**table, "grid": {"n": [96, 32], "follow_contact": False}})
+    assert not any("whole track" in note for note in told.warnings)  # asked for
