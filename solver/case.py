@@ -1527,9 +1527,10 @@ class Case:
 
         A body whose flow stress is bounded (:attr:`Hardening.shear_limit`) cannot carry a
         surface shear traction above that limit: no stress field in equilibrium with it stays
-        inside the yield surface, and the plasticity loop of such an increment cannot
-        converge.  Said at Hertz's peak pressure of the largest load (plastic flow flattens
-        the pressure, which may bring the shear back under the limit).
+        inside the yield surface, so the top layer's plastic strain is set by the layers (it
+        grows as they thin) and the plasticity loop may not converge.  Said at Hertz's peak
+        pressure of the largest load (plastic flow flattens the pressure, which may bring the
+        shear back under the limit).
         """
         body, reference = self.plastic_body, self.reference
         mu = self.friction_coefficient
