@@ -195,3 +195,17 @@ def test_two_plastic_bodies_roll_with_a_field_each():
     upper, lower = same.fields["plastic_strain_body1"], same.fields["plastic_strain"]
     assert lower.max() > 1e-3
     assert np.allclose(upper, lower[:, ::-1], rtol=0, atol=1e-6 * lower.max())
+
+
+def test_a_relabelled_diagonal_roll_keeps_the_cases_positions():
+    """Solved in body 1's frame (dy -> -dy), told back: position_y is the case's own."""
+    a = _contact_radius()
+    case = _case(
+        _ball(PLASTIC), {"behaviour": "rigid"},
+        [{"hertz_pressure": P0, "steps": 2}, {"roll": [1.5 * a, 1.0 * a], "steps": 4}],
+        (24, 20, 24), 0.0,
+    )  # fmt: skip
+    result = solver.solve(case)
+    assert case.plastic_body1 and result.status in ("converged", "truncated")
+    assert result.history["position_x"][-1] == pytest.approx(1.5 * a, rel=1e-12)
+    assert result.history["position_y"][-1] == pytest.approx(1.0 * a, rel=1e-12)
