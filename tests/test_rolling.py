@@ -124,8 +124,9 @@ def _steady_coefficient(result, component: str, creepage: float, radius: float, 
     return float(np.mean(force[-2 * per_radius :])) / (SHEAR_MODULUS * radius**2 * creepage)
 
 
+@pytest.mark.validation
 @pytest.mark.parametrize("component", ["x", "y"])
-def test_steady_creep_force_approaches_kalkers_coefficients(radius, component):
+def test_steady_creep_force_approaches_kalkers_coefficients(radius, component, validation):
     """Two identical steel bodies (beta = 0), nu = 0.25, 16 cells a radius, creepage 1/1000
     of full slip (the linear regime): shifted to 0.9 of Kalker's force (a Cattaneo start,
     deliberately off), then rolled 6 radii.  The rolled step is the error (first order): a
@@ -144,6 +145,14 @@ def test_steady_creep_force_approaches_kalkers_coefficients(radius, component):
         errors.append(coefficient * SHEAR_MODULUS * radius**2 * xi / expected - 1.0)
     assert errors[0] > errors[1] > errors[2] > 0 and errors[2] < 0.01, errors
     assert abs(2 * errors[2] - errors[1]) < 0.006, errors
+    validation(
+        "steady rolling of two identical steel bodies (beta = 0), creepage 1e-3 of full slip, "
+        "16 cells a radius, steps of a/16, a/32, a/64, from a Cattaneo start",
+        "Kalker's linear coefficients C11, C22 (Kalker's table, nu = 0.25)",
+        f"C{'11' if component == 'x' else '22'}: "
+        + " / ".join(f"{100 * e:.2f} %" for e in errors)
+        + f", Richardson {100 * (2 * errors[2] - errors[1]):.2f} %",
+    )
 
 
 def test_stick_at_the_leading_edge_and_full_slip_at_large_creepage(radius):
@@ -171,8 +180,9 @@ def test_stick_at_the_leading_edge_and_full_slip_at_large_creepage(radius):
     assert 0.9999 * MU * FORCE < full.history["tangential_force_x"][-1] <= MU * FORCE
 
 
+@pytest.mark.validation
 def test_cattaneo_start_is_steady_after_two_diameters_and_force_control_finds_the_creepage(
-    radius,
+    radius, validation
 ):
     """Steady force F at creepage xi from 8 radii rolled; then from a Cattaneo start at F (a
     static shift to F), rolling at xi: within 1 % of F after 4 radii; and rolling at the
@@ -189,6 +199,13 @@ def test_cattaneo_start_is_steady_after_two_diameters_and_force_control_finds_th
     shift, position = controlled.history["tangential_shift_x"], controlled.history["position_x"]
     rate = (shift[-1] - shift[-17]) / (position[-1] - position[-17])  # the last radius
     assert rate == pytest.approx(xi, rel=0.02)
+    validation(
+        "transient rolling from a Cattaneo start at half of full slip's creepage, 4 a rolled; "
+        "the same force prescribed",
+        "the steady creep force after 8 a rolled from rest; the creepage given",
+        f"force {100 * abs(started.history['tangential_force_x'][-1] / force - 1):.2f} % off; "
+        f"creepage found {100 * abs(rate / xi - 1):.2f} % off",
+    )
 
 
 def test_lifting_after_a_creepage_stage_holds_the_shift(radius):

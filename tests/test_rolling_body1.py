@@ -49,8 +49,9 @@ def _contact_radius() -> float:
     return _case(probe, PLASTIC, [{"hertz_pressure": P0}], (16, 16, 16), 0.0).hertz.radius
 
 
+@pytest.mark.validation
 @pytest.mark.parametrize("travel", [(1.0, 0.0), (0.75, 0.5)])
-def test_swapping_the_bodies_of_a_rolling_pair_is_the_same_contact(travel):
+def test_swapping_the_bodies_of_a_rolling_pair_is_the_same_contact(travel, validation):
     """Steel ball on aluminium against aluminium ball on steel: the swap rule, solved twice."""
     a = 0.6e-3  # m, about the contact radius at 1000 N
     roll = [travel[0] * a, travel[1] * a]
@@ -69,9 +70,19 @@ def test_swapping_the_bodies_of_a_rolling_pair_is_the_same_contact(travel):
     h, g = given.history, swapped.history
     assert abs(h["tangential_force_x"][-1]) > 1.0 and abs(h["tangential_force_y"][-1]) > 1.0
     tolerance = given.case.solver.slip_tolerance
+    worst = 0.0
     for name, sign in (("tangential_force_x", -1), ("tangential_force_y", 1), ("position_y", -1)):
         scale = np.abs(h[name]).max()
         assert np.allclose(h[name], sign * g[name], rtol=0, atol=10 * tolerance * scale), name
+        if name != "position_y":
+            worst = max(worst, float(np.abs(h[name] - sign * g[name]).max() / scale))
+    validation(
+        "steel ball rolling on aluminium (beta != 0) with xi, eta and spin, along x and "
+        "diagonally, against aluminium ball on steel, each solved as given",
+        "the same contact told in body 1's frame: travel (dx, -dy), creepage (-xi, eta), the "
+        "same spin (the rule that relabels an elastic-plastic body 1)",
+        worst,
+    )
     if travel[1] == 0.0:  # the same cells: the tractions mirror in y
         pm = given.pressure.max()
         assert np.allclose(given.pressure, swapped.pressure[:, ::-1], rtol=0, atol=1e-6 * pm)
@@ -173,7 +184,8 @@ def _two_bodies(body2: dict, mu: float, depth: float | None = None) -> Case:
     )  # fmt: skip
 
 
-def test_two_plastic_bodies_roll_with_a_field_each():
+@pytest.mark.validation
+def test_two_plastic_bodies_roll_with_a_field_each(validation):
     """Not relabelled: body 1's plastic strain on its own volume grid, in body 2's frame."""
     depth = _two_bodies(STEEL, 0.3).swapped().grid.depth  # the relabelled case's volume
     alone = solver.solve(_two_bodies(STEEL, 0.3, depth))  # relabelled
@@ -195,6 +207,15 @@ def test_two_plastic_bodies_roll_with_a_field_each():
     upper, lower = same.fields["plastic_strain_body1"], same.fields["plastic_strain"]
     assert lower.max() > 1e-3
     assert np.allclose(upper, lower[:, ::-1], rtol=0, atol=1e-6 * lower.max())
+    relabelled = np.abs(both.fields["plastic_strain_body1"] - alone.fields["plastic_strain"])
+    mirrored = np.abs(upper - lower[:, ::-1]).max() / lower.max()
+    validation(
+        "an elastic-plastic ball rolling with creepage over a flat that never yields (two "
+        "plastic fields, 32 x 16 x 24); two balls of one steel rolling frictionless",
+        "the plastic ball alone, solved with the bodies relabelled; each body's strain the "
+        "other's mirrored in y",
+        f"e_p within {relabelled.max() / peak:.1e} of the peak; mirrored within {mirrored:.1e}",
+    )
 
 
 def test_a_relabelled_diagonal_roll_keeps_the_cases_positions():

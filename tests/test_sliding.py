@@ -74,7 +74,8 @@ def test_the_answer_translates_with_the_contact(radius):
     assert difference < 1e-6  # the coupling tolerance (pressure change between passes)
 
 
-def test_steady_sliding_stress_is_hamiltons(radius):
+@pytest.mark.validation
+def test_steady_sliding_stress_is_hamiltons(radius, validation):
     """Goodman (pressure exactly Hertz's), mu = 0.3: every stress component of the final state
     against Hamilton's closed form centred on the contact's new position."""
     mu = 0.3
@@ -98,6 +99,11 @@ def test_steady_sliding_stress_is_hamiltons(radius):
     deep = np.abs(stress - ref)[..., z > 0.29 * radius].max() / p_h
     assert error.max() < 0.03, error
     assert deep < 0.01
+    validation(
+        "a sphere slid one contact radius, Goodman, mu = 0.3, 128 x 64 x 24",
+        "Hamilton's (1983) closed-form sliding stresses at the new position",
+        f"largest component error {error.max():.1e} p_H, {deep:.1e} p_H below 0.29 a",
+    )
 
 
 def test_plastic_strain_accumulates_along_a_sliding_track(radius):
