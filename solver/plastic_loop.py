@@ -46,6 +46,12 @@ if TYPE_CHECKING:
     from .operators import CaseOperators
 
 
+#: A plasticity loop whose increment change grows to this multiple of its best is running
+#: away (a load past what the body can carry): it stops and keeps its best iterate, instead of
+#: iterating to the cap with iterates that grow without bound (numpy overflows were seen).
+DIVERGED = 1e3
+
+
 @dataclass(frozen=True)
 class PlasticState:
     """Plastic state of the plastic body at the end of an increment.
@@ -307,6 +313,12 @@ def plastic_step(
         if residual <= options.plastic_tolerance:
             converged = contact.converged and not failed
             break  # settled; an unconverged inner solve is reported, not iterated on
+        if residual > DIVERGED * best[0]:  # the iterates run away: stop, keep the best
+            message = (
+                f"plasticity loop diverging after {iterations} iterations (increment change "
+                f"{residual:.3g} of the yield strain, {residual / best[0]:.3g} x its best)"
+            )
+            break
         increment = _mix(mixer, increment, change)
     if not converged:  # keep the best iterate
         residual, contact, mapped, displacements = best

@@ -286,3 +286,25 @@ def test_many_failed_increments_are_told_in_one_note():
         "7 increments did not converge, in steps 3-5, 9-10, 12; the first: step 3: failure 3; "
         "the last: step 12: failure 12"
     )
+
+
+def test_a_plasticity_loop_whose_iterates_run_away_stops_with_its_best(monkeypatch):
+    """Iterates pushed away (each mixed increment 50 times the last step's): the loop stops
+    once the change is DIVERGED times its best, keeps the best iterate, says so, finite."""
+    from solver import plastic_loop
+
+    case = Case.from_dict(
+        {
+            "body1": {"behaviour": "rigid", "radius": 0.01}, "body2": PERFECT,
+            "load": {"hertz_pressure": 5 * SHEAR_YIELD}, "grid": {"n": [16, 16, 16]},
+        }
+    )  # fmt: skip
+    monkeypatch.setattr(
+        plastic_loop, "_mix", lambda mixer, increment, change: 50 * (increment + change)
+    )
+    result = solver.solve(case)
+    assert not result.converged
+    assert any("plasticity loop diverging" in note for note in result.notes)
+    assert result.history["plastic_iterations"].max() < case.solver.plastic_max_iterations
+    assert all(np.isfinite(values).all() for values in result.history.values())
+    assert all(np.isfinite(values).all() for values in result.fields.values())
