@@ -313,7 +313,7 @@ def plastic_step(
         if residual <= options.plastic_tolerance:
             converged = contact.converged and not failed
             break  # settled; an unconverged inner solve is reported, not iterated on
-        if residual > DIVERGED * best[0]:  # the iterates run away: stop, keep the best
+        if residual / DIVERGED > best[0]:  # the iterates run away: stop, keep the best
             message = (
                 f"plasticity loop diverging after {iterations} iterations (increment change "
                 f"{residual:.3g} of the yield strain, {residual / best[0]:.3g} x its best)"
