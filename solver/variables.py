@@ -69,7 +69,10 @@ HISTORIES: dict[str, History] = {
         "m", "position of body 1's apex over body 2 along x (sliding, rolling)", None
     ),
     "position_y": History(
-        "m", "position of body 1's apex over body 2 along y (sliding, rolling)", None, None, -1.0
+        "m",
+        "position of body 1's apex over body 2 along y (sliding, rolling)",
+        None,
+        swap_sign=-1.0,
     ),
     "normal_iterations": History(
         "1", "normal-solver CG iterations (summed over the step's loops)", "sum"
