@@ -1552,25 +1552,27 @@ class Case:
             f"hardening"
         )
 
-    def _window_note(self) -> str | None:
-        """A note when a moving case asks for the window but is solved on the whole track."""
-        if not self.moving or not self.grid.follow_contact:
-            return None
-        reasons = [
+    def _window_unbuilt(self) -> list[str]:
+        """What keeps a moving case off the window that follows the contact (none: it fits)."""
+        bodies = (self.body1, self.body2)
+        return [
             reason
             for reason, applies in (
                 ("a given grid.size", self.grid.size is not None),
                 (
                     "a height map or roughness",
-                    any(
-                        b.surface is not None or b.roughness is not None
-                        for b in (self.body1, self.body2)
-                    ),
-                ),  # fmt: skip
+                    any(b.surface is not None or b.roughness is not None for b in bodies),
+                ),
                 ("two elastic-plastic bodies", self.plastic_bodies not in ((), (2,))),
             )
             if applies
         ]
+
+    def _window_note(self) -> str | None:
+        """A note when a moving case asks for the window but is solved on the whole track."""
+        if not self.moving or not self.grid.follow_contact:
+            return None
+        reasons = self._window_unbuilt()
         if not reasons:
             return None
         return (
@@ -1591,14 +1593,7 @@ class Case:
         ``grid.follow_contact = false``, a given ``grid.size``, a height map or roughness, or
         two elastic-plastic bodies, and when the window would be the track's along both axes.
         """
-        bodies = (self.body1, self.body2)
-        if (
-            not self.moving
-            or not self.grid.follow_contact
-            or self.grid.size is not None
-            or any(b.surface is not None or b.roughness is not None for b in bodies)
-            or self.plastic_bodies not in ((), (2,))
-        ):
+        if not self.moving or not self.grid.follow_contact or self._window_unbuilt():
             return None
         travel = [0.0, 0.0]
         force = 0.0
