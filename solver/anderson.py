@@ -12,7 +12,9 @@ the caller's loop then reports it, never a linear-algebra error).
 
 Every pass over the vectors runs by chunks of :data:`CHUNK` values (all the dot products, the
 differences and the mixed iterate of a chunk while it is in cache), on ``threads`` threads;
-the chunks do not depend on the number of threads, nor do the results.
+the chunks do not depend on the number of threads, nor do the results.  A vector may be given
+as several arrays (segments, e.g. the independent components of a tensor field, views of it):
+they are mixed where they are, without gathering them into one.
 """
 
 from __future__ import annotations
@@ -62,17 +64,39 @@ class Anderson:
         self._best = np.inf
         self.restarts = 0
 
-    def _each_chunk(self, size: int, job) -> list:
-        """``job(chunk slice)`` over the chunks of ``size`` values, results in chunk order."""
-        chunks = [slice(s, min(size, s + CHUNK)) for s in range(0, size, CHUNK)]
-        return each(job, chunks, self.threads)
+    def _each_chunk(self, sizes: list[int], job) -> list:
+        """``job(segment, its slice, the history's slice)`` over the chunks of the segments.
 
-    def __call__(self, x: np.ndarray, f: np.ndarray) -> np.ndarray:
-        """Next iterate from the current one ``x`` and its residual ``f = g(x) - x``."""
-        shape = x.shape
-        x, f = np.ravel(x), np.ravel(f)
-        size = x.size
-        norm = np.sqrt(sum(self._each_chunk(size, lambda c: _dots([f[c]], f[c])[0])))
+        Chunks of at most :data:`CHUNK` values, segment after segment; results in chunk order.
+        """
+        chunks, start = [], 0
+        for k, size in enumerate(sizes):
+            for s in range(0, size, CHUNK):
+                n = min(CHUNK, size - s)
+                chunks.append((k, slice(s, s + n), slice(start + s, start + s + n)))
+            start += size
+        return each(lambda chunk: job(*chunk), chunks, self.threads)
+
+    def __call__(self, x, f, out=None):
+        """Next iterate from the current one ``x`` and its residual ``f = g(x) - x``.
+
+        ``x`` and ``f`` are arrays, or sequences of arrays (segments of one vector, matched
+        one to one); the next iterate is returned as a new array, or written into ``out``
+        (arrays shaped as ``x``'s) when given.
+        """
+        single = isinstance(x, np.ndarray)
+        shape = x.shape if single else None
+        xs = [np.ravel(a) for a in ([x] if single else x)]
+        fs = [np.ravel(a) for a in ([f] if single else f)]
+        if out is None:
+            outs = [np.empty_like(a) for a in xs]
+        else:
+            if not all(a.flags.c_contiguous for a in out):
+                raise ValueError("Anderson: out must be C-contiguous arrays")  # pragma: no cover
+            outs = [a.reshape(-1) for a in out]
+        sizes = [a.size for a in xs]
+        size = sum(sizes)
+        norm = np.sqrt(sum(self._each_chunk(sizes, lambda k, c, h: _dots([fs[k][c]], fs[k][c])[0])))
         if norm > RESTART_GROWTH * self._best and self._dx:
             self._dx.clear()
             self._df.clear()
@@ -90,47 +114,52 @@ class Anderson:
             self._df.append(df)
             previous_x, previous_f, history = self._x, self._f, self._df
 
-            def differences(c: slice) -> np.ndarray:
-                np.subtract(x[c], previous_x[c], out=dx[c])
-                np.subtract(f[c], previous_f[c], out=df[c])
-                return _dots([d[c] for d in history], df[c])
+            def differences(k: int, c: slice, h: slice) -> np.ndarray:
+                np.subtract(xs[k][c], previous_x[h], out=dx[h])
+                np.subtract(fs[k][c], previous_f[h], out=df[h])
+                return _dots([d[h] for d in history], df[h])
 
-            row = np.sum(self._each_chunk(size, differences), axis=0)
+            row = np.sum(self._each_chunk(sizes, differences), axis=0)
             m = len(self._df)
             gram = np.empty((m, m))
             gram[:-1, :-1] = self._gram
             gram[-1, :] = gram[:, -1] = row
             self._gram = gram
         if self._x is None:
-            self._x, self._f = np.empty_like(x), np.empty_like(f)
+            self._x, self._f = np.empty(size, xs[0].dtype), np.empty(size, fs[0].dtype)
         kept_x, kept_f = self._x, self._f
         history_dx, history_df = self._dx, self._df
 
-        def keep(c: slice) -> np.ndarray:
-            kept_x[c] = x[c]
-            kept_f[c] = f[c]
-            return _dots([d[c] for d in history_df], f[c])
+        def keep(k: int, c: slice, h: slice) -> np.ndarray:
+            kept_x[h] = xs[k][c]
+            kept_f[h] = fs[k][c]
+            return _dots([d[h] for d in history_df], fs[k][c])
 
-        rhs = np.sum(self._each_chunk(size, keep), axis=0)
-        out = np.empty_like(x)
+        rhs = np.sum(self._each_chunk(sizes, keep), axis=0)
+
+        def result():
+            return outs[0].reshape(shape) if single and out is None else out
+
         if history_dx and not (np.isfinite(self._gram).all() and np.isfinite(rhs).all()):
             self._dx.clear()  # a history that overflowed: restart it, a plain step now
             self._df.clear()
             self._gram = np.empty((0, 0))
             self.restarts += 1
         if not history_dx:
-            np.add(x, f, out=out)
-            return out.reshape(shape)
+            for a, b, o in zip(xs, fs, outs, strict=True):
+                np.add(a, b, out=o)
+            return result()
         # least squares through the small Gram system (m x m): no tall matrix is formed
         gamma = np.linalg.lstsq(self._gram, rhs, rcond=1e-12)[0]
 
-        def mix(c: slice) -> None:
-            np.add(x[c], f[c], out=out[c])
-            work = np.empty(c.stop - c.start, dtype=self.history_dtype)
+        def mix(k: int, c: slice, h: slice) -> None:
+            o = outs[k][c]
+            np.add(xs[k][c], fs[k][c], out=o)
+            work = np.empty(h.stop - h.start, dtype=self.history_dtype)
             for g, dx, dfi in zip(gamma, history_dx, history_df, strict=True):
-                np.add(dx[c], dfi[c], out=work)
+                np.add(dx[h], dfi[h], out=work)
                 work *= g
-                out[c] -= work
+                o -= work
 
-        self._each_chunk(size, mix)
-        return out.reshape(shape)
+        self._each_chunk(sizes, mix)
+        return result()

@@ -81,7 +81,7 @@ from .stress import (
     wrap_layout,
 )
 from .tensor import WEIGHTS, deviator
-from .threads import each
+from .threads import by_rows, each
 
 #: Tensor weights of the six components in ``sigma : e`` (off-diagonal terms count twice).
 COMPONENT_WEIGHTS = WEIGHTS
@@ -597,8 +597,7 @@ class EigenstrainOperator:
         the window's cells): the surface fields it makes are the window's.
         """
         eigenstrain = self._check(eigenstrain)
-        trace = np.abs(eigenstrain[0] + eigenstrain[1] + eigenstrain[2]).max()
-        trace_free = trace <= 1e-12 * np.abs(eigenstrain).max()
+        trace_free = self._trace_free(eigenstrain)
         components = DEVIATORIC if trace_free else range(6)
         nx, ny, _ = self.shape
         if self.shape == self.grid.shape and self.precision == "double":
@@ -619,8 +618,12 @@ class EigenstrainOperator:
                 out[mn] = forward.output_array
             buffer[...] = 0.0
         if trace_free:  # a plastic strain: zz is -(xx + yy)
-            np.add(out[0], out[1], out=out[2])
-            np.negative(out[2], out=out[2])
+
+            def zz(xs: slice) -> None:
+                np.add(out[0, xs], out[1, xs], out=out[2, xs])
+                np.negative(out[2, xs], out=out[2, xs])
+
+            self._by_rows(zz, out.shape[1])
         return out
 
     def _correction_pressure(self, layers: np.ndarray) -> np.ndarray:
@@ -631,13 +634,24 @@ class EigenstrainOperator:
             total = total + sums[mn] * (1j if _is_imaginary("zz" + comp) else 1.0)
         return self._inverse_surface(total)
 
-    def _by_rows(self, function, rows: int) -> None:
-        """``function(rows slice)`` over blocks of :data:`ROW_BLOCK` rows, on the threads.
+    def _trace_free(self, eigenstrain: np.ndarray) -> bool:
+        """True when ``|e_xx + e_yy + e_zz| <= 1e-12 max |e|`` everywhere (a plastic strain).
 
-        The blocks do not depend on the number of threads: neither do the results.
+        By row blocks on the threads, without full-size temporaries.
         """
-        blocks = [slice(s, min(rows, s + ROW_BLOCK)) for s in range(0, rows, ROW_BLOCK)]
-        each(function, blocks, self.threads)
+
+        def block(xs: slice) -> tuple[float, float]:
+            part = eigenstrain[:, xs]
+            trace = np.add(part[0], part[1])
+            trace += part[2]
+            return max(trace.max(), -trace.min()), max(part.max(), -part.min())
+
+        parts = self._by_rows(block, eigenstrain.shape[1])
+        return max(p[0] for p in parts) <= 1e-12 * max(p[1] for p in parts)
+
+    def _by_rows(self, function, rows: int) -> list:
+        """:func:`~solver.threads.by_rows` on this operator's threads."""
+        return by_rows(function, rows, self.threads)
 
     def _layer_sums(self, layers: np.ndarray, *kernel_sets: np.ndarray) -> list[np.ndarray]:
         """``sums[c] = sum_z layers[c] kernels[c]`` for each set of real kernels.
@@ -792,8 +806,7 @@ class EigenstrainOperator:
         ``consume``: ``layers`` may be overwritten (else copied first).
         """
         nx, ny, nz = self.shape
-        trace = np.abs(eigenstrain[0] + eigenstrain[1] + eigenstrain[2]).max()
-        trace_free = deviatoric or trace <= 1e-12 * np.abs(eigenstrain).max()
+        trace_free = deviatoric or self._trace_free(eigenstrain)
         components = DEVIATORIC if trace_free else tuple(range(6))
         shared = self.shape == self.grid.shape  # the box is the window: its layer spectra
         tractions = dict(tractions or {})
@@ -852,13 +865,18 @@ class EigenstrainOperator:
 
         self._each_component(outputs, inverse)
         mean = means.get("mean")
-        if trace_free:  # the deviator from t_xx, t_yy (:meth:`_deviatoric_kernels`)
-            np.add(out[0], out[1], out=out[2])
-            out[2] /= -3.0
-            out[0] += out[2]
-            out[1] += out[2]
-        if mean is not None:
-            out[:3] += mean
+
+        def normal(xs: slice) -> None:  # by rows: the normal stresses' last terms
+            o = out[:, xs]
+            if trace_free:  # the deviator from t_xx, t_yy (:meth:`_deviatoric_kernels`)
+                np.add(o[0], o[1], out=o[2])
+                o[2] /= -3.0
+                o[0] += o[2]
+                o[1] += o[2]
+            if mean is not None:
+                o[:3] += mean[xs]
+
+        self._by_rows(normal, nx)
         if not shared:
             stress = self.surface_stress.stress_from_spectra(spectra, self.box)
             out += deviator(stress) if deviatoric else stress
@@ -1163,8 +1181,6 @@ class _Worker:
     surface: np.ndarray
 
 
-#: Rows (kx) per block of the per-layer sums (:meth:`EigenstrainOperator._layer_sums`).
-ROW_BLOCK = 8
 #: Bytes per plane of a row block of the depth convolution
 #: (:meth:`EigenstrainOperator._workers`).
 CHUNK_BYTES = 2**18

@@ -39,6 +39,7 @@ from .eigenstrain import DEVIATORIC
 from .plasticity import return_mapping_by_blocks
 from .steps import ContactState, ResidualDisplacement, StepResult
 from .tensor import deviator
+from .threads import by_rows
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -165,18 +166,34 @@ def body_tractions(state: ContactState, body: int) -> dict[str, np.ndarray]:
     return tractions
 
 
-def _mix(mixer: Anderson, increment: np.ndarray, change: np.ndarray) -> np.ndarray:
+#: The independent components of a deviatoric tensor as runs of consecutive indices.
+_FREE_RUNS = [
+    slice(run[0], run[-1] + 1)
+    for run in np.split(np.array(DEVIATORIC), np.flatnonzero(np.diff(DEVIATORIC) > 1) + 1)
+]
+
+
+def _mix(mixer: Anderson, increment: np.ndarray, change: np.ndarray, threads: int) -> np.ndarray:
     """Anderson's next increment, mixed on the five independent deviatoric components.
 
     Plastic strain increments are deviatoric (zz = -(xx + yy)): the mixer sees five of the six
-    components (its history 5/6 the size) and zz follows.
+    components (its history 5/6 the size), as views of each body's runs of them (no copy),
+    and zz follows.
     """
-    free = list(DEVIATORIC)
-    mixed = mixer(increment[:, free], change[:, free])
     out = np.empty_like(increment)
-    out[:, free] = mixed
-    np.add(mixed[:, 0], mixed[:, 1], out=out[:, 2])
-    np.negative(out[:, 2], out=out[:, 2])
+    parts = [(i, run) for i in range(len(increment)) for run in _FREE_RUNS]
+    mixer(
+        [increment[i, run] for i, run in parts],
+        [change[i, run] for i, run in parts],
+        out=[out[i, run] for i, run in parts],
+    )
+
+    def zz(xs: slice) -> None:
+        o = out[:, :, xs]
+        np.add(o[:, 0], o[:, 1], out=o[:, 2])
+        np.negative(o[:, 2], out=o[:, 2])
+
+    by_rows(zz, out.shape[2], threads)
     return out
 
 
@@ -246,14 +263,21 @@ def plastic_step(
     residual, converged, iterations = np.inf, False, 0
     best = None
     message = ""
+    threads, rows = options.fft_threads, previous_strain.shape[2]
     while iterations < options.plastic_max_iterations:
         iterations += 1
-        np.add(previous_strain, increment, out=strain)
         source = increment if incremental else strain  # whose residual fields are computed
+
+        def start(xs: slice, increment=increment, source=source) -> list[bool]:
+            """The iterate's strain, by rows; whether each body's source is not zero there."""
+            np.add(previous_strain[:, :, xs], increment[:, :, xs], out=strain[:, :, xs])
+            return [bool(part.any()) for part in source[:, :, xs]]
+
+        nonzero = np.any(by_rows(start, rows, threads), axis=0)
         layers, displacements = [], {}
         for i, body in enumerate(bodies):
             eigenstrain = operators.volume(body)[1]
-            layers.append(eigenstrain.layer_spectra(source[i]) if source[i].any() else None)
+            layers.append(eigenstrain.layer_spectra(source[i]) if nonzero[i] else None)
             own = previous_plastic[i].displacement
             if layers[i] is None:  # nothing has yielded yet: skip the volume transforms
                 displacements[body] = own
@@ -284,10 +308,17 @@ def plastic_step(
                 trial = deviator(stress_operator.stress(**tractions, box=eigenstrain.box))
             else:
                 trial = np.zeros_like(strain[i])
-            if incremental:
-                trial += frozen[i]
-            for component, values in zip(trial, increment[i], strict=True):  # no full temporary
-                component += 2.0 * material.shear_modulus * values
+
+            def predict(
+                xs: slice, i=i, trial=trial, increment=increment, two_g=2.0 * material.shear_modulus
+            ) -> None:
+                part = trial[:, xs]  # the elastic predictor, by rows: no full temporary
+                if incremental:
+                    part += frozen[i][:, xs]
+                for component, values in zip(part, increment[i, :, xs], strict=True):
+                    component += two_g * values
+
+            by_rows(predict, rows, threads)
             mapped.append(
                 return_mapping_by_blocks(
                     trial,
@@ -299,12 +330,16 @@ def plastic_step(
                     threads=options.fft_threads,
                 )
             )
-        for i, m in enumerate(mapped):
-            np.subtract(m.plastic_strain_increment, increment[i], out=change[i])
-        residual = max(  # max |change| without a full-size temporary
-            max(float(change[i].max()), -float(change[i].min())) / scale
-            for i, scale in enumerate(scales)
-        )
+
+        def compare(xs: slice, mapped=mapped, increment=increment) -> list[float]:
+            sizes = []  # G(d) - d and its largest size, by rows
+            for i, m in enumerate(mapped):
+                part = change[i, :, xs]
+                np.subtract(m.plastic_strain_increment[:, xs], increment[i, :, xs], out=part)
+                sizes.append(max(float(part.max()), -float(part.min())) / scales[i])
+            return sizes
+
+        residual = float(np.max(by_rows(compare, rows, threads)))
         if best is None or residual < best[0]:
             best = (residual, contact, mapped, displacements)
         failed = [m for m in mapped if not m.converged]
@@ -319,7 +354,7 @@ def plastic_step(
                 f"{residual:.3g} of the yield strain, {residual / best[0]:.3g} x its best)"
             )
             break
-        increment = _mix(mixer, increment, change)
+        increment = _mix(mixer, increment, change, options.fft_threads)
     if not converged:  # keep the best iterate
         residual, contact, mapped, displacements = best
     if not converged and not message:

@@ -177,6 +177,7 @@ def return_mapping(
     tolerance: float = RETURN_TOLERANCE,
     max_iterations: int = RETURN_MAX_ITERATIONS,
     reuse_trial: bool = False,
+    out: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> ReturnMapping:
     """Radial return of trial stresses onto the von Mises yield surface.
 
@@ -199,6 +200,9 @@ def return_mapping(
         deviator and becomes the returned stress (two fields fewer; isotropic hardening).
         A float32 trial stress (a single-precision volume) gives float32 stress and plastic
         strain increments; the equivalent increment is solved in float64.
+    out : tuple of ndarray, optional
+        Zero-filled arrays to return the plastic strain increment, the equivalent increment
+        and the yielded cells in (isotropic hardening; a block of larger arrays).
 
     Returns
     -------
@@ -218,8 +222,12 @@ def return_mapping(
     e0 = np.broadcast_to(np.asarray(plastic_strain, dtype=float), shape)
     # a yield tolerance of round-off size: a stress returned onto the surface stays elastic
     plastic = q > hardening.flow_stress(e0) * (1.0 + tolerance)
-    dp = np.zeros(shape)
-    increment = np.zeros_like(trial_stress)
+    increment, dp, yielded = (
+        out if out is not None else (np.zeros_like(trial_stress), np.zeros(shape), None)
+    )
+    if yielded is not None:
+        yielded[...] = plastic
+        plastic = yielded
     stress = trial_stress if reuse_trial else trial_stress.copy()
     iterations, residual, converged = 0, 0.0, True
     if plastic.any():
@@ -263,6 +271,14 @@ def return_mapping_by_blocks(
         )  # fmt: skip
     blocks = [slice(s, min(rows, s + RETURN_BLOCK_ROWS)) for s in range(0, rows, RETURN_BLOCK_ROWS)]
     plastic_strain = np.broadcast_to(plastic_strain, trial_stress.shape[1:])
+    # isotropic hardening: the blocks fill whole arrays in place (no joining copies)
+    whole = None
+    if not hardening.kinematic:
+        whole = (
+            np.zeros_like(trial_stress),
+            np.zeros(trial_stress.shape[1:]),
+            np.empty(trial_stress.shape[1:], dtype=bool),
+        )
 
     def block(xs: slice) -> ReturnMapping:
         return return_mapping(
@@ -272,6 +288,7 @@ def return_mapping_by_blocks(
             shear_modulus,
             back_stress=None if back_stress is None else back_stress[:, xs],
             reuse_trial=reuse_trial,
+            out=None if whole is None else (whole[0][:, xs], whole[1][xs], whole[2][xs]),
         )
 
     parts = each(block, blocks, threads)
@@ -284,11 +301,14 @@ def return_mapping_by_blocks(
 
     # with reuse_trial the stress of each block is the trial stress's own block (in place)
     stress = trial_stress if reuse_trial and not hardening.kinematic else joined("stress")
+    increment, equivalent, plastic = whole or map(
+        joined, ("plastic_strain_increment", "equivalent_increment", "plastic")
+    )
     return ReturnMapping(
-        joined("plastic_strain_increment"),
-        joined("equivalent_increment"),
+        increment,
+        equivalent,
         stress,
-        joined("plastic"),
+        plastic,
         max(p.iterations for p in parts),
         max(p.residual for p in parts),
         all(p.converged for p in parts),

@@ -25,3 +25,17 @@ def each(function: Callable[[Any], Any], items: Sequence, threads: int) -> list:
     if threads <= 1 or len(items) <= 1:
         return [function(item) for item in items]
     return list(pool(min(threads, len(items))).map(function, items))
+
+
+#: Rows (first cell axis) per block of :func:`by_rows`.
+ROW_BLOCK = 8
+
+
+def by_rows(function: Callable[[slice], Any], rows: int, threads: int) -> list:
+    """``function(rows slice)`` over blocks of :data:`ROW_BLOCK` rows, results in block order.
+
+    The blocks do not depend on the number of threads: a function that works elementwise on
+    its block gives the same bits on any number of threads.
+    """
+    blocks = [slice(s, min(rows, s + ROW_BLOCK)) for s in range(0, rows, ROW_BLOCK)]
+    return each(function, blocks, threads)

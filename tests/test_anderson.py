@@ -42,3 +42,37 @@ def test_an_overflowed_history_restarts_instead_of_raising():
     np.testing.assert_array_equal(out, x + 0.5 + huge)  # the plain step, reported by the caller
     finite = mixer(x, np.full(8, 0.25))
     assert np.isfinite(finite).all()
+
+
+def test_segments_mix_in_place_as_one_vector():
+    """A vector given as views of an array's pieces (the deviatoric components of a strain)
+    is mixed where it lies, as the gathered vector would be: same iterates up to the
+    summation order of the dot products, across chunks and with threads."""
+    from solver import anderson
+
+    rng = np.random.default_rng(1)
+    n = 3 * anderson.CHUNK + 17  # several chunks per piece
+    matrix_diagonal = rng.uniform(-0.5, 0.9, size=5 * n)
+    rhs = rng.normal(size=5 * n)
+    gathered = Anderson(4)
+    pieces = Anderson(4, threads=2)
+    x_one = np.zeros(5 * n)
+    x_six = np.zeros((6, n))  # the pieces are rows 0-1 and 3-5; row 2 is left alone
+    free = [slice(0, 2), slice(3, 6)]
+    for _ in range(6):
+        f_one = matrix_diagonal * x_one + rhs - x_one
+        np.testing.assert_allclose(np.concatenate([x_six[s].ravel() for s in free]), x_one,
+                                   rtol=1e-12, atol=1e-12)  # fmt: skip
+        x_one = gathered(x_one, f_one)
+        f_six = np.zeros((6, n))
+        f_six[0:2] = f_one[: 2 * n].reshape(2, n)
+        f_six[3:6] = f_one[2 * n :].reshape(3, n)
+        new = np.full((6, n), np.nan)
+        returned = pieces([x_six[s] for s in free], [f_six[s] for s in free],
+                          out=[new[s] for s in free])  # fmt: skip
+        assert returned[0].base is new or np.shares_memory(returned[0], new)
+        assert np.isnan(new[2]).all()  # only the pieces were written
+        new[2] = 0.0
+        x_six = new
+    exact = rhs / (1.0 - matrix_diagonal)
+    assert np.abs(x_one - exact).max() < np.abs(exact).max()  # it is iterating, not idle
