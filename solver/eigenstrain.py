@@ -347,16 +347,19 @@ class EigenstrainOperator:
         lattice, along_z, spectrum, z_plans, xy_plans = self._kernel_plans()
         scale = 1.0 / (2 * m * 4 * nx * ny)
         shape = (nx + 1, ny + 1, m + 1)
-        spectra = {}
-        for (a, b), coefficients in combinations.items():
-            inside = coefficients[-1]  # nonzero only where a and b have one parity
-            sign = _rotation_sign(a, b, (0, 0)) if inside else 0.0
-            spectra[a, b] = np.full(shape, sign * inside * scale, dtype=self._real)
+        spectra = {key: np.empty(shape, dtype=self._real) for key in combinations}
+
+        def start(key: tuple) -> None:
+            inside = combinations[key][-1]  # nonzero only where a and b have one parity
+            sign = _rotation_sign(*key, (0, 0)) if inside else 0.0
+            spectra[key][...] = sign * inside * scale
+
+        each(start, list(combinations), self.threads)
         # offsets 0 .. n - 1 in x and y: the negative ones follow by the kernel's parity
         cx = (np.arange(-1, nx) + 0.5) * g.dx
         cy = (np.arange(-1, ny) + 0.5) * g.dy
         cz = (np.arange(-1, m + 1) + 0.5) * self.grid.dz  # z offsets 0 .. M
-        work = np.empty(shape)
+        works = [np.empty(shape) for _ in range(max(1, self.threads))]
         lattice[nx] = 0.0
         lattice[:, ny] = 0.0  # offset n: no pair of cells has it
         for group in _base_groups(STRESS_BASE):
@@ -371,14 +374,21 @@ class EigenstrainOperator:
                 # times its DCT-I (even) / DST-I (odd) along x and y: that real array is kept
                 spectrum[...] = 0.0  # a DST-I leaves the frequencies 0 and n
                 xy_plans[px, py].execute()
+                terms = []  # (key, factor) of the combinations this base function enters
                 for (a, b), coefficients in combinations.items():
                     c = coefficients[base]
                     if abs(c) <= 1e-14 * np.abs(coefficients[:-1]).max():
                         continue  # zero, or zero up to the round-off of a combination
                     if _parity3(_name(a) + _name(b)) != (px, py, pz):
                         raise AssertionError("cuboid kernel of mixed parity")  # pragma: no cover
-                    np.multiply(spectrum, c * scale * _rotation_sign(a, b, (px, py)), out=work)
-                    spectra[a, b] += work
+                    terms.append(((a, b), c * scale * _rotation_sign(a, b, (px, py))))
+
+                def add(w: int, terms=terms) -> None:  # each combination on one thread
+                    for key, factor in terms[w :: len(works)]:
+                        np.multiply(spectrum, factor, out=works[w])
+                        spectra[key] += works[w]
+
+                each(add, range(len(works)), len(works))
         return spectra
 
     def _kernel_plans(self) -> tuple:
@@ -512,7 +522,7 @@ class EigenstrainOperator:
             return {k: v[:, :, ::-1] for k, v in sums.items()}
 
         def spectrum_of(field: np.ndarray, indices: str) -> np.ndarray:
-            forward.input_array[...] = wrap_layout(wrap_layout(field, 0), 1)
+            wrap_layout(field, (0, 1), forward.input_array)
             forward.execute()
             out = forward.output_array
             part = out.imag if _is_imaginary(indices) else out.real

@@ -67,7 +67,7 @@ import pyfftw
 from .fftw import plan
 from .grid import IndexBox, VolumeGrid  # noqa: F401  (IndexBox: re-exported)
 from .tensor import COMPONENTS, von_mises  # noqa: F401  (von_mises: re-exported)
-from .threads import each
+from .threads import copy_by_rows, each
 
 #: Order of the six stress components in every array returned here (:mod:`solver.tensor`).
 STRESS_COMPONENTS = COMPONENTS
@@ -401,18 +401,23 @@ def hamilton_stress(
 # --------------------------------------------------------------------------------------------
 
 
-def wrap_layout(values: np.ndarray, axis: int) -> np.ndarray:
+def wrap_layout(values: np.ndarray, axes: tuple[int, int], out: np.ndarray) -> np.ndarray:
     """Put offsets ``-(n-1) .. n-1`` (length ``2n - 1``) in wrap-around order of length ``2n``.
 
-    Slot ``i < n`` holds offset ``i``, slot ``2n - i`` offset ``-i``; slot ``n`` (an offset no
-    pair of cells has) is zero, which keeps even and odd kernels exactly symmetric.
+    Along both ``axes`` of ``values``, into ``out`` (length ``2n`` along them, the other axes
+    as ``values``'), which is returned.  Slot ``i < n`` holds offset ``i``, slot ``2n - i``
+    offset ``-i``; slot ``n`` (an offset no pair of cells has) is zero, which keeps even and
+    odd kernels exactly symmetric.
     """
-    values = np.moveaxis(values, axis, 0)
-    n = (values.shape[0] + 1) // 2
-    out = np.zeros((2 * n,) + values.shape[1:], dtype=values.dtype)
-    out[:n] = values[n - 1 :]
-    out[n + 1 :] = values[: n - 1]
-    return np.moveaxis(out, 0, axis)
+    values = np.moveaxis(values, axes, (0, 1))
+    target = np.moveaxis(out, axes, (0, 1))
+    n, m = (values.shape[0] + 1) // 2, (values.shape[1] + 1) // 2
+    for to, source in ((slice(0, n), slice(n - 1, None)), (slice(n + 1, None), slice(0, n - 1))):
+        target[to, :m] = values[source, m - 1 :]
+        target[to, m + 1 :] = values[source, : m - 1]
+        target[to, m] = 0.0
+    target[n] = 0.0
+    return out
 
 
 def _corner_lattice(n: int, d: float) -> np.ndarray:
@@ -456,7 +461,7 @@ def layer_kernels(
         f = _corner_functions(cx, cy, z, names)
         w = {name: np.diff(np.diff(v, axis=0), axis=1) for name, v in f.items()}
         sigma = _stress_from_w(w, z, nu, traction)
-        out[..., n] = wrap_layout(wrap_layout(sigma, 1), 2)
+        wrap_layout(sigma, (1, 2), out[..., n])
 
     each(layer, range(len(layers)), threads)
     return out
@@ -548,11 +553,12 @@ class SubsurfaceStressOperator:
                 kernels = layer_kernels(self.grid, self.nu, traction, layers, self.threads)
                 forward = self.batched_transforms(len(layers))[0]
                 for c, comp in enumerate(STRESS_COMPONENTS):
-                    forward.input_array[...] = kernels[c]
+                    copy_by_rows(forward.input_array, kernels[c], self.threads)
                     forward.execute()
                     px, py = kernel_parity(comp, traction)
                     part = forward.output_array.imag if (px + py) % 2 else forward.output_array.real
-                    spectra[c, :, :, layers.start : layers.stop] = part * scale
+                    target = spectra[c, :, :, layers.start : layers.stop]
+                    copy_by_rows(target, part, self.threads, scale)
             self._spectra[traction] = spectra
         return self._spectra[traction]
 

@@ -13,6 +13,8 @@ import functools
 from collections.abc import Callable, Sequence
 from typing import Any
 
+import numpy as np
+
 
 @functools.lru_cache(maxsize=8)
 def pool(workers: int) -> concurrent.futures.ThreadPoolExecutor:
@@ -39,3 +41,15 @@ def by_rows(function: Callable[[slice], Any], rows: int, threads: int) -> list:
     """
     blocks = [slice(s, min(rows, s + ROW_BLOCK)) for s in range(0, rows, ROW_BLOCK)]
     return each(function, blocks, threads)
+
+
+def copy_by_rows(target: np.ndarray, source: np.ndarray, threads: int, factor=None) -> None:
+    """``target[...] = source`` (times ``factor`` when given) by :func:`by_rows` blocks."""
+
+    def block(xs: slice) -> None:
+        if factor is None:
+            target[xs] = source[xs]
+        else:
+            np.multiply(source[xs], factor, out=target[xs])
+
+    by_rows(block, len(target), threads)
