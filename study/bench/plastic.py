@@ -479,6 +479,72 @@ def box_sweep(n: int, ratios=(1.8, 2.5, 3.5, 4.42), mus=(0.0, 0.5)) -> list[dict
     return rows
 
 
+def _threaded(n: int, threads: int) -> dict:
+    """Tamaas' scene at n^3 on ``threads`` FFTW threads: wall and CPU of set-up plus solve."""
+    import solver
+    from solver.operators import CaseOperators
+
+    table = scene_table(n)
+    table["solver"]["fft_threads"] = threads
+    case = solver.Case.from_dict(table)
+    wall, cpu = time.perf_counter(), time.process_time()
+    CaseOperators.build(case).eigenstrain.prepare()
+    setup = time.perf_counter() - wall
+    result = solver.solve(case)
+    h = result.history
+    return {
+        "wall": time.perf_counter() - wall,
+        "cpu": time.process_time() - cpu,
+        "setup": setup,
+        "iterations": int(h["plastic_iterations"].sum()),
+        "ep": float(h["max_plastic_strain"][SCENE["steps"] - 1]),
+        "dent": float(h["residual_depth"][-1]),
+        "status": result.status,
+    }
+
+
+def thread_speedup(n: int, pairs: int = 3, threads: int = 2) -> list[dict]:
+    """One case on ``threads`` FFTW threads against one thread, ``pairs`` times, alternating.
+
+    Tamaas' scene at n^3, every run in a fresh process; prints each run (wall, CPU, set-up
+    wall, iterations, e_p,max, dent) and each pair's wall-time speed-up.  The answers must
+    be the same bits (threads split the work in pieces that do not depend on their number).
+    """
+    rows = []
+    for pair in range(1, pairs + 1):
+        runs = {}
+        for count in (1, threads):
+            status, out = isolated(_threaded, n, count, timeout=7200.0)
+            if status != "ok":
+                raise RuntimeError(f"{count} threads: {out}")
+            runs[count] = out
+        one, many = runs[1], runs[threads]
+        if (one["ep"], one["dent"]) != (many["ep"], many["dent"]):
+            raise RuntimeError("the answers differ between thread counts")
+        for count, out in runs.items():
+            rows.append(
+                {
+                    "pair": pair,
+                    "threads": count,
+                    "status": out["status"],
+                    "wall_s": out["wall"],
+                    "cpu_s": out["cpu"],
+                    "setup_wall_s": out["setup"],
+                    "plastic_it": out["iterations"],
+                    "ep_max_%": 100 * out["ep"],
+                    "speed_up": one["wall"] / out["wall"],
+                }
+            )
+        print(format_table(rows[-2:]), flush=True)
+    print(
+        f"Tamaas' scene at n = {n}, double precision, estimate plans: {threads} threads against "
+        f"one, {pairs} pairs in fresh processes (speed_up: the pair's one-thread wall time over "
+        "this row's); the same e_p,max and dent bits in every run"
+    )
+    print(format_table(rows))
+    return rows
+
+
 if __name__ == "__main__":  # pragma: no cover
     import argparse
 
@@ -492,7 +558,12 @@ if __name__ == "__main__":  # pragma: no cover
     parser.add_argument("--mu", type=float, nargs="+", default=[0.0, 0.1, 0.2, 0.3, 0.5])
     parser.add_argument("--planner", choices=["estimate", "measure"], default="estimate")
     parser.add_argument("--box", type=int, metavar="N", help="automatic box vs window at N^3")
+    parser.add_argument("--threads", type=int, metavar="N", help="2 threads vs 1 at N^3")
+    parser.add_argument("--pairs", type=int, default=3, help="runs of each (--threads)")
     args = parser.parse_args()
+    if args.threads:
+        thread_speedup(args.threads, args.pairs)
+        raise SystemExit(0)
     if args.box:
         box_sweep(args.box)
         raise SystemExit(0)
