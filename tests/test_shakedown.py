@@ -300,7 +300,7 @@ def test_a_plasticity_loop_whose_iterates_run_away_stops_with_its_best(monkeypat
         }
     )  # fmt: skip
     monkeypatch.setattr(
-        plastic_loop, "_mix", lambda mixer, increment, change: 50 * (increment + change)
+        plastic_loop, "_mix", lambda mixer, increment, change, threads: 50 * (increment + change)
     )
     result = solver.solve(case)
     assert not result.converged
