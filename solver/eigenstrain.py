@@ -666,17 +666,22 @@ class EigenstrainOperator:
     def _layer_sums(self, layers: np.ndarray, *kernel_sets: np.ndarray) -> list[np.ndarray]:
         """``sums[c] = sum_z layers[c] kernels[c]`` for each set of real kernels.
 
-        On the real and imaginary parts apart (no complex temporaries), by row blocks; every
-        set is summed while a block of ``layers`` is in cache (one pass over them).
+        Real and imaginary parts at once, as the product of a kernel's row ``(nz)`` with the
+        layers' ``(nz, 2)`` (their complex values seen as pairs of reals: no copy), by row
+        blocks; every set is summed while a block of ``layers`` is in cache (one pass over
+        them).
         """
         shape = kernel_sets[0].shape[:3]
         out = [np.empty(shape, dtype=complex) for _ in kernel_sets]
+        layers = np.ascontiguousarray(layers)
+        pairs = layers.view(layers.real.dtype).reshape(layers.shape + (2,))
 
         def block(xs: slice) -> None:
-            real, imag = layers.real[:, xs], layers.imag[:, xs]
+            values = pairs[:, xs]
             for sums, kernels in zip(out, kernel_sets, strict=True):
-                sums.real[:, xs] = np.einsum("cxyz,cxyz->cxy", real, kernels[:, xs])
-                sums.imag[:, xs] = np.einsum("cxyz,cxyz->cxy", imag, kernels[:, xs])
+                product = np.matmul(kernels[:, xs, :, None, :], values)[..., 0, :]
+                sums.real[:, xs] = product[..., 0]
+                sums.imag[:, xs] = product[..., 1]
 
         self._by_rows(block, shape[1])
         return out
