@@ -510,6 +510,9 @@ def thread_speedup(n: int, pairs: int = 3, threads: int = 2) -> list[dict]:
     wall, iterations, e_p,max, dent) and each pair's wall-time speed-up.  The answers must
     be the same bits (threads split the work in pieces that do not depend on their number).
     """
+    import solver
+
+    solver.Case.from_dict(scene_table(n))  # a grid the solver refuses: its one line, here
     rows = []
     for pair in range(1, pairs + 1):
         runs = {}
@@ -548,6 +551,15 @@ def thread_speedup(n: int, pairs: int = 3, threads: int = 2) -> list[dict]:
 if __name__ == "__main__":  # pragma: no cover
     import argparse
 
+    from solver import SpecError
+
+    def count(text: str) -> int:
+        """A positive integer option."""
+        value = int(text)
+        if value < 1:
+            raise argparse.ArgumentTypeError(f"must be a positive integer, got {value}")
+        return value
+
     parser = argparse.ArgumentParser(description="elastic-plastic benchmarks")
     parser.add_argument("--paper", type=int, metavar="N", help="the paper's §3 scenes at N^3")
     parser.add_argument("--sizes", type=int, nargs="+", default=[32])
@@ -558,11 +570,14 @@ if __name__ == "__main__":  # pragma: no cover
     parser.add_argument("--mu", type=float, nargs="+", default=[0.0, 0.1, 0.2, 0.3, 0.5])
     parser.add_argument("--planner", choices=["estimate", "measure"], default="estimate")
     parser.add_argument("--box", type=int, metavar="N", help="automatic box vs window at N^3")
-    parser.add_argument("--threads", type=int, metavar="N", help="2 threads vs 1 at N^3")
-    parser.add_argument("--pairs", type=int, default=3, help="runs of each (--threads)")
+    parser.add_argument("--threads", type=count, metavar="N", help="2 threads vs 1 at N^3")
+    parser.add_argument("--pairs", type=count, default=3, help="runs of each (--threads)")
     args = parser.parse_args()
-    if args.threads:
-        thread_speedup(args.threads, args.pairs)
+    if args.threads is not None:
+        try:
+            thread_speedup(args.threads, args.pairs)
+        except SpecError as error:
+            parser.error(f"--threads {args.threads}: {error}")
         raise SystemExit(0)
     if args.box:
         box_sweep(args.box)
