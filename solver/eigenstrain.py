@@ -80,7 +80,7 @@ from .stress import (
     kernel_parity,
     wrap_layout,
 )
-from .tensor import WEIGHTS, deviator
+from .tensor import WEIGHTS, complete_deviator, deviator
 from .threads import by_rows, each
 
 #: Tensor weights of the six components in ``sigma : e`` (off-diagonal terms count twice).
@@ -628,12 +628,7 @@ class EigenstrainOperator:
                 out[mn] = forward.output_array
             buffer[...] = 0.0
         if trace_free:  # a plastic strain: zz is -(xx + yy)
-
-            def zz(xs: slice) -> None:
-                np.add(out[0, xs], out[1, xs], out=out[2, xs])
-                np.negative(out[2, xs], out=out[2, xs])
-
-            self._by_rows(zz, out.shape[1])
+            complete_deviator(out, self.threads)
         return out
 
     def _correction_pressure(self, layers: np.ndarray) -> np.ndarray:

@@ -38,7 +38,7 @@ from .anderson import Anderson
 from .eigenstrain import DEVIATORIC
 from .plasticity import return_mapping_by_blocks
 from .steps import ContactState, ResidualDisplacement, StepResult
-from .tensor import deviator
+from .tensor import complete_deviator, deviator
 from .threads import by_rows
 
 if TYPE_CHECKING:
@@ -187,13 +187,8 @@ def _mix(mixer: Anderson, increment: np.ndarray, change: np.ndarray, threads: in
         [change[i, run] for i, run in parts],
         out=[out[i, run] for i, run in parts],
     )
-
-    def zz(xs: slice) -> None:
-        o = out[:, :, xs]
-        np.add(o[:, 0], o[:, 1], out=o[:, 2])
-        np.negative(o[:, 2], out=o[:, 2])
-
-    by_rows(zz, out.shape[2], threads)
+    for body in out:
+        complete_deviator(body, threads)
     return out
 
 

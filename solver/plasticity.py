@@ -30,14 +30,12 @@ import numpy as np
 
 from .materials import Hardening
 from .tensor import contract, deviator, norm
-from .threads import each
+from .threads import ROW_BLOCK, by_rows
 
 #: Relative tolerance of the consistency equation (on |r| / sigma_Y).
 RETURN_TOLERANCE = 1e-12
 #: Newton iteration cap; bisection alone would need ~60 steps to reach round-off.
 RETURN_MAX_ITERATIONS = 200
-#: Rows (first cell axis) per block of :func:`return_mapping_by_blocks`.
-RETURN_BLOCK_ROWS = 8
 
 
 @dataclass(frozen=True)
@@ -259,17 +257,17 @@ def return_mapping_by_blocks(
 ) -> ReturnMapping:
     """:func:`return_mapping` by blocks of rows shared by ``threads`` threads.
 
-    Blocks of :data:`RETURN_BLOCK_ROWS` rows (the first cell axis).  Every cell returns on its
-    own (the scalar Newton solve of a cell depends on that cell only), so the blocks give the
-    bits of one call whatever the number of threads; one thread makes that one call.
+    Blocks of :data:`~solver.threads.ROW_BLOCK` rows (the first cell axis).  Every cell
+    returns on its own (the scalar Newton solve of a cell depends on that cell only), so the
+    blocks give the bits of one call whatever the number of threads; one thread makes that
+    one call.
     """
     rows = trial_stress.shape[1]
-    if threads <= 1 or rows <= RETURN_BLOCK_ROWS:
+    if threads <= 1 or rows <= ROW_BLOCK:
         return return_mapping(
             trial_stress, plastic_strain, hardening, shear_modulus,
             back_stress=back_stress, reuse_trial=reuse_trial,
         )  # fmt: skip
-    blocks = [slice(s, min(rows, s + RETURN_BLOCK_ROWS)) for s in range(0, rows, RETURN_BLOCK_ROWS)]
     plastic_strain = np.broadcast_to(plastic_strain, trial_stress.shape[1:])
     # isotropic hardening: the blocks fill whole arrays in place (no joining copies)
     whole = None
@@ -291,7 +289,7 @@ def return_mapping_by_blocks(
             out=None if whole is None else (whole[0][:, xs], whole[1][xs], whole[2][xs]),
         )
 
-    parts = each(block, blocks, threads)
+    parts = by_rows(block, rows, threads)
     first = parts[0]
 
     def joined(name: str):

@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .threads import by_rows
+
 #: Component order of every ``(6, ...)`` tensor array.
 COMPONENTS = ("xx", "yy", "zz", "yz", "xz", "xy")
 #: Weights of the components in a double contraction (off-diagonal terms count twice).
@@ -45,6 +47,20 @@ def deviator(a: np.ndarray) -> np.ndarray:
     mean = trace(a) / 3.0
     out[:3] -= mean
     return out
+
+
+def complete_deviator(a: np.ndarray, threads: int = 1) -> None:
+    """Set ``a[2] = -(a[0] + a[1])`` in place: zz of a deviatoric tensor from xx and yy.
+
+    By row blocks of the axis after the components (:func:`~solver.threads.by_rows`), on
+    ``threads`` threads; the same bits on any number.
+    """
+
+    def block(xs: slice) -> None:
+        np.add(a[0, xs], a[1, xs], out=a[2, xs])
+        np.negative(a[2, xs], out=a[2, xs])
+
+    by_rows(block, a.shape[1], threads)
 
 
 def contract(a: np.ndarray, b: np.ndarray) -> np.ndarray:
