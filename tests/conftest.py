@@ -1,4 +1,6 @@
 import copy
+import os
+import tempfile
 
 import pytest
 
@@ -11,6 +13,17 @@ RIGID_SPHERE_ON_STEEL = {
     "friction": {"coefficient": 0.0},
     "grid": {"n": 64, "half_width": 1.6},
 }
+
+
+def pytest_configure(config):
+    """Under ``mpiexec`` each rank gets a temporary folder of its own.
+
+    Two ranks sharing pytest's numbered folders both prune the old ones, and one finds a
+    folder the other is removing (a PytestWarning in CI).  ``--basetemp`` wins when given.
+    """
+    rank = os.environ.get("PMI_RANK", os.environ.get("OMPI_COMM_WORLD_RANK"))
+    if rank is not None and config.option.basetemp is None:
+        config.option.basetemp = os.path.join(tempfile.gettempdir(), f"pytest-mpi-rank{rank}")
 
 
 @pytest.fixture
