@@ -18,9 +18,12 @@ a :class:`~solver.grid.VolumeGrid`, components (xx, yy, zz, yz, xz, xy), tensor 
 Source and image are one 3-D convolution, symmetric in z.  Source plus image is a column of
 ``2 nz`` cells even in z (xx, yy, zz, xy) or odd (yz, xz) about the surface, and every cuboid
 kernel is even or odd in its z offset, so the z direction is a symmetric convolution (Martucci
-1994) of period ``2M`` with ``M >= 2 nz`` (no wrap-around reaches an offset the layers have):
-the column goes through a DCT-II (even) or DST-II (odd) of length M, the kernel's offsets
-``0 .. M`` through a DCT-I or DST-I, their product through a DCT-III or DST-III back, all real.
+1994) of period ``2M`` with ``M >= 2 nz`` (no wrap-around reaches an offset the layers have;
+M even, :func:`depth_length`): the column goes through a DCT-II (even) or DST-II (odd) of
+length M, the kernel's offsets ``0 .. M`` through a DCT-I or DST-I, their product through a
+DCT-III or DST-III back, all real.  The data's DCTs and DSTs are real FFTs of length M of the
+reordered column (Makhoul 1980), both planes (real and imaginary parts) in one call: FFTW's
+own real-to-real transforms of these lengths were 1.5 to 4 times slower.
 The data first go through per-layer 2-D transforms of the box zero-padded to ``(2nx, 2ny)``
 (the layer spectra the surface terms use as well), then the z transforms; each kernel is even
 or odd in x and y too, so its spectrum is real up to a power of i: stored real, for ``kx <=
@@ -219,7 +222,7 @@ class EigenstrainOperator:
         self.threads = threads
         self.planner = planner
         #: M, the half period of the symmetric depth convolution (>= 2 nz; module docstring)
-        self.length_z = fft_size(2 * grid.nz)
+        self.length_z = depth_length(grid.nz)
         if surface_stress is None:
             surface_stress = SubsurfaceStressOperator(grid, nu, threads=threads, planner=planner)
         elif surface_stress.grid != grid or surface_stress.nu != self.nu:
@@ -944,65 +947,91 @@ class EigenstrainOperator:
         (:data:`_SLOT`).  The same operations in the same order per element whatever the
         blocks and threads: results do not depend on the number of threads.
         """
-        nz = self.shape[2]
         for xs, kxs, mirrored in worker.blocks:
             r = xs.stop - xs.start
-            plans = worker.plans[r]
+            transforms = worker.plans[r]
             for b in components:
-                worker.zin[:r, :, :nz] = spectral[b, xs]
-                self._forward_z(b, plans, worker.zin[:r], worker.inputs[b, :, :r])
+                self._forward_z(b, spectral[b, xs], worker, transforms, worker.inputs[b, :, :r])
             for a, products in terms.items():
                 acc = worker.acc[:, :r]
                 self._accumulate(acc, worker.work[:, :r], products, worker.inputs, r, kxs, mirrored)
-                self._backward_z(a, plans, acc, worker.zout[:r])
                 target = spectral[_SLOT[a], xs]
-                target[...] = worker.zout[:r, :, :nz]
+                self._backward_z(a, acc, worker, transforms, target)
                 for kernel, factor in surface.get(a, ()):
                     work = worker.surface[:r]
                     np.multiply(kernel[xs], factor[xs], out=work)
                     target += work
 
-    def _forward_z(self, component: int, plans: dict, zin: np.ndarray, target: np.ndarray) -> None:
-        """The z transform of a block's per-layer spectra ``zin``, turned by ``i^r``: an input.
+    def _forward_z(
+        self, component, layers: np.ndarray, worker: _Worker, transforms: dict, target: np.ndarray
+    ) -> None:
+        """The z transform of a block's per-layer spectra ``layers``, turned by ``i^r``: an input.
 
         A DCT-II (component even in z: source and image add up to an even column) or DST-II
-        (odd) of the real and of the imaginary part into ``target`` ``(2, rows, ny + 1, M +
-        1)``, planes real and imaginary; a component with rotation 1 (:func:`_rotation`) is
-        multiplied by i, ``(re, im) -> (-im, re)``.  The z slot the transform does not write
-        (M for even components, 0 for odd) stays zero.
-        """
-        m = self.length_z
-        odd = _parity3(_name(component))[2]
-        plan = plans["dst2" if odd else "dct2"]
-        window = slice(1, m + 1) if odd else slice(0, m)
-        turned = _rotation(component)
-        for part, plane in ((zin.real, turned), (zin.imag, 1 - turned)):
-            plan.update_arrays(part, target[plane, ..., window])
-            plan.execute()
-        if turned:
-            np.negative(target[0], out=target[0])
+        (odd) of length M of the real and of the imaginary part, into ``target`` ``(2, rows,
+        ny + 1, M + 1)``, planes real and imaginary; a component with rotation 1
+        (:func:`_rotation`) is multiplied by i, ``(re, im) -> (-im, re)``.  The z slot the
+        transform does not write (M for even components, 0 for odd) stays zero.
 
-    def _backward_z(self, component, plans: dict, acc: np.ndarray, zout: np.ndarray) -> None:
-        """Inverse z transform of a block's accumulator into ``zout``, turned by ``i^r``.
-
-        DCT-III (output even in z) or DST-III (odd) of each plane; a component with rotation
-        1 is multiplied by i on the way: ``(A0, A1) -> (-A1, A0)``.  The first ``nz`` z slots
-        are the box's layers.
+        Both planes at once through one real FFT of length M (Makhoul 1980): the column
+        reordered (even layers, then the odd ones backwards; a DST-II is the DCT-II of the
+        column with its odd layers negated, read backwards), transformed, and turned by
+        ``2 exp(-i pi k / 2M)``: ``Y_k = Re T_k``, ``Y_(M-k) = -Im T_k``.  Only the box's
+        layers are written into the reordered column (the zero padding stays zero).
         """
-        m = self.length_z
+        m, nz = self.length_z, self.shape[2]
+        half, evens, odds = m // 2, (nz + 1) // 2, nz // 2
         odd = _parity3(_name(component))[2]
-        plan = plans["dst3" if odd else "dct3"]
-        window = slice(1, m + 1) if odd else slice(0, m)
         turned = _rotation(component)
-        for plane, part in (
-            (0, zout.imag if turned else zout.real),
-            (1, zout.real if turned else zout.imag),
-        ):
-            plan.update_arrays(acc[plane, ..., window], part)
-            plan.execute()
-        if turned:
-            real = zout.real[..., : self.shape[2]]
-            np.negative(real, out=real)
+        transform = transforms["rfft"]
+        column, spectrum = transform.input_array, transform.output_array
+        for plane, part in ((turned, layers.real), (1 - turned, layers.imag)):
+            sign = -1.0 if (turned and plane == 0) else 1.0
+            np.multiply(part[..., 0::2], sign, out=column[plane, ..., :evens])
+            backwards = column[plane, ..., m - 1 : m - 1 - odds : -1]
+            np.multiply(part[..., 1::2], -sign if odd else sign, out=backwards)
+        transform.execute()
+        np.multiply(spectrum, worker.twiddle_forward, out=spectrum)
+        if odd:  # slots 1 .. M hold Y_(M-1), ..., Y_0
+            np.negative(spectrum.imag[..., 1:half], out=target[..., 1:half])
+            target[..., half:] = spectrum.real[..., half::-1]
+        else:  # slots 0 .. M-1 hold Y_0, ..., Y_(M-1)
+            target[..., : half + 1] = spectrum.real
+            np.negative(spectrum.imag[..., half - 1 : 0 : -1], out=target[..., half + 1 : m])
+
+    def _backward_z(
+        self, component, acc: np.ndarray, worker: _Worker, transforms: dict, target: np.ndarray
+    ) -> None:
+        """Inverse z transform of a block's accumulator into its layers ``target``, turned by i^r.
+
+        DCT-III (output even in z) or DST-III (odd) of length M of each plane, the first
+        ``nz`` values (the box's layers); a component with rotation 1 is multiplied by i on
+        the way: ``(A0, A1) -> (-A1, A0)``.  Through one inverse real FFT of length M
+        (Makhoul 1980): the half spectrum ``exp(i pi k / 2M) (X_k - i X_(M-k))`` (``X_M =
+        0``; a DST-III is the DCT-III of the reversed input, its odd outputs negated), whose
+        inverse is the output reordered (even layers, then the odd ones backwards).
+        """
+        m, nz = self.length_z, self.shape[2]
+        half, evens, odds = m // 2, (nz + 1) // 2, nz // 2
+        odd = _parity3(_name(component))[2]
+        turned = _rotation(component)
+        transform = transforms["irfft"]
+        spectrum, column = transform.input_array, transform.output_array
+        if odd:  # X_k = acc[M - k]
+            spectrum.real[...] = acc[..., m : half - 1 : -1]
+            np.negative(acc[..., 1 : half + 1], out=spectrum.imag[..., 1:])
+        else:
+            spectrum.real[...] = acc[..., : half + 1]
+            np.negative(acc[..., m - 1 : half - 1 : -1], out=spectrum.imag[..., 1:])
+        spectrum.imag[..., 0] = 0.0
+        np.multiply(spectrum, worker.twiddle_backward, out=spectrum)
+        transform.execute()
+        planes = (target.imag, target.real) if turned else (target.real, target.imag)
+        for plane, part in enumerate(planes):
+            sign = -1.0 if (turned and plane == 1) else 1.0
+            np.multiply(column[plane, ..., :evens], sign, out=part[..., 0::2])
+            backwards = column[plane, ..., m - 1 : m - 1 - odds : -1]
+            np.multiply(backwards, -sign if odd else sign, out=part[..., 1::2])
 
     def _workers(self) -> list[_Worker]:
         """Row blocks of the spectrum dealt to :attr:`threads` workers, with their buffers.
@@ -1034,26 +1063,34 @@ class EigenstrainOperator:
         """A worker's buffers and z plans for blocks of at most ``size`` rows."""
         _, ny, nz = self.shape
         m = self.length_z
+        half = m // 2
         empty = functools.partial(pyfftw.empty_aligned, dtype=self._real)
-        zin = pyfftw.empty_aligned((size, ny + 1, m), dtype=self._complex)
-        zout = pyfftw.empty_aligned((size, ny + 1, m), dtype=self._complex)
+        padded = empty((2, size, ny + 1, m))  # reordered input columns, zero past the layers
+        column = empty((2, size, ny + 1, m))  # reordered output columns
+        spectrum = pyfftw.empty_aligned((2, size, ny + 1, half + 1), dtype=self._complex)
         inputs = empty((6, 2, size, ny + 1, m + 1))
         acc = empty((2, size, ny + 1, m + 1))
-        make = functools.partial(
-            plan, planner=self.planner, threads=1, axes=(2,), extra=("FFTW_UNALIGNED",)
-        )
+        make = functools.partial(plan, planner=self.planner, threads=1, axes=(3,))
         plans = {}
         for r in sorted({xs.stop - xs.start for xs, _, _ in blocks}):
             plans[r] = {
-                "dct2": make(zin.real[:r], inputs[0, 0, :r, ..., :m], direction="FFTW_REDFT10"),
-                "dst2": make(zin.real[:r], inputs[0, 0, :r, ..., 1:], direction="FFTW_RODFT10"),
-                "dct3": make(acc[0, :r, ..., :m], zout.real[:r], direction="FFTW_REDFT01"),
-                "dst3": make(acc[0, :r, ..., 1:], zout.real[:r], direction="FFTW_RODFT01"),
+                "rfft": make(padded[:, :r], spectrum[:, :r]),
+                "irfft": make(
+                    spectrum[:, :r],
+                    column[:, :r],
+                    direction="FFTW_BACKWARD",
+                    extra=("FFTW_DESTROY_INPUT",),
+                ),
             }
-        zin[...] = 0.0  # the z slots after the box's layers stay zero
+        padded[...] = 0.0
         inputs[...] = 0.0
+        k = np.arange(half + 1)
+        twiddles = (
+            (2.0 * np.exp(-0.5j * np.pi * k / m)).astype(self._complex),
+            np.exp(0.5j * np.pi * k / m).astype(self._complex),
+        )
         surface = np.empty((size, ny + 1, nz), dtype=complex)
-        return _Worker(blocks, plans, zin, zout, inputs, acc, empty(acc.shape), surface)
+        return _Worker(blocks, plans, *twiddles, inputs, acc, empty(acc.shape), surface)
 
     def _accumulate(
         self,
@@ -1131,7 +1168,7 @@ class EigenstrainOperator:
         Kept: the real 3-D kernel spectra of the plastic box (20 for trace-free eigenstrains
         with ``deviatoric``, else the 21 general ones, ``(nx + 1, ny + 1, M + 1)`` each), the
         per-layer 2-D transform buffers of the box, a box narrower than the window's own six
-        layer spectra, the row-block workers' buffers (about 20 :data:`CHUNK_BYTES` each, one
+        layer spectra, the row-block workers' buffers (about 22 :data:`CHUNK_BYTES` each, one
         per thread), the window's per-layer surface-traction and traction-to-stress kernels
         (pressure, plus both shears with ``displacement``; in the volume's precision) and its
         batched 2-D FFT buffers.
@@ -1143,12 +1180,12 @@ class EigenstrainOperator:
         """
         nx, ny, nz = grid.shape
         bx, by = box or (nx, ny)
-        m = fft_size(2 * nz)
+        m = depth_length(nz)
         word = np.dtype(VOLUME_PRECISIONS[precision][0]).itemsize  # 8 or 4 bytes
         kernel3 = word * (bx + 1) * (by + 1) * (m + 1)
         box_layer = word * 2 * 2 * bx * (by + 1) * nz  # one complex per-layer spectrum
         threads = max(1, threads)  # a 2-D transform set and a row-block worker each
-        buffers = threads * (box_layer + word * bx * 2 * by * nz + 20 * CHUNK_BYTES)
+        buffers = threads * (box_layer + word * bx * 2 * by * nz + 22 * CHUNK_BYTES)
         if (bx, by) != (nx, ny):
             buffers += 6 * box_layer
         layer = 8 * 2 * nx * (ny + 1) * nz  # one float64 per-layer spectrum of the window
@@ -1160,6 +1197,15 @@ class EigenstrainOperator:
         kept += (6 * tractions + 6 + 2) * layer * word // 8 + 8 * 4 * nx * ny * nz + 2 * layer
         evaluation = layers + 8 * 6 * bx * by * nz
         return kept + evaluation
+
+
+def depth_length(nz: int) -> int:
+    """M, the half period of the symmetric depth convolution of ``nz`` layers.
+
+    The smallest even fast FFT length (:func:`~solver.fftw.fft_size`) of at least ``2 nz``:
+    even for the real FFTs of length M that carry the z transforms (Makhoul 1980).
+    """
+    return 2 * fft_size(nz)
 
 
 #: Real and complex types of the 3-D eigenstrain convolution by ``solver.volume_precision``.
@@ -1174,17 +1220,21 @@ _SLOT = {0: 0, 1: 1, 2: 2, 3: 3, 4: 4, 5: 5, "mean": 2}
 class _Worker:
     """One worker of the depth convolution: its row blocks, z plans (by rows) and buffers.
 
-    ``zin``, ``zout`` ``(rows, ny + 1, M)`` complex: a block's per-layer spectra on the way in
-    (zero after the box's layers) and out; ``inputs`` ``(6, 2, rows, ny + 1, M + 1)``: the
-    turned z transforms of each component, planes real and imaginary; ``acc`` and ``work``
-    ``(2, rows, ny + 1, M + 1)``; ``surface`` ``(rows, ny + 1, nz)`` complex: the traction
-    terms.
+    ``plans[rows]``: the real FFTs of length M along z, ``"rfft"`` from the reordered input
+    columns (zero after the box's layers) into a half spectrum, ``"irfft"`` from it into the
+    reordered output columns (columns ``(2, rows, ny + 1, M)`` real, planes real and
+    imaginary; the spectrum ``(2, rows, ny + 1, M/2 + 1)`` complex, shared);
+    ``twiddle_forward``, ``twiddle_backward`` the turns of the spectra ``2 exp(-i pi k /
+    2M)``, ``exp(i pi k / 2M)`` (:meth:`EigenstrainOperator._forward_z`); ``inputs`` ``(6,
+    2, rows, ny + 1, M + 1)``: the turned z transforms of each component, planes real and
+    imaginary; ``acc`` and ``work`` ``(2, rows, ny + 1, M + 1)``; ``surface`` ``(rows, ny +
+    1, nz)`` complex: the traction terms.
     """
 
     blocks: list
     plans: dict
-    zin: np.ndarray
-    zout: np.ndarray
+    twiddle_forward: np.ndarray
+    twiddle_backward: np.ndarray
     inputs: np.ndarray
     acc: np.ndarray
     work: np.ndarray
