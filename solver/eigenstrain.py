@@ -262,26 +262,34 @@ class EigenstrainOperator:
         if direct:
             self._surface_layer_kernels(displacement=True)
 
+    def _layer_pieces(self) -> list[slice]:
+        """The box's layers cut into :data:`LAYER_PIECES` runs (the 2-D transforms' pieces)."""
+        bounds = np.linspace(0, self.shape[2], LAYER_PIECES + 1).round().astype(int)
+        return [slice(a, b) for a, b in itertools.pairwise(bounds) if b > a]
+
     def _volume_plans(self) -> list[dict]:
         """FFT plans and buffers of the per-layer 2-D transforms of the box, one set per thread.
 
-        ``"data"`` ``(2nx, ny + 1, nz)`` complex holds per-layer 2-D spectra of the box: the
+        Each set maps a piece's layer count ``h`` (:meth:`_layer_pieces`) to its plans:
+        ``"data"`` ``(2nx, ny + 1, h)`` complex holds per-layer 2-D spectra of the box: the
         forward transform of the data rows (``"y"`` on the box's ``nx`` rows of ``"rows"``,
         then ``"x"``) writes there; on the way back ``"-x"``, ``"-y"`` bring a stress
-        component's spectra back to the box's cells in ``"rows"`` ``(nx, 2ny, nz)``.  The
+        component's spectra back to the box's cells in ``"rows"`` ``(nx, 2ny, h)``.  The
         depth convolution between them runs by row blocks (:meth:`_workers`).  With several
         threads each set (single-threaded plans: the same plans as one thread's) transforms
-        its share of the components (:meth:`_each_component`).
+        its share of the pieces (:meth:`_each_component`).
         """
         if self._volume is None:
-            nx, ny, nz = self.shape
+            nx, ny, _ = self.shape
             make = functools.partial(plan, planner=self.planner, threads=1)
+            depths = sorted({zs.stop - zs.start for zs in self._layer_pieces()})
             self._volume = []
             for _ in range(max(1, self.threads)):
-                data = pyfftw.empty_aligned((2 * nx, ny + 1, nz), dtype=self._complex)
-                rows = pyfftw.empty_aligned((nx, 2 * ny, nz), dtype=self._real)
-                self._volume.append(
-                    {
+                sets = {}
+                for h in depths:
+                    data = pyfftw.empty_aligned((2 * nx, ny + 1, h), dtype=self._complex)
+                    rows = pyfftw.empty_aligned((nx, 2 * ny, h), dtype=self._real)
+                    sets[h] = {
                         "data": data,
                         "rows": rows,
                         "y": make(rows, data[:nx], axes=(1,)),
@@ -295,38 +303,41 @@ class EigenstrainOperator:
                             extra=("FFTW_DESTROY_INPUT",),
                         ),
                     }
-                )
-                data[...] = 0.0
-                rows[...] = 0.0
+                    data[...] = 0.0
+                    rows[...] = 0.0
+                self._volume.append(sets)
         return self._volume
 
     def _each_component(self, components, job) -> None:
-        """``job(component, plans)`` for every component, on the plan sets of the threads.
+        """``job(component, layers, plans)`` for every component and piece of layers.
 
-        The components are dealt to the sets of :meth:`_volume_plans` (one thread each); which
-        set transforms a component changes no bit.
+        The pieces (each component's :meth:`_layer_pieces`, ``layers`` a slice of them) are
+        dealt to the plan sets of :meth:`_volume_plans` (one thread each; ``plans`` those of
+        the piece's layer count): five components in ten pieces share evenly between two
+        threads.  One thread transforms the same pieces with the same plans, so which set
+        transforms a piece changes no bit.
         """
         sets = self._volume_plans()
-        components = list(components)
+        pieces = [(c, zs) for c in components for zs in self._layer_pieces()]
 
         def share(w: int) -> None:
-            for component in components[w :: len(sets)]:
-                job(component, sets[w])
+            for component, zs in pieces[w :: len(sets)]:
+                job(component, zs, sets[w][zs.stop - zs.start])
 
-        each(share, range(min(len(sets), len(components))), len(sets))
+        each(share, range(min(len(sets), len(pieces))), len(sets))
 
     def _forward_layers(self, eigenstrain: np.ndarray, components, out: np.ndarray) -> None:
         """``out[c]``: the per-layer 2-D spectra of the box's ``eigenstrain[c]`` (zero-padded)."""
         nx, ny, _ = self.shape
 
-        def job(c, plans: dict) -> None:
+        def job(c, zs: slice, plans: dict) -> None:
             rows, data = plans["rows"], plans["data"]
             rows[:, ny:] = 0.0  # the last inverse transform left its output
-            rows[:, :ny] = eigenstrain[c]
+            rows[:, :ny] = eigenstrain[c, ..., zs]
             plans["y"].execute()
             data[nx:] = 0.0
             plans["x"].execute()
-            out[c] = data
+            out[c, ..., zs] = data
 
         self._each_component(components, job)
 
@@ -864,20 +875,19 @@ class EigenstrainOperator:
         workers = self._workers()
         each(job, workers, len(workers))
         out = np.zeros((6, nx, ny, nz), dtype=self._real)  # float32 when single
-        means = {}
+        mean = np.empty((nx, ny, nz), dtype=self._real) if "mean" in outputs else None
 
-        def inverse(a, plans: dict) -> None:
-            plans["data"][...] = spectral[_SLOT[a]]
+        def inverse(a, zs: slice, plans: dict) -> None:
+            plans["data"][...] = spectral[_SLOT[a], ..., zs]
             plans["-x"].execute()
             plans["-y"].execute()
             field = plans["rows"][:, :ny]
             if a == "mean":
-                means[a] = field.copy()
+                mean[..., zs] = field
             else:  # u_a = w_a t_a (trace-free) or w_a sigma_a (general)
-                np.divide(field, COMPONENT_WEIGHTS[a], out=out[a])
+                np.divide(field, COMPONENT_WEIGHTS[a], out=out[a, ..., zs])
 
         self._each_component(outputs, inverse)
-        mean = means.get("mean")
 
         def normal(xs: slice) -> None:  # by rows: the normal stresses' last terms
             o = out[:, xs]
@@ -1240,6 +1250,11 @@ class _Worker:
     work: np.ndarray
     surface: np.ndarray
 
+
+#: Pieces of layers each component's per-layer 2-D transforms are cut into
+#: (:meth:`EigenstrainOperator._each_component`): the five deviatoric components in ten pieces
+#: share evenly between two threads.
+LAYER_PIECES = 2
 
 #: Bytes per plane of a row block of the depth convolution
 #: (:meth:`EigenstrainOperator._workers`).

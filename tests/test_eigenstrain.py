@@ -402,6 +402,49 @@ def test_deviatoric_path_equals_the_deviator_of_the_full_stress():
     np.testing.assert_allclose(residual_only, op.stress(strain), rtol=0, atol=1e-9)
 
 
+@pytest.mark.parametrize("nz", [5, 8])
+def test_depth_transforms_are_the_dct_and_dst_of_the_columns(nz):
+    """The depth convolution's z transforms (real FFTs of reordered columns) equal the DCT-II /
+    DST-II of each zero-padded column and the DCT-III / DST-III back (scipy's, unnormalised as
+    FFTW's), turned by i for the components odd in exactly one of x, y; odd and even layer
+    counts."""
+    import scipy.fft
+
+    from solver.eigenstrain import _parity3, _rotation
+
+    op = operator(VolumeGrid(SurfaceGrid(4, 3, 1.0, 1.0), nz, 1.0))
+    worker = op._workers()[0]
+    (xs, _, _), m = worker.blocks[0], op.length_z
+    rows = xs.stop - xs.start
+    transforms = worker.plans[rows]
+    rng = np.random.default_rng(nz)
+    shape = (rows, op.shape[1] + 1)
+    for component in range(6):  # xx, yy, zz even in z; yz, xz odd; xy, yz, xz turned
+        odd, turned = (
+            _parity3(["xx", "yy", "zz", "yz", "xz", "xy"][component])[2],
+            _rotation(component),
+        )
+        window = slice(1, m + 1) if odd else slice(0, m)
+        layers = rng.normal(size=shape + (nz,)) + 1j * rng.normal(size=shape + (nz,))
+        target = np.zeros((2,) + shape + (m + 1,))
+        op._forward_z(component, layers, worker, transforms, target)
+        column = np.zeros(shape + (m,), dtype=complex)
+        column[..., :nz] = layers
+        transform = scipy.fft.dst if odd else scipy.fft.dct
+        want = transform(column.real, type=2) + 1j * transform(column.imag, type=2)
+        want = 1j * want if turned else want
+        got = target[0, ..., window] + 1j * target[1, ..., window]
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * np.abs(want).max())
+        assert not target[..., m if not odd else 0].any()  # the slot it does not write
+
+        acc = rng.normal(size=(2,) + shape + (m + 1,))
+        out = np.zeros(shape + (nz,), dtype=complex)
+        op._backward_z(component, acc, worker, transforms, out)
+        back = transform(acc[0, ..., window], type=3) + 1j * transform(acc[1, ..., window], type=3)
+        back = (1j * back if turned else back)[..., :nz]
+        np.testing.assert_allclose(out, back, rtol=0, atol=1e-12 * np.abs(back).max())
+
+
 def test_threads_split_the_spectral_products_without_changing_a_bit():
     """Two threads share the row blocks of the spectral products, of the per-layer sums (and
     FFTW's transforms): the same operations per element, so the residual stress and the

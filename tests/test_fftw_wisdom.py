@@ -81,9 +81,9 @@ def test_measured_plans_are_found_in_the_wisdom(tmp_path, monkeypatch):
     fftw.forget_wisdom()
     fftw.import_wisdom(wisdom.load()["wisdom"])
     operator = CaseOperators.build(case).volume(2)[1]
-    plans = operator._volume_plans()[0]
-    for name in ("x", "y", "-x", "-y"):
-        assert "FFTW_WISDOM_ONLY" in plans[name].flags, name  # a wisdom hit, not an estimate
+    for depth, plans in operator._volume_plans()[0].items():  # each piece of layers' plans
+        for name in ("x", "y", "-x", "-y"):
+            assert "FFTW_WISDOM_ONLY" in plans[name].flags, (depth, name)  # a hit, no estimate
     for rows, depth in operator._workers()[0].plans.items():  # the row blocks' z transforms
         for name, z_plan in depth.items():
             assert "FFTW_WISDOM_ONLY" in z_plan.flags, (rows, name)
