@@ -14,6 +14,7 @@ import functools
 import hashlib
 import json
 import math
+import os
 import tomllib
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -27,10 +28,12 @@ from .geometry import MAX_PROFILE_SLOPE, PROFILE_KEYS, PROFILES, Geometry, Profi
 from .grid import IndexBox, SurfaceGrid, VolumeGrid
 from .keys import (
     DEFAULT_DEPTH,
+    DEFAULT_HALF_WIDTH,
     DEPTH_RANGE,
     HARDENING_KEYS,
     KINEMATIC_KEYS,
     MAX_ANDERSON_MEMORY,
+    MAX_AUTO_HALF_WIDTH,
     MAX_CELL_DEPTH,
     MAX_CELLS,
     MAX_CREEPAGE,
@@ -81,6 +84,7 @@ from .surfaces import (
     HeightMap,
     Roughness,
     SurfaceError,
+    grid_rms_slope,
 )
 from .variables import OPTIONAL_FIELDS
 
@@ -104,7 +108,8 @@ class SpecError(ValueError):
 HARDENING, KINEMATIC = "bodyN.hardening", "bodyN.hardening.kinematic"
 PROFILE, SURFACE, ROUGHNESS = "bodyN.profile", "bodyN.surface", "bodyN.roughness"
 #: What reads a height-map file: a surface table ({"file": ..., "spacing": ...}) to a
-#: :class:`~solver.surfaces.HeightMap` (``study.surfaces.read_surface``; solver/ reads no files).
+#: :class:`~solver.surfaces.HeightMap` (``study.campaign.surfaces.read_surface``; solver/ reads no
+#: files).
 SurfaceReader = Callable[[dict], HeightMap]
 STAGE, CYCLE_BLOCK = "load.path[i]", "load.path[i] (cycle block)"
 
@@ -134,6 +139,37 @@ def _plain(value: Any) -> Any:
         return value.item()
     if isinstance(value, np.ndarray):
         return value.tolist()
+    return value
+
+
+def _brief(value: Any) -> str:
+    """``repr(value)`` for a one-line message, cut to 80 characters."""
+    text = " ".join(repr(value).split())
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _entries(value: Any, path: str, form: str, lengths=None, *, scalar: bool = False) -> Any:
+    """A list the case takes (a pair of numbers, grid.n, output.fields): its entries, unchecked.
+
+    Given as a list, a tuple or a 1-D numpy array alike (so all three give the same case id);
+    with ``scalar``, a single value is returned as it is (the caller reads it: Q for [Q, 0],
+    L for [L, L], ...).  Refused, naming ``path`` and the ``form`` it takes: a wrong number of
+    entries (``lengths``: the allowed counts, None: any), nested lists, a 2-D array, a string
+    or a table where a list belongs.
+    """
+    if isinstance(value, np.ndarray) and value.ndim > 1:
+        _fail(path, f"must be {form}, got a {value.ndim}-D array of shape {value.shape}")
+    value = _plain(value)
+    if isinstance(value, tuple):
+        value = list(value)
+    if isinstance(value, list):
+        if lengths is not None and len(value) not in lengths:
+            _fail(path, f"must be {form}, got {len(value)} entries: {_brief(value)}")
+        if any(isinstance(_plain(v), list | tuple | dict) for v in value):
+            _fail(path, f"must be {form}, got nested lists or tables: {_brief(value)}")
+        return value
+    if not scalar or isinstance(value, str | bytes | dict | set | frozenset):
+        _fail(path, f"must be {form}, got {_brief(value)}")
     return value
 
 
@@ -218,6 +254,10 @@ def _parse_profile(table: Any, path: str) -> Profile:
 def _parse_surface(value: Any, path: str, read_surface: SurfaceReader | None) -> HeightMap:
     """A height map: given as an object, or read by ``read_surface`` from its table."""
     value = _plain(value)
+    if isinstance(value, os.PathLike):  # a file name as a path: the same as its text
+        value = os.fspath(value)
+    if isinstance(value, dict):
+        value = {k: os.fspath(v) if isinstance(v, os.PathLike) else v for k, v in value.items()}
     if isinstance(value, HeightMap):
         value.origin = {"file": f"<in memory: {value.source}>"}
         return value
@@ -232,29 +272,32 @@ def _parse_surface(value: Any, path: str, read_surface: SurfaceReader | None) ->
         _fail(f"{path}.{kind}", f"must be a file name, got {value[kind]!r}")
     origin = {kind: value[kind]}
     if "offset" in value:
-        offset = _plain(value["offset"])
-        if not isinstance(offset, list) or len(offset) != 2:
-            _fail(f"{path}.offset", f"must be [dx, dy] (m), got {offset!r}")
+        offset = _entries(value["offset"], f"{path}.offset", "[dx, dy] (m)", (2,))
         origin["offset"] = [_number(v, f"{path}.offset") for v in offset]
     if "spacing" in value:
         if kind == "case":
             _fail(f"{path}.spacing", "a case file's coordinates give the spacing; remove it")
-        spacing = _plain(value["spacing"])
+        form = "dx or [dx, dy] (m)"
+        spacing = _entries(value["spacing"], f"{path}.spacing", form, (1, 2), scalar=True)
         items = spacing if isinstance(spacing, list) else [spacing]
-        if len(items) not in (1, 2):
-            _fail(f"{path}.spacing", f"must be dx or [dx, dy] (m), got {spacing!r}")
         origin["spacing"] = [_number(v, f"{path}.spacing", positive=True) for v in items]
     if read_surface is None:
         _fail(
             path,
             "a height-map file is read by the study layer: build the case with "
-            "Case.from_dict(table, read_surface=study.surfaces.read_surface), or give a "
+            "Case.from_dict(table, read_surface=study.campaign.surfaces.read_surface), or give a "
             "solver.surfaces.HeightMap",
         )
     try:
         surface = read_surface(origin)
     except SurfaceError as error:
         _fail(path, str(error))
+    if "sha256" in value and not isinstance(value["sha256"], str):
+        _fail(
+            f"{path}.sha256",
+            f"must be the map's content hash (64 hex digits, as the case file records it), got "
+            f"{_brief(value['sha256'])}; remove it to take the file as it is",
+        )
     if "sha256" in value and value["sha256"] != surface.digest:
         _fail(
             f"{path}.sha256",
@@ -266,6 +309,8 @@ def _parse_surface(value: Any, path: str, read_surface: SurfaceReader | None) ->
 
 
 def _parse_roughness(table: Any, path: str) -> Roughness:
+    if isinstance(table, Roughness):  # the object, read as its table (as a HeightMap is taken)
+        table = {k: v for k, v in dataclasses.asdict(table).items() if v is not None}
     _check_keys(table, path, table_keys(ROUGHNESS), required_keys(ROUGHNESS))
     if ("rms" in table) == ("rms_slope" in table):
         _fail(path, "give one of rms (m) and rms_slope")
@@ -480,6 +525,8 @@ def _parse_path(raw_stages: list, pair: Pair) -> tuple[list[LoadStage], list[str
             _check_keys(raw, path, table_keys(CYCLE_BLOCK), required_keys(CYCLE_BLOCK))
             cycles = _integer(raw["cycles"], f"{path}.cycles", 1, MAX_CYCLES)
             inner = raw["stages"]
+            if isinstance(inner, tuple):
+                inner = list(inner)
             if not isinstance(inner, list) or not inner:
                 _fail(f"{path}.stages", "must be a non-empty array of tables ([[...stages]])")
             block, offset = [], max((stage.cycle for stage in stages), default=0)
@@ -638,6 +685,30 @@ def _check_force(force: float, pair: Pair, path: str) -> None:
         )
 
 
+def _check_mean_pressure(force: float, pair: Pair, size: tuple[float, float], path: str) -> None:
+    """Refuse a normal force (N) whose mean pressure over a heights-only domain is out of range.
+
+    Without a smooth shape there is no Hertz pressure to check (:func:`_check_force`); the
+    nominal mean pressure W / (Lx Ly) over the domain ``size`` (m) is checked against
+    :data:`PRESSURE_RATIO_RANGE` times E* (Pa) instead, as p_H / E* is (the real contact area is
+    smaller, so its pressures are higher still).  An unloaded stage (0 N) is not checked; a
+    stage that keeps the previous force passes when the stage that set it did.
+    """
+    if force == 0:
+        return
+    e_star, area = pair.composite_modulus, size[0] * size[1]
+    ratio = force / area / e_star
+    low, high = PRESSURE_RATIO_RANGE
+    if not low <= ratio <= high:
+        _fail(
+            path,
+            f"W = {force:g} N gives a mean pressure W/(Lx Ly) = {ratio:.3g} E* over the domain "
+            f"({size[0]:.4g} m by {size[1]:.4g} m, E* = {e_star:.4g} Pa); it must be in "
+            f"[{low:g}, {high:g}] E* (small strain): W in [{low * e_star * area:.3g}, "
+            f"{high * e_star * area:.3g}] N for this domain",
+        )
+
+
 def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool) -> tuple:
     _check_keys(table, path, table_keys(STAGE))
     if "hertz_pressure" in table and "normal_force" in table:
@@ -662,13 +733,12 @@ def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool
     else:
         force = previous[0]
     if "tangential_force" in table:
-        value = _plain(table["tangential_force"])
+        where = f"{path}.tangential_force"
+        value = _entries(table["tangential_force"], where, "Q or [Qx, Qy] (N)", (2,), scalar=True)
         if isinstance(value, list):
-            if len(value) != 2:
-                _fail(f"{path}.tangential_force", f"must be [Qx, Qy] (N), got {value!r}")
-            q = tuple(_number(v, f"{path}.tangential_force", allow_inf=False) for v in value)
+            q = tuple(_number(v, where) for v in value)
         else:
-            q = (_number(value, f"{path}.tangential_force"), 0.0)
+            q = (_number(value, where), 0.0)
         given["tangential_force"] = list(q)
     else:
         q = previous[1]
@@ -684,9 +754,7 @@ def _parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool
                 "a sliding stage sets the tangential force (mu W along the motion): remove "
                 "tangential_force",
             )
-        value = _plain(table[key])
-        if not isinstance(value, list) or len(value) != 2:
-            _fail(f"{path}.{key}", f"must be [dx, dy] (m), got {value!r}")
+        value = _entries(table[key], f"{path}.{key}", "[dx, dy] (m)", (2,))
         travel = tuple(_number(v, f"{path}.{key}") for v in value)
         if any(travel):  # a zero travel is no travel: the same case, the same id
             given[key] = list(travel)
@@ -729,10 +797,9 @@ def _parse_creepage(table: Any, path: str, previous: tuple, motion: str, given: 
         return ((0.0, 0.0) if previous[2] and "tangential_force" not in table else None), 0.0
     creepage = (0.0, 0.0)
     if "creepage" in table:
-        value = _plain(table["creepage"])
+        form = "xi or [xi, eta] (dimensionless)"
+        value = _entries(table["creepage"], f"{path}.creepage", form, (2,), scalar=True)
         if isinstance(value, list):
-            if len(value) != 2:
-                _fail(f"{path}.creepage", f"must be [xi, eta] (dimensionless), got {value!r}")
             creepage = tuple(_number(v, f"{path}.creepage") for v in value)
         else:  # a number: longitudinal (along x)
             creepage = (_number(value, f"{path}.creepage"), 0.0)
@@ -867,7 +934,7 @@ class GridSpec:
     nx: int
     ny: int
     nz: int = 0
-    half_width: float = 1.5
+    half_width: float = DEFAULT_HALF_WIDTH
     depth: float | None = None
     depth_body1: float | None = None
     plastic_half_width: float | None = None
@@ -981,7 +1048,10 @@ class Case:
         Notes
         -----
         Numpy scalars (``np.int64``, ``np.float32``, ``np.bool_``, ...) are taken as the Python
-        values they hold, and numpy arrays where a list is expected; a boolean is never a number.
+        values they hold; a list (a pair of numbers, ``grid.n``, ``output.fields``) may be given
+        as a list, a tuple or a 1-D numpy array alike (the same case id), a file name as a
+        string or a path, a roughness as its table or a :class:`~solver.surfaces.Roughness`; a
+        boolean is never a number.
         """
         _check_keys(table, "", table_keys(""), required_keys(""))
         if table.get("model", MODEL_VERSION) != MODEL_VERSION:
@@ -1017,6 +1087,8 @@ class Case:
         if "path" in load:
             _check_keys(load, "load", {"path"})
             raw_stages = load["path"]
+            if isinstance(raw_stages, tuple):  # a tuple of tables as a list (one spelling)
+                raw_stages = list(raw_stages)
             if not isinstance(raw_stages, list) or not raw_stages:
                 _fail("load.path", "must be a non-empty array of tables ([[load.path]])")
             stages, paths, given = _parse_path(raw_stages, pair)
@@ -1054,6 +1126,8 @@ class Case:
                     "a volume grid is scaled by the smooth shape's contact radius; with heights "
                     "only give grid.n = [nx, ny] (no stress or plastic outputs yet)",
                 )
+            for stage, path in zip(stages, paths, strict=True):
+                _check_mean_pressure(stage.normal_force, pair, grid.size, f"{path}.normal_force")
         moving = _slides(stages)
         if any(stage.motion == "slide" for stage in stages) and not body1.rigid:
             _fail(
@@ -1091,14 +1165,24 @@ class Case:
             ),
             default=0.0,
         )
+        # no window given: an elastic-plastic case's window holds its plastic box
+        window_free = grid.size is None and "half_width" not in table["grid"] and not moving
         region = None  # a profile's computed elastic yield region (units of its contact radius)
         if plastic is not None and not geometry.hertzian:
             scale = _profile_radius(geometry, force, e_star)
-            found = elastic_yield_region(
-                pair, _domain_half_widths(grid, scale), (grid.nx, grid.ny), force, ratio,
-                plastic.hardening.initial_yield_stress, plastic.nu, scale,
-            )  # fmt: skip
-            region = (found.top / scale, found.bottom / scale, found.half_width / scale)
+            trial = grid
+            while True:
+                found = elastic_yield_region(
+                    pair, _domain_half_widths(trial, scale), (grid.nx, grid.ny), force, ratio,
+                    plastic.hardening.initial_yield_stress, plastic.nu, scale,
+                )  # fmt: skip
+                region = (found.top / scale, found.bottom / scale, found.half_width / scale)
+                # a box wider than the domain: look again on a wider trial domain
+                wider = min(MAX_AUTO_HALF_WIDTH, 1.5 * trial.half_width)
+                clipped = PLASTIC_WIDTH_MARGIN * region[2] >= trial.half_width
+                if not (clipped and wider > trial.half_width):
+                    break
+                trial = dataclasses.replace(trial, half_width=wider)
             p_max = found.max_pressure
 
         def yield_depth(body: Body) -> float:
@@ -1106,12 +1190,12 @@ class Case:
                 return max(DEFAULT_DEPTH, YIELD_DEPTH_MARGIN * region[1])
             return auto_depth(p_max, body.hardening.initial_yield_stress, body.nu)
 
-        def auto_width(body: Body, depth: float) -> float:
+        def auto_width(body: Body, depth: float, window: float) -> float:
             if region is not None:
                 width = max(MIN_PLASTIC_HALF_WIDTH, PLASTIC_WIDTH_MARGIN * region[2])
-                return min(grid.half_width, math.ceil(width * 1000.0 - 1e-6) / 1000.0)
+                return min(window, math.ceil(width * 1000.0 - 1e-6) / 1000.0)
             return auto_plastic_half_width(
-                p_max, body.hardening.initial_yield_stress, body.nu, ratio, depth, grid.half_width
+                p_max, body.hardening.initial_yield_stress, body.nu, ratio, depth, window
             )
 
         if grid.plastic_half_width is not None and plastic is None:
@@ -1134,11 +1218,27 @@ class Case:
                 depth *= MOVING_DEPTH_MARGIN / YIELD_DEPTH_MARGIN  # passes drive it deeper
             grid = dataclasses.replace(grid, depth=depth)
         box_key = None  # grid.plastic_half_width as the case's spec records it
+        warnings = []
         if plastic is not None:
-            auto = max(
-                auto_width(body, grid.depth_body1 if body is body1 and two_fields else grid.depth)
-                for body in plastics
-            )
+
+            def box_width(window: float) -> float:
+                return max(
+                    auto_width(
+                        body,
+                        grid.depth_body1 if body is body1 and two_fields else grid.depth,
+                        window,
+                    )  # fmt: skip
+                    for body in plastics
+                )
+
+            auto = box_width(grid.half_width)
+            if auto >= grid.half_width and not moving:  # the box fills the window: is it wider?
+                zone = box_width(MAX_AUTO_HALF_WIDTH)
+                if window_free:
+                    grid = dataclasses.replace(grid, half_width=max(DEFAULT_HALF_WIDTH, zone))
+                    auto = grid.half_width
+                if zone > grid.half_width or (window_free and zone >= MAX_AUTO_HALF_WIDTH):
+                    warnings.append(_narrow_window_note(grid, zone, window_free))
             chosen = grid.plastic_half_width
             if moving:  # the box covers the track: the window
                 if chosen is not None:
@@ -1154,7 +1254,6 @@ class Case:
             grid = dataclasses.replace(
                 grid, plastic_half_width=width if width < grid.half_width else None
             )
-        warnings = []
         peak = max(range(len(stages)), key=lambda i: stages[i].normal_force)
         for body, name in ((body2, "body 2"), (body1, "body 1")):
             if body.behaviour != "elastic-plastic" or (name == "body 1" and body1 == body2):
@@ -1172,10 +1271,9 @@ class Case:
             _check_volume(body, depth, grid.nz, p_max, given_key, region)
         solver = _parse_solver(table.get("solver", {}))
         output = _check_keys(table.get("output", {}), "output", table_keys("output"))
-        fields = _plain(output.get("fields", []))
-        if isinstance(fields, list):
-            fields = [_plain(name) for name in fields]
-        if not isinstance(fields, list) or any(f not in FIELD_OUTPUTS for f in fields):
+        form = f"a list drawn from {list(FIELD_OUTPUTS)}"
+        fields = [_plain(f) for f in _entries(output.get("fields", []), "output.fields", form)]
+        if any(not isinstance(f, str) or f not in FIELD_OUTPUTS for f in fields):
             _fail("output.fields", f"must be a list drawn from {list(FIELD_OUTPUTS)}")
         if "stress" in fields and not grid.nz:
             _fail("output.fields", "stress needs a volume grid: give grid.n = [nx, ny, nz]")
@@ -1290,7 +1388,25 @@ class Case:
         return Case.from_dict(table)
 
     def _check_surfaces(self) -> None:
-        """Refuse height maps and roughness the grid cannot take (module docstring)."""
+        """Refuse height maps and roughness the grid cannot take, or too steep for the theory.
+
+        A map must cover the domain's cell centres, be at most :data:`MAX_MAP_COARSENING`
+        cells coarse and span fewer metres of height than the domain is wide; a roughness's
+        short cutoff must span 2 cells and its lattice fit :data:`MAX_ROUGHNESS_LATTICE`.
+
+        Slopes (small-slope theory, :data:`MAX_SURFACE_SLOPE` as for profiles), each point
+        height on its own (a body's map and roughness, both bodies' surfaces, are checked
+        apart), measured on what the solver sees:
+
+        * a height map: the rms slope of its heights resampled at the grid's cell centres (at
+          the start of the path), by forward differences between neighbouring cells
+          (:func:`~solver.surfaces.grid_rms_slope`);
+        * a roughness given by ``rms``: the rms slope of its realisation, spectral on its own
+          lattice (:meth:`~solver.surfaces.Roughness.realised_rms_slope`, the measure
+          ``rms_slope`` is given in, so the largest rms that passes is rms x limit / slope);
+          computed only when the bound ``rms 2 pi / short_cutoff`` passes the limit.  One
+          given by ``rms_slope`` has that slope, checked when parsed.
+        """
         grid = self.surface_grid
         hx, hy = 0.5 * grid.nx * grid.dx, 0.5 * grid.ny * grid.dy
         cell = max(grid.dx, grid.dy)
@@ -1328,6 +1444,17 @@ class Case:
                         f"({2 * max(hx, hy):.4g} m): are they in metres (micrometres written as "
                         "metres)?  Heights are in metres",
                     )
+                slope = _map_slope(surface, grid)
+                if slope > MAX_SURFACE_SLOPE:
+                    _fail(
+                        where,
+                        f"{file} resampled onto the grid has an rms slope of {_above(slope)} "
+                        f"(finite differences between cells), more than {MAX_SURFACE_SLOPE:g} "
+                        "(small-slope theory; a steeper map gives one-cell spots of unphysical "
+                        "pressure): "
+                        f"scale its heights by at most {_round_down(MAX_SURFACE_SLOPE / slope)} "
+                        "or smooth it (are the heights in metres?)",
+                    )
             roughness = body.roughness
             if roughness is not None:
                 where = f"{name}.roughness"
@@ -1353,6 +1480,22 @@ class Case:
                         f"domain) would need {points} points per side, more than "
                         f"{MAX_ROUGHNESS_LATTICE}; raise short_cutoff or lower long_cutoff",
                     )
+                if roughness.rms is not None and roughness.slope_bound() > MAX_SURFACE_SLOPE:
+                    # the lattice the solver samples (Roughness.sample): over the cell centres
+                    side = 2.0 * float(max(np.abs(grid.x).max(), np.abs(grid.y).max())) + 1e-300
+                    try:
+                        slope = roughness.realised_rms_slope(side)
+                    except SurfaceError as error:
+                        _fail(where, str(error))
+                    if slope > MAX_SURFACE_SLOPE:
+                        largest = _round_down(roughness.rms * MAX_SURFACE_SLOPE / slope)
+                        _fail(
+                            f"{where}.rms",
+                            f"rms = {roughness.rms:.4g} m gives a realisation of rms slope "
+                            f"{_above(slope)} (spectral, on its lattice), more than "
+                            f"{MAX_SURFACE_SLOPE:g} (small-slope theory): give rms <= "
+                            f"{largest} m, or rms_slope <= {MAX_SURFACE_SLOPE:g} instead of rms",
+                        )
 
     def _check_resolution(self) -> None:
         reference = self.reference
@@ -1399,10 +1542,13 @@ class Case:
                     f"{key}s or give more cells (n = {counts} or more, at most {MAX_CELLS} a side)",
                 )
             if need <= MAX_CELLS:
+                window = f"{self.grid.half_width:g} a_H"
+                if self.plastic_body is not None:  # the window may have grown to hold the box
+                    window += ", which holds the plastic box when half_width is not given"
                 _fail(
                     "grid.n",
-                    f"mesh too coarse: the contact spans {across:.3g} cells, "
-                    f"use n >= {math.ceil(need)} (or a smaller half_width)",
+                    f"mesh too coarse: the contact spans {across:.3g} cells of the window "
+                    f"({window}); use n >= {math.ceil(need)} (or a smaller half_width)",
                 )
             scale = semi_min / (MIN_CELLS_ACROSS * reference.max_semi_axis)
             at_n = ""
@@ -1742,6 +1888,56 @@ class Case:
         return (per_solve * factor + volume) * self.total_steps
 
 
+def _narrow_window_note(grid: GridSpec, zone: float, sized: bool) -> str:
+    """The note of a surface window narrower than the plastic box the yield region asks for.
+
+    ``zone`` (units of a_H): :data:`PLASTIC_WIDTH_MARGIN` x the elastic yield region's half
+    width at the largest load, at most :data:`MAX_AUTO_HALF_WIDTH`; ``sized``: the window was
+    sized from it (no ``grid.half_width`` given) and reached that cap.
+    """
+    need = f"{PLASTIC_WIDTH_MARGIN:g} x the elastic yield region's half width at the largest load"
+    if sized:
+        return (
+            f"grid.half_width: the plastic zone predicted ({need}) reaches the widest window "
+            f"sized for it ({MAX_AUTO_HALF_WIDTH:g} a_H): the case may end truncated; give "
+            "half_width larger (and n in proportion)"
+        )
+    key = "grid.size" if grid.size is not None else "grid.half_width"
+    given = "the given domain" if grid.size is not None else f"{grid.half_width:g} a_H"
+    return (
+        f"{key}: the window ({given}) is narrower than the plastic box the yield region asks "
+        f"for ({zone:.4g} a_H: {need}), so the case will likely end truncated; leave "
+        f"half_width out (the window is then sized from the yield region) or give half_width "
+        f">= {zone:.4g}"
+    )
+
+
+@functools.lru_cache(maxsize=8)
+def _map_slope(surface: HeightMap, grid: SurfaceGrid) -> float:
+    """Rms slope of a map resampled onto a grid (:func:`~solver.surfaces.grid_rms_slope`).
+
+    Memoised: a campaign's cases often share a map and a grid.
+    """
+    return grid_rms_slope(surface, grid.x, grid.y)
+
+
+def _above(value: float, limit: float = MAX_SURFACE_SLOPE) -> str:
+    """``value`` (> ``limit``) to 3 significant digits, or as many more as show it above."""
+    for digits in range(3, 17):
+        text = f"{value:.{digits}g}"
+        if float(text) > limit:
+            return text
+    return repr(value)
+
+
+def _round_down(value: float) -> str:
+    """A positive number rounded down to 3 significant digits, as text (a bound that passes)."""
+    if not (math.isfinite(value) and value > 0):
+        return f"{value:.3g}"
+    unit = 10.0 ** (math.floor(math.log10(value)) - 2)
+    return f"{math.floor(value / unit * (1 + 1e-12)) * unit:.3g}"
+
+
 def _domain_half_widths(grid: GridSpec, scale: float) -> tuple[float, float]:
     """Half-widths (m) of the surface domain, square cells.
 
@@ -1854,10 +2050,10 @@ def _parse_grid(table: Any) -> GridSpec:
     not as well as a 3-entry one.
     """
     _check_keys(table, "grid", table_keys("grid"), required_keys("grid"))
-    n = _plain(table["n"])
+    n = _entries(
+        table["n"], "grid.n", "an integer or [nx, ny] or [nx, ny, nz]", (2, 3), scalar=True
+    )
     if isinstance(n, list):
-        if len(n) not in (2, 3):
-            _fail("grid.n", f"must be an integer or [nx, ny] or [nx, ny, nz], got {n!r}")
         sizes = [_integer(v, "grid.n", 4, MAX_CELLS) for v in n]
     else:
         size = _integer(n, "grid.n", 4, MAX_CELLS)
@@ -1871,15 +2067,15 @@ def _parse_grid(table: Any) -> GridSpec:
             )
         sizes.append(_integer(table["nz"], "grid.nz", 4, MAX_CELLS))
     nz = sizes[2] if len(sizes) == 3 else 0
-    half_width = _number(table.get("half_width", 1.5), "grid.half_width", positive=True)
+    half_width = _number(
+        table.get("half_width", DEFAULT_HALF_WIDTH), "grid.half_width", positive=True
+    )
     size = None
     if "size" in table:
         if "half_width" in table:
             _fail("grid.size", "give either size (m) or half_width (units of a_H), not both")
-        value = _plain(table["size"])
+        value = _entries(table["size"], "grid.size", "L or [Lx, Ly] (m)", (2,), scalar=True)
         items = value if isinstance(value, list) else [value, value]
-        if len(items) != 2:
-            _fail("grid.size", f"must be L or [Lx, Ly] (m), got {value!r}")
         size = tuple(_number(v, "grid.size", positive=True) for v in items)
         if not math.isclose(size[0] / sizes[0], size[1] / sizes[1], rel_tol=1e-9):
             _fail(

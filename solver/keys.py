@@ -74,6 +74,12 @@ MIN_YIELD_CELLS = 2
 MAX_CELL_DEPTH = 0.25
 #: Margin on the elastic yield region's half width that sizes the plastic box laterally.
 PLASTIC_WIDTH_MARGIN = 1.25
+#: Half side (units of a_H) of the surface window when none is given.  An elastic-plastic
+#: case's window widens to hold its plastic box (:data:`PLASTIC_WIDTH_MARGIN` x the elastic
+#: yield region's half width) when that is wider, up to :data:`MAX_AUTO_HALF_WIDTH`.
+DEFAULT_HALF_WIDTH = 1.5
+#: Widest window (units of a_H) sized from the plastic zone when ``grid.half_width`` is not given.
+MAX_AUTO_HALF_WIDTH = 4.0
 #: Volume depth (units of the largest Hertz semi-axis) when none is given for elastic cases.
 DEFAULT_DEPTH = 1.2
 #: Margin on the elastic yield depth that sizes an elastic-plastic case's volume grid.
@@ -366,9 +372,16 @@ CASE_KEYS: tuple[Key, ...] = (
         "half_width; required when no body has a smooth shape (radius or profile)."),
     Key("grid", "nz", "integer", "cells", "optional", f"[4, {MAX_CELLS}]; not with a 3-entry n",
         "volume grids", "Volume cells in depth, apart from grid.n."),
-    Key("grid", "half_width", "number", "a_H", "1.5", "the contact fits (>= 1.1; 1.5 usual)",
+    Key("grid", "half_width", "number", "a_H",
+        f"{DEFAULT_HALF_WIDTH:g}; an elastic-plastic case's window holds its plastic box "
+        f"({PLASTIC_WIDTH_MARGIN:g} x the elastic yield region's half width, <= "
+        f"{MAX_AUTO_HALF_WIDTH:g})", "the contact fits (>= 1.1; 1.5 usual)",
         "every case", "Half side of the surface domain in units of the largest Hertz semi-axis "
-        "(with a profile: Sneddon's contact radius) at the largest load."),
+        "(with a profile: Sneddon's contact radius) at the largest load.  Not given, the "
+        "window of an elastic-plastic case widens to hold the plastic zone predicted from the "
+        "elastic yield region (the plastic box then fills it); given narrower than that, "
+        "validate warns that the case will likely end truncated.  Sliding and rolling cases "
+        "keep 1.5 around the contact."),
     Key("grid", "depth", "number", "a_H", f"1.2 x the Hertz yield depth (a profile: of the "
         f"computed elastic yield region; >= {DEFAULT_DEPTH:g}; 2 x under a sliding load); "
         f"{DEFAULT_DEPTH:g} for elastic bodies", f"{_range(*DEPTH_RANGE)}; plastic bodies: cells "

@@ -7,7 +7,7 @@ the body's quadric and profile (:class:`solver.geometry.Geometry`).
 * :class:`HeightMap`: a measured or computed topography on a uniform lattice, checked on
   construction (2-D, finite, uniform spacing, at least 4 x 4 points) and resampled onto the
   solver's cell centres by cubic B-spline interpolation (``scipy.ndimage.map_coordinates``,
-  order :data:`MAP_ORDER`).  Reading files is the study layer's job (``study.surfaces``).
+  order :data:`MAP_ORDER`).  Reading files is the study layer's job (``study.campaign.surfaces``).
 * :class:`Roughness`: a self-affine Gaussian surface made by FFT filtering of white noise
   (numpy's PCG64 seeded by ``seed``) on a lattice of its own, so a mesh refinement samples the
   same surface: spacing ``short_cutoff / 4``, side the smallest ``long_cutoff 2^k`` (k >= 0) that
@@ -21,6 +21,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -33,6 +34,8 @@ ROUGHNESS_POINTS_PER_CUTOFF = 4
 MAX_ROUGHNESS_LATTICE = 8192
 #: Relative tolerance on the uniformity of a height map's spacing.
 SPACING_RTOL = 1e-6
+#: Points resampled at a time by :func:`grid_rms_slope` (bounds its memory, ~100 MB).
+SLOPE_CHUNK_POINTS = 2**22
 
 
 class SurfaceError(ValueError):
@@ -60,8 +63,8 @@ class HeightMap:
     def __init__(self, x, y, height, source: str = "the height map") -> None:
         self.source = source
         self.origin: dict = {}  # the surface table it was read from (solver.case)
-        x, y = (np.asarray(v, dtype=float) for v in (x, y))
-        height = np.asarray(height, dtype=float)
+        x, y = (_real_array(v, f"coordinate {n}", source) for n, v in (("x", x), ("y", y)))
+        height = _real_array(height, "height", source)
         if height.ndim != 2:
             raise SurfaceError(
                 f"{source}: height must be a 2-D grid height(y, x), got {height.ndim}-D"
@@ -120,6 +123,51 @@ class HeightMap:
         ).reshape(np.shape(x))
 
 
+def _real_array(value, name: str, source: str) -> np.ndarray:
+    """``value`` as a float array, or a :class:`SurfaceError` naming ``name`` (and ``source``).
+
+    Real numbers only: integers and floats (numpy's or Python's); strings, booleans, complex
+    numbers, dates, ragged nested lists (rows of unequal lengths) and numbers beyond the float
+    range are refused, never converted.
+    """
+    try:
+        array = np.asarray(value)
+    except (ValueError, TypeError):  # ragged nested lists (numpy >= 1.24), odd objects
+        raise SurfaceError(
+            f"{source}: {name} must be a rectangular array of numbers, got rows of unequal "
+            "length (a ragged nested list) or values numpy cannot read as an array"
+        ) from None
+    kind = array.dtype.kind
+    if kind == "O":  # a list mixing kinds, or Python ints beyond int64
+        items = array.ravel().tolist()
+        if any(isinstance(v, list | tuple | np.ndarray) for v in items):
+            raise SurfaceError(
+                f"{source}: {name} must be a rectangular array of numbers, got rows of unequal "
+                "length (a ragged nested list)"
+            )
+        bad = next((v for v in items if isinstance(v, bool) or not _is_real(v)), None)
+        if bad is not None:
+            raise SurfaceError(f"{source}: {name} must hold real numbers (m), got {bad!r}")
+        try:
+            return np.asarray(items, dtype=float).reshape(array.shape)
+        except OverflowError:
+            raise SurfaceError(
+                f"{source}: {name} holds integers beyond the float range; give metres"
+            ) from None
+    if kind not in "iuf":
+        told = {"U": "text", "S": "bytes", "b": "booleans", "c": "complex numbers"}
+        raise SurfaceError(
+            f"{source}: {name} must hold real numbers (m), got {told.get(kind, 'values')} of "
+            f"dtype {array.dtype}"
+        )
+    return array.astype(float, copy=False)
+
+
+def _is_real(value) -> bool:
+    """True for a real number (Python's or numpy's int, float, a Fraction, ...)."""
+    return isinstance(value, numbers.Real)
+
+
 def _spacing(axis: np.ndarray, name: str, source: str) -> float:
     steps = np.diff(axis)
     step = (axis[-1] - axis[0]) / (axis.size - 1)
@@ -171,6 +219,68 @@ class Roughness:
         heights = _roughness_lattice(self, points, spacing)
         coordinate = (np.arange(points) - 0.5 * (points - 1)) * spacing
         return HeightMap(coordinate, coordinate, heights, "roughness").sample(x, y)
+
+    def slope_bound(self) -> float:
+        """An upper bound of the realisation's rms slope (dimensionless), known without it.
+
+        ``rms_slope`` when given; else ``rms x 2 pi / short_cutoff``: the spectrum holds no
+        wavenumber above ``2 pi / short_cutoff``, and the rms slope over the rms height is a
+        mean of the wavenumbers (weighted by the power), so it cannot exceed the largest.
+        """
+        if self.rms_slope is not None:
+            return self.rms_slope
+        return self.rms * 2.0 * math.pi / self.short_cutoff
+
+    def realised_rms_slope(self, side: float) -> float:
+        """Rms slope (dimensionless) of the realisation that covers a domain of ``side`` (m).
+
+        The slope measure ``rms_slope`` is given in: spectral on the realisation's lattice
+        (:meth:`lattice`), sqrt(sum |q|^2 |H(q)|^2) / points^2 with H the heights' discrete
+        Fourier transform; ``rms_slope`` itself when given (the realisation is scaled to it).
+        """
+        if self.rms_slope is not None:
+            return self.rms_slope
+        points, spacing = self.lattice(side)
+        heights = _roughness_lattice(self, points, spacing)
+        q = 2.0 * math.pi * np.fft.fftfreq(points, spacing)
+        power = np.abs(np.fft.fft2(heights)) ** 2
+        slope2 = np.sum(power * (q[:, None] ** 2 + q[None, :] ** 2)) / float(points) ** 4
+        return math.sqrt(float(slope2))
+
+
+def grid_rms_slope(surface, x: np.ndarray, y: np.ndarray) -> float:
+    """Rms slope (dimensionless) of a surface's heights resampled at cell centres.
+
+    Parameters
+    ----------
+    surface : HeightMap or Roughness
+        Anything with ``sample(x, y)`` (heights in m).
+    x, y : numpy.ndarray
+        Cell-centre coordinates (m), 1-D, uniform: the solver's grid (each at least 2 points).
+
+    Returns
+    -------
+    float
+        sqrt(<(dh/dx)^2> + <(dh/dy)^2>), each derivative a forward difference between
+        neighbouring cells, each mean over its own differences: the slope the solver sees.
+        Resampled :data:`SLOPE_CHUNK_POINTS` points at a time.
+    """
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    dx, dy = x[1] - x[0], y[1] - y[0]
+    columns = max(2, SLOPE_CHUNK_POINTS // y.size)
+    sum_x = sum_y = 0.0
+    last = None  # the previous chunk's last column: the difference across chunks
+    for start in range(0, x.size, columns):
+        xx, yy = np.meshgrid(x[start : start + columns], y, indexing="ij")
+        heights = surface.sample(xx, yy)  # (x, y)
+        sum_y += float(np.sum(np.diff(heights, axis=1) ** 2))
+        if last is not None:
+            heights = np.concatenate([last, heights], axis=0)
+        sum_x += float(np.sum(np.diff(heights, axis=0) ** 2))
+        last = heights[-1:]
+    mean_x = sum_x / ((x.size - 1) * y.size) / dx**2
+    mean_y = sum_y / (x.size * (y.size - 1)) / dy**2
+    return math.sqrt(mean_x + mean_y)
 
 
 @functools.lru_cache(maxsize=4)

@@ -195,3 +195,103 @@ def test_two_threads_give_one_threads_bits():
     np.testing.assert_array_equal(one.fields["plastic_strain"], two.fields["plastic_strain"])
     np.testing.assert_array_equal(one.pressure, two.pressure)
     np.testing.assert_array_equal(one.shear_x, two.shear_x)
+
+
+def _linear_steel(ratio, mu=0.0, n=24, **grid):
+    """Rigid sphere on linear-hardening steel at p_H = ratio x sigma_Y0, nothing else set."""
+    hardening = {"law": "linear", "yield_stress": 0.8e9, "modulus": 15e9}
+    return solver.Case.from_dict(
+        {
+            "body1": {"behaviour": "rigid", "radius": 0.015},
+            "body2": {
+                "behaviour": "elastic-plastic",
+                "E": 210e9,
+                "nu": 0.3,
+                "hardening": hardening,
+            },  # fmt: skip
+            "load": {"hertz_pressure": ratio * 0.8e9, "steps": 5},
+            "friction": {"coefficient": mu},
+            "grid": {"n": [n, n, n], **grid},
+        }
+    )
+
+
+@pytest.mark.parametrize("ratio", [2.0, 4.0, 6.0])
+def test_the_window_holds_the_plastic_box_when_half_width_is_not_given(ratio):
+    """Window = max(1.5, the plastic box the elastic yield region asks for); box = window."""
+    from solver.case import DEFAULT_HALF_WIDTH, auto_plastic_half_width
+    from solver.keys import MAX_AUTO_HALF_WIDTH
+
+    case = _linear_steel(ratio)
+    box = auto_plastic_half_width(  # within the default window
+        ratio * 0.8e9, 0.8e9, 0.3, 0.0, case.grid.depth, DEFAULT_HALF_WIDTH
+    )
+    zone = auto_plastic_half_width(  # as wide as it asks
+        ratio * 0.8e9, 0.8e9, 0.3, 0.0, case.grid.depth, MAX_AUTO_HALF_WIDTH
+    )
+    if box < DEFAULT_HALF_WIDTH:
+        assert (case.grid.half_width, case.grid.plastic_half_width) == (DEFAULT_HALF_WIDTH, box)
+    else:
+        assert (case.grid.half_width, case.grid.plastic_half_width) == (zone, None)
+    assert not case.warnings
+    given = _linear_steel(ratio, half_width=DEFAULT_HALF_WIDTH)
+    # below the default window nothing changes (same case id); above it the window grows
+    assert (given.case_id == case.case_id) == (box < DEFAULT_HALF_WIDTH)
+    if box == DEFAULT_HALF_WIDTH:
+        (note,) = given.warnings
+        assert note.startswith("grid.half_width: the window (1.5 a_H) is narrower")
+        assert f">= {zone:.4g}" in note
+
+
+def test_the_grown_window_is_not_truncated_where_the_default_one_was():
+    """p_H = 6 sigma_Y0: the 1.5 a_H window truncates the zone, the grown one holds it."""
+    grown = solver.solve(_linear_steel(6.0))
+    fixed = solver.solve(_linear_steel(6.0, half_width=1.5))
+    assert fixed.status == "truncated", fixed.notes
+    assert grown.status == "converged", grown.notes
+
+
+def test_validate_warns_of_a_window_narrower_than_the_plastic_zone(tmp_path):
+    import subprocess
+    import sys
+
+    campaign = tmp_path / "narrow.toml"
+    campaign.write_text(
+        '[campaign]\nname = "narrow"\n[base]\n'
+        'body1 = { behaviour = "rigid", radius = 0.015 }\n'
+        'body2 = { behaviour = "elastic-plastic", E = 210e9, nu = 0.3, hardening = '
+        '{ law = "linear", yield_stress = 0.8e9, modulus = 15e9 } }\n'
+        "load = { hertz_pressure = 4.8e9, steps = 5 }\n"
+        "grid = { n = [24, 24, 24], half_width = 1.5 }\n"
+        '[sweep]\n"friction.coefficient" = [0.0]\n'
+    )
+    done = subprocess.run(
+        [sys.executable, "-m", "study", "validate", str(campaign)], capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    assert "grid.half_width: the window (1.5 a_H) is narrower than the plastic box" in (
+        done.stdout + done.stderr
+    )
+
+
+SHIPPED_HARDENING = {
+    "swift": SWIFT,
+    "perfect": {"law": "perfect", "yield_stress": 433.0127e6},
+    "linear": {"law": "linear", "yield_stress": 0.8e9, "modulus": 15e9},
+    "linear_soft": {"law": "linear", "yield_stress": 0.5e9, "modulus": 10e9},
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("mu", [0.0, 0.5])
+@pytest.mark.parametrize("law", sorted(SHIPPED_HARDENING))
+def test_nothing_set_no_truncated_case_up_to_six_times_yield(law, mu):
+    """The shipped materials at p_H = 6 sigma_Y0, only the cells given: never truncated."""
+    table = _linear_steel(2.0).to_dict()
+    table["body2"]["hardening"] = SHIPPED_HARDENING[law]
+    table["friction"]["coefficient"] = mu
+    table["grid"] = {"n": [24, 24, 24]}
+    y0 = solver.Case.from_dict(table).plastic_body.hardening.initial_yield_stress
+    table["load"] = {"hertz_pressure": 6.0 * y0, "steps": 5}
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "converged", result.notes

@@ -17,6 +17,9 @@ field (``bodyN.surface``), and the command line exits with status 2.  Maps are c
 from __future__ import annotations
 
 import functools
+import math
+import numbers
+from os import PathLike
 from pathlib import Path
 
 import numpy as np
@@ -40,12 +43,24 @@ def read_surface(table: dict) -> HeightMap:
     Raises
     ------
     SurfaceError
-        Naming the file and the problem.
+        Naming the file and the problem (a table without one file name, a spacing or offset
+        that is not numbers, included: :meth:`solver.Case.from_dict` checks them first).
     """
+    if not isinstance(table, dict) or ("file" in table) == ("case" in table):
+        raise SurfaceError(
+            f"surface table {_brief(table)}: give one of file (a height map) and case (an "
+            "earlier case's dent)"
+        )
     kind = "case" if "case" in table else "file"
+    if not isinstance(table[kind], str | PathLike) or not str(table[kind]):
+        raise SurfaceError(f"surface {kind}: must be a file name, got {_brief(table[kind])}")
     path = Path(table[kind]).expanduser()
-    spacing = tuple(table.get("spacing", ()))
-    offset = tuple(table.get("offset", (0.0, 0.0)))
+    spacing = _numbers(table.get("spacing", ()), f"{path}: spacing", "dx or [dx, dy] (m) > 0")
+    offset = _numbers(table.get("offset", (0.0, 0.0)), f"{path}: offset", "[dx, dy] (m)")
+    if len(spacing) > 2 or (spacing and min(spacing) <= 0):
+        raise SurfaceError(f"{path}: spacing must be dx or [dx, dy] (m) > 0, got {spacing}")
+    if len(offset) != 2:
+        raise SurfaceError(f"{path}: offset must be [dx, dy] (m), got {offset}")
     try:
         stat = path.stat()
     except FileNotFoundError:
@@ -61,7 +76,41 @@ def read_surface(table: dict) -> HeightMap:
     surface = read(str(path.resolve()), stat.st_size, stat.st_mtime_ns, spacing)
     if offset == (0.0, 0.0):
         return surface
-    return HeightMap(surface.x + offset[0], surface.y + offset[1], surface.height, surface.source)
+    try:
+        return HeightMap(
+            surface.x + offset[0], surface.y + offset[1], surface.height, surface.source
+        )
+    except SurfaceError:  # the shift rounds the coordinates off their lattice
+        raise SurfaceError(
+            f"{path}: offset = {list(offset)} m is too large for the map's spacing "
+            f"({surface.dx:.4g} m by {surface.dy:.4g} m): the shifted coordinates are no longer "
+            "uniform; give a smaller offset"
+        ) from None
+
+
+def _brief(value) -> str:
+    """``repr(value)`` for a one-line message, cut to 80 characters."""
+    text = " ".join(repr(value).split())
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _numbers(value, name: str, form: str) -> tuple[float, ...]:
+    """Finite real numbers given as one number, a list, a tuple or a 1-D array, as a tuple.
+
+    Anything else (text, a table, a 2-D array, NaN, an infinity) is a :class:`SurfaceError`
+    naming ``name`` (the file and the key) and saying ``form``.
+    """
+    array = value if isinstance(value, np.ndarray) else np.asarray(value, dtype=object)
+    items = array.ravel().tolist() if array.ndim <= 1 else [None]
+    try:
+        if not all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in items):
+            raise TypeError
+        out = tuple(float(v) for v in items)
+    except (TypeError, OverflowError):
+        out = (math.nan,)
+    if not all(math.isfinite(v) for v in out):
+        raise SurfaceError(f"{name} must be {form}, got {_brief(value)}")
+    return out
 
 
 @functools.lru_cache(maxsize=8)
