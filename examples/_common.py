@@ -1,4 +1,9 @@
-"""Shared by the example scripts: the ``--out`` argument and a headless matplotlib."""
+"""Shared by the example scripts: the ``--out`` argument, a headless matplotlib, line styles.
+
+``series_style`` is the report's (:func:`study.report.figures.series_style`): every series of a
+line plot gets its own colour, marker and line style, drawn so that coinciding ones stay
+visible.
+"""
 
 from __future__ import annotations
 
@@ -8,6 +13,10 @@ import pathlib
 import matplotlib
 
 matplotlib.use("Agg")
+
+from study.report.figures import series_style  # noqa: E402  (after the backend is chosen)
+
+__all__ = ["output_folder", "series_style"]
 
 
 def output_folder(description: str) -> pathlib.Path:

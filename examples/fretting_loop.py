@@ -15,7 +15,7 @@ from __future__ import annotations
 import sys
 
 import matplotlib.pyplot as plt
-from _common import output_folder
+from _common import output_folder, series_style
 
 import solver
 from solver.reference import mindlin_deresiewicz_energy
@@ -68,20 +68,19 @@ def main() -> int:
         lw=1,
         label="whole path",
     )
-    for cycle in ds.cycle.values:
+    cycles = ds.cycle.values
+    for j, cycle in enumerate(cycles):  # the loops coincide: each its own style, all visible
         steps = ds.step_cycle == cycle
         ax.plot(
             ds.tangential_shift_x[steps] * 1e6,
             ds.tangential_force_x[steps],
-            ".-",
-            ms=3,
+            **series_style(j, len(cycles), int(steps.sum())),
             label=f"cycle {cycle}",
         )
-    ax.set(
-        xlabel="tangential shift Delta_x (um)",
-        ylabel="tangential force Q_x (N)",
-        title=f"fretting loop, Q* = {FRACTION} mu W: {1e6 * energy[-1]:.2f} uJ per cycle "
-        "(the cycles coincide)",
+    ax.set(xlabel="tangential shift Delta_x (um)", ylabel="tangential force Q_x (N)")
+    fig.suptitle(
+        f"fretting loop, Q* = {FRACTION} mu W: {1e6 * energy[-1]:.2f} uJ per cycle\n"
+        "(the cycles coincide)"
     )
     ax.legend(fontsize=8)
     fig.savefig(out / "fretting_loop.png", dpi=120)

@@ -14,7 +14,7 @@ import sys
 
 import matplotlib.pyplot as plt
 import numpy as np
-from _common import output_folder
+from _common import output_folder, series_style
 
 import solver
 
@@ -31,16 +31,20 @@ def main() -> int:
     out = output_folder(__doc__.splitlines()[0])
     fig, ax = plt.subplots(figsize=(6, 4), constrained_layout=True)
     errors = []
-    for n, marker in ((32, "s"), (64, "o"), (128, ".")):
+    meshes = (32, 64, 128)
+    for j, n in enumerate(meshes):
         result = solver.solve(solver.Case.from_dict({**CASE, "grid": {**CASE["grid"], "n": n}}))
         hertz = result.case.hertz
         x = result.grid.x
         row = result.pressure[:, result.grid.ny // 2]  # the row nearest y = 0
         errors.append(abs(result.pressure.max() / hertz.max_pressure - 1))
-        ax.plot(x / hertz.radius, row / 1e9, marker, ms=4, label=f"{n}^2 cells")
+        # the meshes coincide: each its own colour, marker and line style, shifted markers
+        style = series_style(j, len(meshes), len(x))
+        ax.plot(x / hertz.radius, row / 1e9, **style, label=f"{n}^2 cells")
         print(f"n = {n:4d}: p_max error {errors[-1]:.2e}, converged {result.converged}")
     r = np.linspace(-1.5, 1.5, 601) * hertz.radius
-    ax.plot(r / hertz.radius, hertz.pressure(r, 0.0) / 1e9, "k-", lw=1, label="Hertz")
+    ax.plot(r / hertz.radius, hertz.pressure(r, 0.0) / 1e9, "-", color="0.6", lw=4, zorder=1,
+            label="Hertz")  # fmt: skip
     ax.set(
         xlabel="x / a_H (1)",
         ylabel="contact pressure (GPa)",

@@ -33,6 +33,41 @@ def write_map(path, x, y, height) -> None:
     ).to_netcdf(path)
 
 
+def draw(heights, flat, rough, extent, spots: int):
+    """The figure: the rough heights, and the pressure on the flat and on the rough map.
+
+    Each panel's title names the field; its quantity and unit are on its colour bar, under the
+    panel, so no title runs into a colour bar.
+
+    Parameters
+    ----------
+    heights, flat, rough : numpy.ndarray
+        The rough map's heights (m) and the pressures (Pa) on the flat and the rough map,
+        indexed (x, y).
+    extent : sequence of float
+        ``(x0, x1, y0, y1)`` of the grid over a_H.
+    spots : int
+        Contact spots of the rough map.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
+    fig, axes = plt.subplots(1, 3, figsize=(12, 4.6), layout="constrained")
+    panels = [
+        (heights * 1e6, "rough map: heights", "height (um)", "RdBu_r"),
+        (flat / 1e9, "flat map: pressure", "pressure (GPa)", "viridis"),
+        (rough / 1e9, f"rough map: pressure, {spots} spots", "pressure (GPa)", "viridis"),
+    ]
+    for ax, (field, title, label, cmap) in zip(axes, panels, strict=True):
+        image = ax.imshow(field.T, origin="lower", extent=extent, cmap=cmap)
+        ax.set(title=title, xlabel="x / a_H (1)", ylabel="y / a_H (1)")
+        fig.colorbar(image, ax=ax, location="bottom", shrink=0.8, aspect=30, label=label)
+    fig.suptitle("a height map pressed by a rigid sphere (R = 15 mm, 60 N)")
+    return fig
+
+
 def main() -> int:
     """Write the maps, solve, print the check, draw the figure; 0 when the check passes."""
     out = output_folder(__doc__.splitlines()[0])
@@ -65,17 +100,8 @@ def main() -> int:
 
     grid = results["rough"].grid
     extent = np.array([grid.x[0], grid.x[-1], grid.y[0], grid.y[-1]]) / hertz.radius
-    fig, axes = plt.subplots(1, 3, figsize=(12, 3.8), constrained_layout=True)
     heights = results["rough"].fields["initial_gap"] - results["flat"].fields["initial_gap"]
-    panels = [
-        (heights * 1e6, "rough map: height (um)", "RdBu_r"),
-        (results["flat"].pressure / 1e9, "flat map: pressure (GPa)", "viridis"),
-        (results["rough"].pressure / 1e9, f"rough map: pressure (GPa), {spots} spots", "viridis"),
-    ]
-    for ax, (field, title, cmap) in zip(axes, panels, strict=True):
-        image = ax.imshow(field.T, origin="lower", extent=extent, cmap=cmap)
-        ax.set(title=title, xlabel="x / a_H (1)", ylabel="y / a_H (1)")
-        fig.colorbar(image, ax=ax, shrink=0.8)
+    fig = draw(heights, results["flat"].pressure, results["rough"].pressure, extent, spots)
     fig.savefig(out / "your_surface.png", dpi=120)
     ok = error < 5e-3 and all(r.converged for r in results.values()) and spots > 1
     return 0 if ok else 1

@@ -360,8 +360,8 @@ def test_report_plots(campaign_out, monkeypatch):
     expected = {
         "convergence_grid_n": (4.2 * columns, 3.6 * -(-quantities // 4) + title, quantities),
         "speed_error": (10, 4.2, 2),
-        # 7 entries
-        "profiles": (4.0 * forces, 3.0 + title + 2 * report_figures.LEGEND_ROW, forces),
+        # 5 legend entries (Hertz, Cattaneo-Mindlin, 3 meshes): one row of at most 6
+        "profiles": (4.0 * forces, 3.0 + title + report_figures.LEGEND_ROW, forces),
         "stick_slip": (3.0 * forces + 1.0, 3.0 + title, forces),
     }
     for suffix, (width, height, panels) in expected.items():
@@ -382,6 +382,20 @@ def test_report_plots(campaign_out, monkeypatch):
         )
     assert text.count("Shown: all 2 slices over tangential_force") == 2
     assert "Shown: all 6 finished cases." in text
+    # every series (a slice, or a mesh) in its own (marker, line style) in each panel; the
+    # panels of a converged campaign carry no status mark
+    for name in ("tiny_cattaneo_convergence_grid_n.png", "tiny_cattaneo_profiles.png"):
+        most = 0
+        for ax in figures[name].axes:
+            styles = {
+                line.get_gid(): (line.get_marker(), line.get_linestyle(), line.get_color())
+                for line in ax.get_lines()
+                if str(line.get_gid()).startswith("series ")
+            }
+            assert len(set(styles.values())) == len(styles), (name, styles)
+            assert not [t for t in ax.texts if t.get_gid() == "status mark"], name
+            most = max(most, len(styles))
+        assert most >= 2, name
     # the colour bar of the speed-error figure spans the cells of the cases (16^2 ... 28^2)
     speed = figures["tiny_cattaneo_speed_error.png"]
     (bar,) = [ax for ax in speed.axes if ax.get_label() == "<colorbar>"]

@@ -1,6 +1,7 @@
 """The plastic part of a campaign report: table, overlaid profiles, load curves, sections."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -32,7 +33,27 @@ def pairs(tmp_path_factory):
 def test_plastic_report_table_and_figures(pairs, monkeypatch):
     pytest.importorskip("matplotlib")
     monkeypatch.setattr("study.report.figures.DPI", 40)
+    from matplotlib.figure import Figure
+
+    saved, savefig = {}, Figure.savefig
+
+    def capture(self, path, *args, **kwargs):
+        saved[Path(path).name] = self
+        return savefig(self, path, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", capture)
     report = build_report(pairs)
+    # the 3 pairs overlaid: each its own (marker, line style); ratios labelled (1), not [Pa]
+    for name in ("pairs_plastic_profiles.png", "pairs_load_curves.png"):
+        for ax in saved[name].axes:
+            styles = {
+                line.get_gid(): (line.get_marker(), line.get_linestyle())
+                for line in ax.get_lines()
+                if str(line.get_gid()).startswith("series ")
+            }
+            assert len(styles) in (0, 3) and len(set(styles.values())) == len(styles), name
+            for label in (ax.get_xlabel(), ax.get_ylabel()):
+                assert "[" not in label and (" / " not in label or label.endswith("(1)")), label
     text = report.read_text()
     assert "## Plastic response" in text
     for name in ("plastic_profiles", "load_curves", "plastic_sections"):

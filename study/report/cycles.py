@@ -82,7 +82,12 @@ def cycle_table(dataset):
 
 
 def plot_loops(dataset, path: str | Path) -> Path | None:
-    """Q_x against Delta_x, every cycle in its own colour, one panel per case."""
+    """Q_x against Delta_x, one panel per case.
+
+    Every cycle in its own colour (a colour bar), marker and line style
+    (:func:`figures.series_style`), so loops that coincide stay visible; a case not converged
+    or truncated has a red dashed frame and label (:func:`figures.mark_panel`).
+    """
     plt = figures.pyplot()
     needed = ("tangential_force_x_history", "tangential_shift_x_history", "step_cycle_history")
     if plt is None or not all(name in dataset for name in needed):
@@ -95,6 +100,7 @@ def plot_loops(dataset, path: str | Path) -> Path | None:
     fig, axes, columns = figures.panel_grid(plt, len(cases), 3.8, 3.2, extra=1.0)
     count = dataset.sizes["cycle"]
     cmap = plt.get_cmap("viridis")
+    statuses = []
     for k, (ax, (labels, isel)) in enumerate(zip(axes, cases, strict=True)):
         case = dataset.isel(isel)
         q = case["tangential_force_x_history"].values
@@ -105,7 +111,13 @@ def plot_loops(dataset, path: str | Path) -> Path | None:
             if not steps.size:
                 continue
             steps = np.concatenate([[steps[0] - 1], steps]) if steps[0] > 0 else steps
-            ax.plot(d[steps], q[steps], "-", color=cmap((c - 1) / max(count - 1, 1)), lw=1.2)
+            # the loops of the cycles often coincide: each its own marker and line style too
+            style = figures.series_style(
+                c - 1, count, len(steps), colour=cmap((c - 1) / max(count - 1, 1))
+            )
+            ax.plot(d[steps], q[steps], **style)
+        statuses.append(figures.status_of(dataset, isel))
+        figures.mark_panel(ax, statuses[-1:])
         ax.set_title(figures.title(labels), fontsize=8)
         ax.set_xlabel("tangential shift Delta_x (um)")
         if k % columns == 0:
@@ -114,13 +126,22 @@ def plot_loops(dataset, path: str | Path) -> Path | None:
     mappable = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(1, max(count, 2)))
     rows = math.ceil(len(axes) / columns)
     fig.colorbar(mappable, ax=axes, shrink=min(0.9, 1.8 / rows), label="cycle")
-    figures.suptitle(fig, f"{dataset.attrs.get('campaign', '')}: fretting loops Q_x - Delta_x")
+    figures.suptitle(
+        fig,
+        f"{dataset.attrs.get('campaign', '')}: fretting loops Q_x - Delta_x",
+        "each cycle its own colour, marker and line style (cycle 1 widest, drawn lowest)",
+        figures.status_note(statuses, "red dashed frame"),
+    )
     figures.save(plt, fig, path)
     return Path(path)
 
 
 def plot_cycles(dataset, path: str | Path) -> Path | None:
-    """The per-cycle quantities (:data:`PANELS`) against the cycle, one line per case."""
+    """The per-cycle quantities (:data:`PANELS`) against the cycle, one line per case.
+
+    Each case in its own colour, marker and line style (:func:`figures.series_style`), hollow
+    markers for a case not converged or truncated.
+    """
     plt = figures.pyplot()
     cases = _cases(dataset)[: figures.MAX_LINES]
     names = [name for name in PANELS if name in dataset]
@@ -128,20 +149,25 @@ def plot_cycles(dataset, path: str | Path) -> Path | None:
         return None
     from matplotlib.ticker import MaxNLocator
 
-    fig, axes, _ = figures.panel_grid(plt, len(names), 4.4, 3.4)
+    entries = len(cases) + 1  # and the hollow markers' entry, in 2 columns below the panels
+    fig, axes, _ = figures.panel_grid(
+        plt, len(names), 4.4, 3.4, below=figures.LEGEND_ROW * (math.ceil(entries / 2) + 1)
+    )
     cycle = dataset["cycle"].values
+    statuses = []
     for k, (labels, isel) in enumerate(cases):
         case = dataset.isel(isel)
-        colour = f"C{k % 10}"
+        statuses.append(figures.status_of(dataset, isel))
+        style = figures.series_style(k, len(cases), len(cycle), statuses[-1])
         for ax, name in zip(axes, names, strict=True):
             scale, _, _, log = PANELS[name]
             values = case[name].values * scale
             plot = ax.semilogy if log else ax.plot
             label = figures.labels_text(labels) if ax is axes[0] else None
-            plot(cycle, np.clip(values, 1e-12, None) if log else values, "o-", ms=3,
-                 color=colour, label=label)  # fmt: skip
+            plot(cycle, np.clip(values, 1e-12, None) if log else values, **style, label=label)
             if name == "loop_energy" and "cycle_friction_work" in case:
-                ax.plot(cycle, case["cycle_friction_work"].values * scale, "x", color=colour)
+                ax.plot(cycle, case["cycle_friction_work"].values * scale, "+", ms=9,
+                        color=style["color"], zorder=4, gid="friction work")  # fmt: skip
     for ax, name in zip(axes, names, strict=True):
         _, ylabel, title, _ = PANELS[name]
         ax.set_ylabel(ylabel)
@@ -149,9 +175,13 @@ def plot_cycles(dataset, path: str | Path) -> Path | None:
         ax.xaxis.set_major_locator(MaxNLocator(integer=True))
         ax.set_xlabel("cycle")
         ax.grid(True, which="both", alpha=0.3)
-    note = "o loop area, x friction work" if "loop_energy" in names else None
-    axes[0].legend(fontsize=7, title=note, title_fontsize=7)
-    figures.suptitle(fig, f"{dataset.attrs.get('campaign', '')}: per cycle")
+    note = "lines: loop area, +: friction work" if "loop_energy" in names else None
+    handles = axes[0].get_legend_handles_labels()[0] + figures.status_handle(statuses)
+    fig.legend(handles=handles, loc="outside lower center", ncols=2, fontsize=7, title=note,
+               title_fontsize=7)  # fmt: skip
+    figures.suptitle(
+        fig, f"{dataset.attrs.get('campaign', '')}: per cycle", figures.status_note(statuses)
+    )
     figures.save(plt, fig, path)
     return Path(path)
 

@@ -31,7 +31,9 @@ def plot_convergence(dataset, mesh_dim: str, path: str | Path) -> Path | None:
     """Log-log relative error against cells per side, one panel per quantity.
 
     The error is relative to the closed form where one applies, else to the Richardson
-    extrapolation of the slice; dashed lines are the fits ``C h^p`` with the observed order.
+    extrapolation of the slice; dotted lines are the fits ``C h^p`` with the observed order.
+    Each slice has its own colour, marker and line style (:func:`figures.series_style`); the
+    points of cases not converged or truncated are hollow.
     Panels wrap into at most :data:`MAX_COLUMNS` columns; at most :data:`MAX_LINES` slices are
     drawn per panel (the title says so when there are more).
 
@@ -67,12 +69,17 @@ def plot_convergence(dataset, mesh_dim: str, path: str | Path) -> Path | None:
         else 0.0
     )
     fig, axes, _ = panel_grid(plt, len(names), 4.2, 3.6, below=below)
-    colours = {}
+    drawn = slices[: figures.MAX_LINES]
+    statuses = [
+        [figures.status_of(dataset, {**isel, mesh_dim: i}) for i in range(dataset.sizes[mesh_dim])]
+        for _, isel in drawn
+    ]
+    used = {}  # series index -> label, of the slices drawn in some panel
     for ax, name in zip(axes, names, strict=True):
         table = analysis.convergence_table(dataset, name, mesh_dim)
         basis = "closed form" if name in refs else "extrapolated"
         column = "rel_error" if name in refs else "rel_error_extrapolated"
-        for labels, _ in slices[: figures.MAX_LINES]:
+        for j, (labels, _) in enumerate(drawn):
             rows = table
             for key, value in labels.items():
                 rows = rows[rows[key] == value]
@@ -82,12 +89,16 @@ def plot_convergence(dataset, mesh_dim: str, path: str | Path) -> Path | None:
             if not np.any(ok):
                 continue
             label = labels_text(labels) or "cases"
-            many = min(len(slices), figures.MAX_LINES) > 10
-            index = len(colours)
-            colour = colours.setdefault(
-                label, plt.get_cmap("tab20")(index % 20) if many else f"C{index}"
-            )
-            ax.loglog(n[ok], err[ok], "o-", color=colour, label=None if shared else label)
+            used[j] = label
+            style = figures.series_style(j, len(drawn))
+            ax.loglog(n[ok], err[ok], **style, label=None if shared else label)
+            bad = ok & np.array([s in figures.UNTRUSTED for s in statuses[j]])
+            if bad.any():  # points of untrusted cases hollow, over the line's markers
+                hollow = figures.series_style(j, len(drawn), status="truncated")
+                hollow.update(
+                    linestyle="none", gid="untrusted point", zorder=style["zorder"] + 0.01
+                )
+                ax.loglog(n[bad], err[bad], **hollow)
             order, constant = analysis.observed_order(
                 rows["h_over_a"].to_numpy(dtype=float)[ok], err[ok]
             )
@@ -96,8 +107,11 @@ def plot_convergence(dataset, mesh_dim: str, path: str | Path) -> Path | None:
                 ax.loglog(
                     n[ok],
                     constant * h**order,
-                    "--",
-                    color=colour,
+                    ":",
+                    color=style["color"],
+                    lw=1.0,
+                    zorder=1.5,
+                    gid="fit",
                     label=None if shared else f"fit, order {order:.2f}",
                 )
         ns = np.unique(analysis.mesh_coordinate(dataset, mesh_dim).values.astype(float))
@@ -113,16 +127,21 @@ def plot_convergence(dataset, mesh_dim: str, path: str | Path) -> Path | None:
             ax.text(0.5, 0.5, f"no change along {mesh_dim}", transform=ax.transAxes,
                     ha="center", va="center", fontsize=9, color="0.4")  # fmt: skip
         if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=7)
+            handles = ax.get_legend_handles_labels()[0]
+            ax.legend(handles=handles + figures.status_handle(sum(statuses, [])), fontsize=7)
     if shared:
         from matplotlib.lines import Line2D
 
-        handles = [Line2D([], [], color=c, marker="o", label=k) for k, c in colours.items()]
-        handles.append(Line2D([], [], color="k", ls="--", label="fits C h^p (orders: report.md)"))
+        handles = [figures.series_handle(j, len(drawn), k) for j, k in sorted(used.items())]
+        handles.append(Line2D([], [], color="k", ls=":", label="fits C h^p (orders: report.md)"))
+        handles += figures.status_handle(sum(statuses, []))
         fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=7)
     title = f"{dataset.attrs.get('campaign', '')}: convergence along {mesh_dim}"
     suptitle(
-        fig, title, _convergence_note(dataset, mesh_dim) if len(slices) > figures.MAX_LINES else ""
+        fig,
+        title,
+        _convergence_note(dataset, mesh_dim) if len(slices) > figures.MAX_LINES else "",
+        figures.status_note(sum(statuses, []), "hollow markers"),
     )
     save(plt, fig, path)
     return Path(path)
@@ -257,9 +276,12 @@ def plot_profiles(dataset, path: str | Path) -> Path | None:
     """Pressure and shear along y = 0 against r / a, one panel per slice of the non-mesh axes.
 
     Each panel shows the finished cases along the mesh axes (or the single case): pressure
-    solid, shear ``q_x`` dashed in the same colour, with the Hertz pressure and the
-    Cattaneo-Mindlin shear as thick grey lines where they apply; one colour per mesh, the same
-    in every panel (legend below the panels).  Panels wrap into at most
+    and shear ``q_x`` of a case in one style (colour, marker, line style:
+    :func:`figures.series_style`), one per mesh, the same in every panel (legend below the
+    panels), the curves named "p" and "q_x" in the panel; the Hertz pressure and the
+    Cattaneo-Mindlin shear as thick grey lines where they apply.  A case not converged or
+    truncated has hollow markers and its panel a red dashed frame and label
+    (:func:`figures.mark_panel`).  Panels wrap into at most
     :data:`MAX_COLUMNS` columns; the title says which slices are shown
     (:func:`profile_panels`).
 
@@ -290,29 +312,39 @@ def plot_profiles(dataset, path: str | Path) -> Path | None:
     c_ref = refs["stick_ratio"].broadcast_like(status) if "stick_ratio" in refs else None
     mu_all = analysis.friction_coefficient(dataset).broadcast_like(status)
     r = dataset["r_over_a"].values
-    # one colour per mesh (the same in every panel), named in the legend below the panels
+    # one style per mesh (the same in every panel), named in the legend below the panels
     meshes = [label for label, _ in analysis.sweep_slices(dataset.isel(panels[0][1]), [])]
-    entries = 4 + (len(meshes) if len(meshes) > 1 else 0)  # legend rows of 6 entries
+    untrusted = any(
+        figures.status_of(dataset.isel(isel), c) in figures.UNTRUSTED
+        for _, isel, cases in panels
+        for _, c in cases[: figures.MAX_LINES]
+    )
+    entries = 2 + max(len(meshes), 1) + untrusted  # legend rows of 6 entries
     fig, axes, columns = panel_grid(
         plt, len(panels), 4.0, 3.0, below=figures.LEGEND_ROW * -(-entries // 6)
     )
     grey = {"color": "0.65", "lw": 3.0, "zorder": 1}
     drawn = {"Hertz p": False, "Cattaneo-Mindlin q_x": False}
     names = [labels_text(label) if label else "" for label in meshes]
-    colours = [
-        f"C{j}" if len(meshes) <= 10 else plt.get_cmap("viridis")(j / (len(meshes) - 1))
-        for j in range(len(meshes))
-    ]
-    used = set()
+    used, statuses = set(), []
     for k, (ax, (labels, isel, cases)) in enumerate(zip(axes, panels, strict=True)):
         sub = dataset.isel(isel)
+        shown, curves = [], []
         for case_labels, case_isel in cases[: figures.MAX_LINES]:
             case = sub.isel(case_isel)
             j = names.index(labels_text(case_labels)) if case_labels else 0
             used.add(j)
-            colour = colours[j]
-            ax.plot(r, case["pressure_profile"].values / 1e9, "-", color=colour)
-            ax.plot(r, case["shear_x_profile"].values / 1e9, "--", color=colour)
+            status = figures.status_of(sub, case_isel)
+            shown.append((names[j] or "case", status))
+            style = figures.series_style(j, len(meshes), len(r), status)
+            curves.append(
+                (case["pressure_profile"].values / 1e9, case["shear_x_profile"].values / 1e9)
+            )
+            ax.plot(r, curves[-1][0], **style)
+            ax.plot(r, curves[-1][1], **style)
+        figures.name_curves(ax, r, curves)
+        statuses += [status for _, status in shown]
+        figures.mark_panel(ax, [s for _, s in shown], [n for n, _ in shown])
         index = {**isel, **cases[0][1]}
         p0 = float(p_ref.isel(index)) if p_ref is not None else math.nan
         if np.isfinite(p0):
@@ -334,23 +366,23 @@ def plot_profiles(dataset, path: str | Path) -> Path | None:
             ax.set_ylabel("traction (GPa)")
         ax.grid(True, alpha=0.3)
     styles = [
-        Line2D([], [], color="k", ls="-", label="pressure p"),
-        Line2D([], [], color="k", ls="--", label="shear q_x"),
-    ]
-    styles += [
         Line2D([], [], ls="-" if name.startswith("Hertz") else "--", label=name, **grey)
-        for name, shown in drawn.items()
-        if shown
+        for name, done in drawn.items()
+        if done
     ]
     if len(meshes) > 1:
-        styles += [Line2D([], [], color=colours[j], label=names[j]) for j in sorted(used)]
+        styles += [figures.series_handle(j, len(meshes), names[j]) for j in sorted(used)]
+    else:
+        styles.append(figures.series_handle(0, 1, "computed p and q_x"))
+    styles += figures.status_handle(statuses)
     columns = min(len(styles), 6)
     fig.legend(handles=styles, loc="outside lower center", ncols=columns, fontsize=8)
     suptitle(
         fig,
         f"{dataset.attrs.get('campaign', '')}: traction along y = 0, x >= 0 (r / a: over the "
-        "Hertz semi-axis)",
+        "Hertz semi-axis); curves p (pressure) and q_x (shear)",
         note,
+        figures.status_note(statuses),
     )
     save(plt, fig, path)
     return Path(path)
@@ -400,7 +432,8 @@ def plot_stick_slip(dataset, cases_dir: str | Path, path: str | Path) -> Path | 
     One panel per slice of the non-mesh axes, on the finest mesh of the slice, in at most
     :data:`MAX_COLUMNS` columns and :data:`MAX_PANELS` panels (the title says which slices are
     shown, :func:`stick_slip_panels`); the Hertz radius (dashed) and the Cattaneo stick radius
-    (dotted) are drawn as circles.
+    (dotted) are drawn as circles; a case not converged or truncated has a red dashed frame and
+    label (:func:`figures.mark_panel`).
 
     Parameters
     ----------
@@ -434,7 +467,7 @@ def plot_stick_slip(dataset, cases_dir: str | Path, path: str | Path) -> Path | 
     fig, axes, columns = panel_grid(plt, len(panels), 3.0, 3.0, extra=1.0)
     cmap = ListedColormap(["#eeeeee", "#2b83ba", "#fdae61"])
     t = np.linspace(0, 2 * np.pi, 200)
-    dotted = False
+    dotted, statuses = False, []
     for k, (ax, (labels, index, file)) in enumerate(zip(axes, panels, strict=True)):
         with xr.open_dataset(file) as case:
             a = float(case.attrs.get("hertz_semi_axis_x", case.attrs.get("hertz_radius", 1.0)))
@@ -458,6 +491,8 @@ def plot_stick_slip(dataset, cases_dir: str | Path, path: str | Path) -> Path | 
             dotted = True
         n_label = {d: dataset[d].values[index[d]] for d in mesh}
         ax.set_title(title({**labels, **n_label}), fontsize=8)
+        statuses.append(figures.status_of(dataset, index))
+        figures.mark_panel(ax, statuses[-1:])
         ax.xaxis.set_major_locator(MultipleLocator(1.0))
         ax.yaxis.set_major_locator(MultipleLocator(1.0))
         ax.set_xlabel("x / a (1)")
@@ -472,6 +507,7 @@ def plot_stick_slip(dataset, cases_dir: str | Path, path: str | Path) -> Path | 
         "dashed circle: Hertz radius a"
         + ("; dotted: Cattaneo-Mindlin stick radius c" if dotted else ""),
         note,
+        figures.status_note(statuses, "red dashed frame"),
     )
     save(plt, fig, path)
     return Path(path)

@@ -1,6 +1,11 @@
 """Figure and table helpers of the report: panel grids, titles, notes, log ticks, markdown.
 
 The bottom of :mod:`study.report`: the elastic, plastic and cyclic sections draw with these.
+Every line plot of the report (and of the examples) styles its series with
+:func:`series_style` (own colour, marker and line style; coinciding series stay visible) and
+marks the cases that are not converged or truncated with :func:`mark_panel` (a panel of one
+case, or of several) and hollow markers (:func:`status_handle` names them in the legend).
+Axis labels give units in brackets, a ratio's as "(1)".
 """
 
 from __future__ import annotations
@@ -27,6 +32,20 @@ SHARED_LEGEND_SLICES = 4
 STATE_NAMES = ("separated", "stick", "slip")
 #: Table columns printed with 9 significant digits (values close to each other).
 VALUE_COLUMNS = ("value", "finest", "extrapolated", "error_bar", "reference")
+#: Marker shapes and line styles of the series of a line plot (:func:`series_style`): the
+#: markers differ for :data:`MAX_LINES` series, so no two series share a (marker, style) pair.
+MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*", "<", ">", "p", "h", "d", "H", "8", "x")
+LINESTYLES = ("-", "--", "-.", ":", (0, (4, 1, 1, 1, 1, 1)))
+#: Largest and smallest marker size (points) and line width of the series: the first series is
+#: drawn largest and lowest, each later one smaller and above it, so coinciding ones stay visible.
+MARKER_SIZES = (8.0, 3.5)
+LINE_WIDTHS = (2.2, 1.0)
+#: A line with more points than this gets markers on every few points only, shifted per series.
+DENSE_POINTS = 24
+#: Statuses of a finished case that is not trusted, as said in the figures.
+UNTRUSTED = {"not_converged": "not converged", "truncated": "truncated"}
+#: Colour of the status marks (:func:`mark_panel`, :func:`status_handle`).
+STATUS_COLOUR = "tab:red"
 
 
 # -- helpers -------------------------------------------------------------------------------------
@@ -88,6 +107,194 @@ def title(labels: dict, width: int = 30) -> str:
     parts = [f"{k}={fmt(v)}" for k, v in labels.items()]
     text = ", ".join(parts)
     return text if len(text) <= width else "\n".join(parts)
+
+
+def series_colour(j: int, count: int):
+    """The colour of series ``j`` of ``count``: tab10, or tab20 for more than 10 series."""
+    if count <= 10:
+        return f"C{j % 10}"
+    from matplotlib import colormaps
+
+    return colormaps["tab20"](j % 20)
+
+
+def series_style(
+    j: int, count: int, points: int = 0, status: str = "converged", colour=None
+) -> dict:
+    """Keyword arguments of ``Axes.plot`` for series ``j`` of ``count`` in one panel.
+
+    Every series gets its own marker (:data:`MARKERS`), line style (:data:`LINESTYLES`) and
+    colour, so no two share a (marker, line style) pair.  Series that coincide stay visible:
+    the first is drawn widest with the largest markers and lowest, each later one narrower,
+    with smaller white-rimmed markers and above the earlier ones (a dashed line over a solid
+    one); on a
+    dense line (more than :data:`DENSE_POINTS` points) the markers are on every few points,
+    shifted from one series to the next.  A case that is not trusted (:data:`UNTRUSTED`) is
+    drawn with hollow markers.
+
+    Parameters
+    ----------
+    j : int
+        Index of the series in the panel (0 first).
+    count : int
+        Number of series in the panel.
+    points : int, optional
+        Points of the line (for the marker spacing of dense lines).
+    status : str, optional
+        The case's status (a key of :data:`solver.result.STATUS_FLAGS`).
+    colour : optional
+        A colour instead of :func:`series_colour`.
+
+    Returns
+    -------
+    dict
+        ``color``, ``marker``, ``linestyle``, ``markersize``, ``linewidth``, ``zorder``,
+        ``gid`` (``"series <j>"``, for tests) and, where they apply, ``markevery`` and the
+        hollow marker's face.
+    """
+    share = j / max(count - 1, 1)
+    big, small = MARKER_SIZES
+    wide, narrow = LINE_WIDTHS
+    if count == 1:  # nothing to stand out from: a middle size
+        big, wide = (big + small) / 2, (wide + narrow) / 2
+    style = {
+        "color": series_colour(j, count) if colour is None else colour,
+        "marker": MARKERS[j % len(MARKERS)],
+        "linestyle": LINESTYLES[j % len(LINESTYLES)],
+        "markersize": big - (big - small) * share,
+        "markeredgecolor": "white",  # a white rim parts a marker from a larger one below it
+        "markeredgewidth": 0.8,
+        "linewidth": wide - (wide - narrow) * share,
+        "zorder": 2.0 + share,
+        "gid": f"series {j}",
+    }
+    if points > DENSE_POINTS:
+        step = max(2, points // 12)
+        style["markevery"] = ((j * step) // max(count, 1) % step, step)
+    if status in UNTRUSTED:
+        style["markerfacecolor"] = "white"
+        style["markeredgecolor"] = style["color"]
+        style["markeredgewidth"] = 1.5
+    return style
+
+
+def series_handle(j: int, count: int, label: str, colour=None):
+    """A legend entry (a :class:`matplotlib.lines.Line2D`) drawn as series ``j`` of ``count``."""
+    from matplotlib.lines import Line2D
+
+    style = series_style(j, count, colour=colour)
+    style.pop("gid")
+    return Line2D([], [], label=label, **style)
+
+
+def status_handle(statuses) -> list:
+    """The legend entry of hollow markers when ``statuses`` has an untrusted case, else none."""
+    from matplotlib.lines import Line2D
+
+    names = sorted({UNTRUSTED[s] for s in statuses if s in UNTRUSTED})
+    if not names:
+        return []
+    return [
+        Line2D([], [], color="0.3", ls="none", marker="o", markerfacecolor="white",
+               markeredgewidth=1.5, label=f"hollow: {' or '.join(names)}")
+    ]  # fmt: skip
+
+
+def name_curves(ax, r: np.ndarray, curves: list[tuple[np.ndarray, np.ndarray]]) -> None:
+    """Name the pressure "p" and the shear "q_x" curves of a panel.
+
+    The pressure is named on the highest pressure curve at r = 0.5, the shear on the highest
+    shear curve at its peak (not at all when every shear is zero): with each case drawn in its
+    own style (:func:`series_style`), the names say which curves are the pressures.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The panel.
+    r : numpy.ndarray
+        Abscissa of the curves.
+    curves : list of (numpy.ndarray, numpy.ndarray)
+        ``(pressure, shear)`` of each case drawn, over ``r``.
+    """
+    for which, name, where in ((0, "p", 0.5), (1, "q_x", None)):
+        values = [curve[which] for curve in curves if np.any(np.isfinite(curve[which]))]
+        if not values:
+            continue
+        y = max(values, key=lambda v: float(np.nanmax(np.abs(v))))
+        if float(np.nanmax(np.abs(y))) == 0.0:
+            continue  # no shear: nothing to name
+        i = int(np.nanargmax(np.abs(y))) if where is None else int(np.argmin(np.abs(r - where)))
+        ax.annotate(name, (r[i], y[i]), xytext=(5, 5), textcoords="offset points", fontsize=9,
+                    fontweight="bold", gid="curve name")  # fmt: skip
+
+
+def status_of(dataset, index: dict) -> str:
+    """The status name (:data:`solver.result.STATUS_FLAGS`) of the case at ``index``."""
+    from solver.result import STATUS_FLAGS
+
+    names = {v: k for k, v in STATUS_FLAGS.items()}
+    return names.get(int(dataset["status"].isel(index)), "?")
+
+
+def mark_panel(ax, statuses, labels: list[str] | None = None) -> bool:
+    """Mark a panel that shows untrusted cases: a red dashed frame and a hatched label.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The panel.
+    statuses : list of str
+        The status of each case the panel shows.
+    labels : list of str, optional
+        A name per case, said beside its status when the panel shows several cases.
+
+    Returns
+    -------
+    bool
+        Whether the panel was marked (a case is :data:`UNTRUSTED`).
+    """
+    bad = [(k, s) for k, s in enumerate(statuses) if s in UNTRUSTED]
+    if not bad:
+        return False
+    if len(statuses) == 1 or labels is None:
+        text = ", ".join(sorted({UNTRUSTED[s] for _, s in bad}))
+    else:
+        text = "\n".join(f"{labels[k]}: {UNTRUSTED[s]}" for k, s in bad)
+    for spine in ax.spines.values():
+        spine.set(edgecolor=STATUS_COLOUR, linewidth=2.0, linestyle="--")
+    ax.text(
+        0.98, 0.97, text, transform=ax.transAxes, ha="right", va="top", fontsize=7,
+        color=STATUS_COLOUR, fontweight="bold", zorder=6, gid="status mark",
+        bbox={"facecolor": "white", "edgecolor": STATUS_COLOUR, "hatch": "////",
+              "hatchcolor": "#f5c6c6", "alpha": 0.95, "boxstyle": "square,pad=0.3",
+              "linewidth": 0.8},
+    )  # fmt: skip
+    return True
+
+
+def status_note(statuses, marks: str = "red dashed frame, hollow markers") -> str:
+    """A figure note on the untrusted cases shown, or "" when there are none.
+
+    Parameters
+    ----------
+    statuses : iterable of str
+        The status of every case the figure shows.
+    marks : str, optional
+        How the figure marks them, said in brackets.
+
+    Returns
+    -------
+    str
+        E.g. "1 case truncated (marked: red dashed frame)".
+    """
+    counts = {}
+    for s in statuses:
+        if s in UNTRUSTED:
+            counts[UNTRUSTED[s]] = counts.get(UNTRUSTED[s], 0) + 1
+    if not counts:
+        return ""
+    parts = [f"{n} case{'s' if n > 1 else ''} {name}" for name, n in sorted(counts.items())]
+    return ", ".join(parts) + f" (marked: {marks})"
 
 
 def panel_grid(

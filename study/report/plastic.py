@@ -7,12 +7,16 @@
   zone depth and the residual dent, normalised by the Hertz solution like the paper;
 - ``<name>_plastic_profiles.png`` (paper figs. 2 and 5): pressure and shear along y = 0
   over r / a (a: the Hertz semi-axis along x, a_H for a sphere), the cases along one axis
-  overlaid (the bodies of a pair axis, else the friction coefficient), with the stick and
-  slip zones along y = 0 marked as bars under the curves;
+  overlaid (the bodies of a pair axis, else the friction coefficient) each in its own
+  colour, marker and line style, with the stick and slip zones along y = 0 marked as bars
+  under the curves;
 - ``<name>_load_curves.png`` (paper figs. 3 and 4), with a load axis: maximum pressure, maximum
   plastic strain and its depth against the Hertz pressure;
 - ``<name>_plastic_sections.png`` (paper fig. 6): the equivalent plastic strain in the x-z
   plane through the contact axis, one panel per case, one colour scale, the maximum marked.
+
+Cases that finished but are not converged or truncated are drawn and marked in every figure
+(hollow markers, a red dashed panel frame and label: :func:`.figures.mark_panel`).
 """
 
 from __future__ import annotations
@@ -139,10 +143,13 @@ def _zones(x: np.ndarray, state: np.ndarray, code: int) -> list[tuple[float, flo
 def plot_profiles(dataset, cases_dir: str | Path, path: str | Path) -> Path | None:
     """Pressure and shear over r / a_H normalised by p_H, the overlay axis in one panel.
 
-    One panel per slice of the other non-refinement axes (finest refinement); pressure solid,
-    shear ``q_x`` dashed, one colour per value of :func:`overlay_dim`; under the curves one bar
-    per case along y = 0: thick where the contact sticks, thin where it slips (from the
-    case's ``contact_state`` field).
+    One panel per slice of the other non-refinement axes (finest refinement); one style
+    (colour, marker, line style: :func:`figures.series_style`) per value of
+    :func:`overlay_dim`, the same in every panel, for its pressure and its shear ``q_x`` (the
+    curves named "p" and "q_x" in the panel); under the curves one bar per case along y = 0:
+    thick where the contact sticks, thin where it slips (from the case's ``contact_state``
+    field).  A case that is not converged or truncated has hollow markers and its panel a red
+    dashed frame and label (:func:`figures.mark_panel`).
     """
     plt = figures.pyplot()
     if plt is None or "pressure_profile" not in dataset:
@@ -167,23 +174,34 @@ def plot_profiles(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
     from matplotlib.lines import Line2D
 
     r = dataset["r_over_a"].values
-    count = max(len(lines) for _, lines in panels)
-    legend_rows = math.ceil((4 + min(count, figures.MAX_LINES)) / 3)
+    # one style per overlaid value, the same in every panel
+    order: dict[str, int] = {}
+    for labels, lines in panels:
+        for line_labels, _ in lines[: figures.MAX_LINES]:
+            own = {d: v for d, v in line_labels.items() if d not in labels}
+            order.setdefault(figures.labels_text(own), len(order))
+    count = len(order)
+    legend_rows = math.ceil((3 + count) / 3)
     fig, axes, columns = figures.panel_grid(
         plt, len(panels), 4.6, 3.6, below=figures.LEGEND_ROW * legend_rows + 0.1
     )
-    names = {}
+    names, statuses = {}, []
     for k, (ax, (labels, lines)) in enumerate(zip(axes, panels, strict=True)):
-        top = 0.0
-        for j, (line_labels, index) in enumerate(lines[: figures.MAX_LINES]):
+        top, shown, curves = 0.0, [], []
+        for line_labels, index in lines[: figures.MAX_LINES]:
             case = dataset.isel(index)
             p_h = float(case["hertz_pressure"])
-            colour = f"C{j % 10}"
+            status = figures.status_of(dataset, index)
             label = figures.labels_text({d: v for d, v in line_labels.items() if d not in labels})
-            names[label] = colour
+            j = order[label]
+            style = figures.series_style(j, count, len(r), status)
+            names.setdefault(j, label)
+            shown.append((label, status))
             pressure = case["pressure_profile"].values / p_h
-            ax.plot(r, pressure, "-", color=colour)
-            ax.plot(r, case["shear_x_profile"].values / p_h, "--", color=colour)
+            shear = case["shear_x_profile"].values / p_h
+            ax.plot(r, pressure, **style)
+            ax.plot(r, shear, **style)
+            curves.append((pressure, shear))
             top = max(top, float(np.nanmax(pressure)))
             state = _line_at_axis(Path(cases_dir) / f"{case['case_id'].item()}.nc", "contact_state")
             if state is None:
@@ -191,30 +209,32 @@ def plot_profiles(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
             level = -0.06 * (j + 1)
             for code, width in ((STICK, 4.0), (SLIP, 1.2)):
                 for lo, hi in _zones(state[0], state[1], code):
-                    ax.plot(
-                        [lo, hi], [level, level], "-", color=colour, lw=width, solid_capstyle="butt"
-                    )
+                    ax.plot([lo, hi], [level, level], "-", color=style["color"], lw=width,
+                            solid_capstyle="butt", gid="bar")  # fmt: skip
+        figures.name_curves(ax, r, curves)
+        statuses += [status for _, status in shown]
+        figures.mark_panel(ax, [s for _, s in shown], [n or "case" for n, _ in shown])
         ax.axhline(0.0, color="0.5", lw=0.6)
         ax.set_xlim(0.0, float(r[-1]))
-        ax.set_ylim(-0.06 * (min(count, figures.MAX_LINES) + 1), max(1.05, 1.05 * top))
+        ax.set_ylim(-0.06 * (count + 1), max(1.05, 1.05 * top))
         ax.set_title(figures.title(labels) if labels else "", fontsize=8)
         ax.set_xlabel("r / a (1)")
         if k % columns == 0:
             ax.set_ylabel("traction / p_H (1)")
         ax.grid(True, alpha=0.3)
     handles = [
-        Line2D([], [], color="k", ls="-", label="pressure p"),
-        Line2D([], [], color="k", ls="--", label="shear q_x"),
         Line2D([], [], color="k", lw=4.0, label="stick (bar, y = 0)"),
         Line2D([], [], color="k", lw=1.2, label="slip (bar)"),
     ]
-    handles += [Line2D([], [], color=c, label=n) for n, c in names.items() if n]
+    handles += [figures.series_handle(j, count, n) for j, n in sorted(names.items()) if n]
+    handles += figures.status_handle(statuses)
     fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=8)
     figures.suptitle(
         fig,
         f"{dataset.attrs.get('campaign', '')}: tractions along y = 0 over the Hertz solution"
         + (f", {overlay} overlaid" if overlay else ""),
-        "finest mesh and most load steps of each slice",
+        "finest mesh and most load steps of each slice; curves p (pressure) and q_x (shear)",
+        figures.status_note(statuses),
     )
     figures.save(plt, fig, path)
     return Path(path)
@@ -224,7 +244,9 @@ def plot_load_curves(dataset, path: str | Path) -> Path | None:
     """Maximum pressure, maximum plastic strain and its depth against the Hertz pressure.
 
     Drawn when an axis sweeps the load; one line per slice of the other non-refinement axes
-    (finest refinement).  The elastic (Hertz) maximum p_max = p_H is the grey line.
+    (finest refinement), each in its own colour, marker and line style
+    (:func:`figures.series_style`), the points of cases not converged or truncated hollow.  The
+    elastic (Hertz) maximum p_max = p_H is the grey line.
     """
     plt = figures.pyplot()
     loads = [d for d in analysis.axis_dims(dataset) if _is_load(dataset, d)]
@@ -239,15 +261,17 @@ def plot_load_curves(dataset, path: str | Path) -> Path | None:
         ("max_plastic_strain_depth", None, "depth of the max plastic strain / a_H (1)"),
     )
     fig, axes, _ = figures.panel_grid(plt, len(panels), 4.2, 3.4)
-    drawn = False
-    for labels, isel in list(analysis.sweep_slices(dataset, exclude))[: figures.MAX_LINES]:
-        xs, ys = [], {name: [] for name, _, _ in panels}
+    slices = list(analysis.sweep_slices(dataset, exclude))[: figures.MAX_LINES]
+    statuses = []
+    for j, (labels, isel) in enumerate(slices):
+        xs, ys, marks = [], {name: [] for name, _, _ in panels}, []
         for i in range(dataset.sizes[load]):
             index = analysis.finest_index(dataset, {**isel, load: i})
             if not bool(usable.isel(index)):
                 continue
             case = dataset.isel(index)
             xs.append(float(case["hertz_pressure"]) / 1e9)
+            marks.append(figures.status_of(dataset, index))
             for name, scale, _ in panels:
                 value = float(case[name]) if name in case else math.nan
                 ys[name].append(
@@ -255,10 +279,17 @@ def plot_load_curves(dataset, path: str | Path) -> Path | None:
                 )
         if not xs:
             continue
-        drawn = True
+        statuses += marks
+        style = figures.series_style(j, len(slices))
+        bad = np.array([m in figures.UNTRUSTED for m in marks])
         for ax, (name, _, _) in zip(axes, panels, strict=True):
-            ax.plot(xs, ys[name], "o-", label=figures.labels_text(labels) if labels else None)
-    if not drawn:
+            ax.plot(xs, ys[name], **style, label=figures.labels_text(labels) if labels else None)
+            if bad.any():  # the untrusted points hollow, over the line's markers
+                hollow = {**figures.series_style(j, len(slices), status="truncated"),
+                          "linestyle": "none", "gid": "untrusted point"}  # fmt: skip
+                hollow["zorder"] += 0.01
+                ax.plot(np.array(xs)[bad], np.array(ys[name])[bad], **hollow)
+    if not statuses:
         plt.close(fig)
         return None
     p = dataset["hertz_pressure"].values / 1e9
@@ -270,11 +301,13 @@ def plot_load_curves(dataset, path: str | Path) -> Path | None:
         ax.grid(True, alpha=0.3)
         ax.set_xlim(left=0.0)
         ax.set_ylim(bottom=0.0)
-    axes[0].legend(fontsize=7)
+    handles, _ = axes[0].get_legend_handles_labels()
+    axes[0].legend(handles=handles + figures.status_handle(statuses), fontsize=7)
     figures.suptitle(
         fig,
         f"{dataset.attrs.get('campaign', '')}: growth with the load (paper figs. 3-4)",
         "finest mesh and most load steps of each slice",
+        figures.status_note(statuses),
     )
     figures.save(plt, fig, path)
     return Path(path)
@@ -284,7 +317,9 @@ def plot_sections(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
     """Equivalent plastic strain in the x-z plane through the contact axis, one scale.
 
     One panel per case of :func:`shown_cases` whose file holds ``plastic_strain`` (at most
-    :data:`figures.MAX_PANELS`); the maximum of each section is marked and labelled.
+    :data:`figures.MAX_PANELS`); the maximum of each section is marked and labelled, and a
+    case not converged or truncated has a red dashed frame and label
+    (:func:`figures.mark_panel`).
     """
     plt = figures.pyplot()
     if plt is None:
@@ -302,7 +337,8 @@ def plot_sections(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
             a = float(case.attrs["hertz_semi_axis_x"])
             y = case["y"].values
             plane = case["plastic_strain"].isel(y=int(np.argmin(np.abs(y)))).values
-            sections.append((labels, case["x"].values / a, case["z"].values / a, plane))
+            status = figures.status_of(dataset, index)
+            sections.append((labels, case["x"].values / a, case["z"].values / a, plane, status))
         if len(sections) == figures.MAX_PANELS:
             break
     if not sections:
@@ -311,7 +347,7 @@ def plot_sections(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
     if top <= 0:
         return None
     fig, axes, columns = figures.panel_grid(plt, len(sections), 3.8, 2.8, extra=1.0)
-    for k, (ax, (labels, x, z, plane)) in enumerate(zip(axes, sections, strict=True)):
+    for k, (ax, (labels, x, z, plane, status)) in enumerate(zip(axes, sections, strict=True)):
         dx, dz = x[1] - x[0], z[1] - z[0]
         image = ax.imshow(
             plane.T * 100.0,
@@ -334,6 +370,7 @@ def plot_sections(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
             fontsize=7,
             bbox={"facecolor": "white", "edgecolor": "0.7", "alpha": 0.9, "pad": 2},
         )
+        figures.mark_panel(ax, [status])
         ax.set_xlim(x[0] - dx / 2, x[-1] + dx / 2)  # the whole box: nothing of the zone cut
         ax.set_title(figures.title(labels) if labels else "", fontsize=8)
         ax.set_xlabel("x / a_H (1)")
@@ -347,6 +384,7 @@ def plot_sections(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
         f"{dataset.attrs.get('campaign', '')}: plastic strain in the plane y = 0 "
         "(paper fig. 6), one colour scale, x: the maximum",
         f"{len(sections)} case(s), finest mesh and most load steps of each slice",
+        figures.status_note([section[-1] for section in sections], "red dashed frame"),
     )
     figures.save(plt, fig, path)
     return Path(path)

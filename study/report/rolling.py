@@ -36,12 +36,15 @@ def _normal_force(case) -> float:
 
 
 def curves(dataset, axis: str) -> list[dict]:
-    """One record per value of the other axes: labels, creepages, creep force / (mu W) per pass."""
+    """One record per value of the other axes: labels, creepages, creep force / (mu W) per pass.
+
+    Each record also holds the ``status`` of each case (:func:`figures.status_of`).
+    """
     usable = analysis.finished_mask(dataset)
     out = []
     for labels, isel in analysis.sweep_slices(dataset, [axis]):
         rows = dataset.isel(isel)
-        creepage, ratio = [], []
+        creepage, ratio, status = [], [], []
         for i in range(rows.sizes[axis]):
             case = rows.isel({axis: i})
             if not bool(usable.isel(isel).isel({axis: i})):
@@ -49,8 +52,16 @@ def curves(dataset, axis: str) -> list[dict]:
             scale = float(case["friction_coefficient"]) * _normal_force(case)
             creepage.append(float(case[axis]))
             ratio.append(case["creep_force_x"].values / scale)
+            status.append(figures.status_of(rows, {axis: i}))
         if creepage:
-            out.append({"labels": labels, "creepage": np.array(creepage), "ratio": np.array(ratio)})
+            out.append(
+                {
+                    "labels": labels,
+                    "creepage": np.array(creepage),
+                    "ratio": np.array(ratio),
+                    "status": status,
+                }
+            )
     return out
 
 
@@ -67,28 +78,44 @@ def creep_table(dataset, axis: str):
 
 
 def plot_curves(dataset, axis: str, path: str | Path) -> Path | None:
-    """Creep force over mu W against the creepage, a line per pass and per other-axes value."""
+    """Creep force over mu W against the creepage, a line per pass and per other-axes value.
+
+    Every line (a pass of one value of the other axes) in its own colour, marker and line
+    style (:func:`figures.series_style`), so passes that coincide stay visible; the points of
+    cases not converged or truncated are hollow.
+    """
     found = curves(dataset, axis)
     if not found:
         return None
     plt = figures.pyplot()
-    fig, ax = plt.subplots(figsize=(6.4, 4.5))
-    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for k, curve in enumerate(found):
-        colour = colours[k % len(colours)]
-        passes = curve["ratio"].shape[1]
-        for c in range(passes):
-            ax.plot(
-                curve["creepage"], curve["ratio"][:, c], marker="o", ms=3, color=colour,
-                alpha=0.4 + 0.6 * (c + 1) / passes,
-                label=f"{figures.labels_text(curve['labels'])}, pass {c + 1}",
-            )  # fmt: skip
+    fig, ax = plt.subplots(figsize=(6.4, 4.5), layout="constrained", dpi=figures.DPI)
+    total = sum(curve["ratio"].shape[1] for curve in found)
+    j, statuses = 0, []
+    for curve in found:
+        bad = np.array([s in figures.UNTRUSTED for s in curve["status"]])
+        statuses += curve["status"]
+        for c in range(curve["ratio"].shape[1]):  # passes that coincide: each its own style
+            style = figures.series_style(j, total)
+            ax.plot(curve["creepage"], curve["ratio"][:, c], **style,
+                    label=f"{figures.labels_text(curve['labels'])}, pass {c + 1}")  # fmt: skip
+            if bad.any():  # the untrusted cases hollow, over the line's markers
+                hollow = figures.series_style(j, total, status="truncated")
+                hollow.update(linestyle="none", gid="untrusted point")
+                hollow["zorder"] += 0.01
+                ax.plot(curve["creepage"][bad], curve["ratio"][bad, c], **hollow)
+            j += 1
     ax.axhline(1.0, color="k", lw=0.8, ls=":")
     ax.set_xlabel(f"creepage {axis} (1)")
-    ax.set_ylabel("creep force / (mu W) at the end of the pass")
-    ax.legend(fontsize=6, loc="lower right")
+    ax.set_ylabel("creep force / (mu W) at the end of the pass (1)")
+    handles = ax.get_legend_handles_labels()[0] + figures.status_handle(statuses)
+    ax.legend(handles=handles, fontsize=6, loc="lower right")
     ax.grid(alpha=0.3)
-    figures.suptitle(fig, f"{dataset.attrs.get('campaign', '')}: creep curves", "pass by pass")
+    figures.suptitle(
+        fig,
+        f"{dataset.attrs.get('campaign', '')}: creep curves",
+        "pass by pass",
+        figures.status_note(statuses, "hollow markers"),
+    )
     figures.save(plt, fig, path)
     return Path(path)
 

@@ -102,19 +102,30 @@ def first_yield_curve(mu_max: float, nu: float, points: int = 41) -> tuple[np.nd
 
 
 def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
-    """p_0/k against mu, a marker per case coloured by regime; first yield over it."""
+    """p_0/k against mu, a marker per case (shape and colour: its regime); first yield over it.
+
+    Cases not converged or truncated are ringed in red.
+    """
     cases = _cases(dataset)
     if not cases:
         return None
     plt = figures.pyplot()
     fig, ax = plt.subplots(figsize=(6.0, 5.4), layout="constrained")
-    for regime, colour in COLOURS.items():
+    for j, (regime, colour) in enumerate(COLOURS.items()):
         mine = [c for c in cases if c["regime"] == regime]
         if mine:
             ax.scatter(
                 [c["mu"] for c in mine], [c["p0/k"] for c in mine], c=colour, s=45,
-                label=regime.replace("_", " "), edgecolors="k", linewidths=0.5, zorder=3,
+                marker=figures.MARKERS[j], label=regime.replace("_", " "), edgecolors="k",
+                linewidths=0.5, zorder=3,
             )  # fmt: skip
+    unconverged = [c for c in cases if c["status"] in figures.UNTRUSTED]
+    if unconverged:  # a red ring round each case not converged or truncated
+        ax.scatter(
+            [c["mu"] for c in unconverged], [c["p0/k"] for c in unconverged], s=150,
+            facecolors="none", edgecolors=figures.STATUS_COLOUR, linewidths=1.5, zorder=4,
+            label="not converged or truncated",
+        )  # fmt: skip
     # a case that did not converge has no trusted residual field: no bound drawn from it
     melan = [c for c in cases if np.isfinite(c["melan p0/k"]) and c["status"] == "converged"]
     if melan:
@@ -133,8 +144,8 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
         mu = np.linspace(1.0 / top, mu_max, 41)
         ax.plot(mu, 1.0 / mu, "k--", lw=1, label="mu p_0 = k: the sliding shear reaches k")
     ax.set_xlim(-0.02, mu_max)
-    ax.set_xlabel("traction coefficient mu (sliding)")
-    ax.set_ylabel("p_0 / k")
+    ax.set_xlabel("traction coefficient mu (sliding) (1)")
+    ax.set_ylabel("p_0 / k (1)")
     # below the axes: every marker of the map stays visible
     fig.legend(fontsize=7, loc="outside lower center", ncol=2)
     ax.grid(alpha=0.3)
@@ -142,9 +153,8 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
     shown = f"{len(cases)} of {total} cases" + (
         " (the others failed or are pending: not drawn)" if len(cases) < total else ""
     )
-    unconverged = sum(c["status"] != "converged" for c in cases)
     if unconverged:
-        shown += f"; {unconverged} not converged (no Melan bound drawn)"
+        shown += f"; {len(unconverged)} not converged or truncated (ringed, no Melan bound drawn)"
     figures.suptitle(fig, f"{dataset.attrs.get('campaign', '')}: shakedown map", shown)
     figures.save(plt, fig, path)
     return Path(path)
