@@ -266,7 +266,7 @@ def mark_panel(ax, statuses, labels: list[str] | None = None) -> bool:
         0.98, 0.97, text, transform=ax.transAxes, ha="right", va="top", fontsize=7,
         color=STATUS_COLOUR, fontweight="bold", zorder=6, gid="status mark",
         bbox={"facecolor": "white", "edgecolor": STATUS_COLOUR, "hatch": "////",
-              "hatchcolor": "#f5c6c6", "alpha": 0.95, "boxstyle": "square,pad=0.3",
+              "hatchcolor": "#f5c6c6", "alpha": 0.95, "boxstyle": "square,pad=0.3",  # mpl 3.11
               "linewidth": 0.8},
     )  # fmt: skip
     return True
