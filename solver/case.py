@@ -1234,8 +1234,11 @@ class Case:
             auto = box_width(grid.half_width)
             if auto >= grid.half_width and not moving:  # the box fills the window: is it wider?
                 zone = box_width(MAX_AUTO_HALF_WIDTH)
-                if window_free:
-                    grid = dataclasses.replace(grid, half_width=max(DEFAULT_HALF_WIDTH, zone))
+                if window_free:  # as wide as the zone asks and the cells resolve the contact
+                    contact = hertz(force, e_star, (kx, ky)) if region is None else None
+                    widest = _resolved_half_width(grid, contact)
+                    window = max(DEFAULT_HALF_WIDTH, min(zone, widest))
+                    grid = dataclasses.replace(grid, half_width=window)
                     auto = grid.half_width
                 if zone > grid.half_width or (window_free and zone >= MAX_AUTO_HALF_WIDTH):
                     warnings.append(_narrow_window_note(grid, zone, window_free))
@@ -1888,19 +1891,43 @@ class Case:
         return (per_solve * factor + volume) * self.total_steps
 
 
+def _resolved_half_width(grid: GridSpec, contact: HertzContact | None) -> float:
+    """Widest window (units of the largest semi-axis) whose cells resolve the contact.
+
+    The contact must span :data:`MIN_CELLS_ACROSS` cells across its smallest semi-axis
+    (:meth:`Case._check_resolution`): square cells of side 2 half_width a_max / max(nx, ny);
+    rounded down to 1e-3, strictly (16 cells: 1.599, not 1.6 that round-off may not resolve).  ``contact`` None: a profile's, axisymmetric.
+    """
+    ratio = 1.0
+    if contact is not None:
+        axes = (contact.semi_axis_x, contact.semi_axis_y)
+        ratio = min(axes) / max(axes)
+    widest = max(grid.nx, grid.ny) * ratio / MIN_CELLS_ACROSS
+    return math.floor(widest * 1000.0 * (1.0 - 1e-9)) / 1000.0
+
+
 def _narrow_window_note(grid: GridSpec, zone: float, sized: bool) -> str:
     """The note of a surface window narrower than the plastic box the yield region asks for.
 
     ``zone`` (units of a_H): :data:`PLASTIC_WIDTH_MARGIN` x the elastic yield region's half
     width at the largest load, at most :data:`MAX_AUTO_HALF_WIDTH`; ``sized``: the window was
-    sized from it (no ``grid.half_width`` given) and reached that cap.
+    sized from it (no ``grid.half_width`` given), and held back by the cells or by that cap.
     """
     need = f"{PLASTIC_WIDTH_MARGIN:g} x the elastic yield region's half width at the largest load"
-    if sized:
+    if sized and zone >= MAX_AUTO_HALF_WIDTH:
         return (
             f"grid.half_width: the plastic zone predicted ({need}) reaches the widest window "
             f"sized for it ({MAX_AUTO_HALF_WIDTH:g} a_H): the case may end truncated; give "
             "half_width larger (and n in proportion)"
+        )
+    if sized:
+        n = max(grid.nx, grid.ny)
+        cells = math.ceil(n * zone / grid.half_width)
+        return (
+            f"grid.n: the plastic zone predicted ({zone:.4g} a_H: {need}) asks for a wider "
+            f"window than n = {n} cells resolve ({grid.half_width:g} a_H, the contact "
+            f"{MIN_CELLS_ACROSS} cells across), so the case may end truncated; give n >= "
+            f"{cells} (the window then holds the zone)"
         )
     key = "grid.size" if grid.size is not None else "grid.half_width"
     given = "the given domain" if grid.size is not None else f"{grid.half_width:g} a_H"

@@ -208,7 +208,7 @@ def test_cycles_beyond_what_the_material_carries_are_reported_not_converged():
                 }
             ]
         },
-        "grid": {"n": [16, 16, 16]},
+        "grid": {"n": [16, 16, 16], "half_width": 1.5},  # narrower than its plastic zone
     }
     result = solver.solve(solver.Case.from_dict(table))
     assert not result.converged and result.status == "not_converged"

@@ -4,6 +4,8 @@ A box that holds the plastic zone gives the whole window's answer; one that does
 and the status ``truncated``; the key is refused where it cannot be honoured.
 """
 
+import math
+
 import numpy as np
 import pytest
 
@@ -295,3 +297,16 @@ def test_nothing_set_no_truncated_case_up_to_six_times_yield(law, mu):
     table["load"] = {"hertz_pressure": 6.0 * y0, "steps": 5}
     result = solver.solve(solver.Case.from_dict(table))
     assert result.status == "converged", result.notes
+
+
+def test_a_window_the_cells_cannot_resolve_stops_there_and_says_the_cells_to_use():
+    """n = 16 at p_H = 6.875 sigma_Y0: the window stops at 1.6 a_H (10 cells across the contact)."""
+    from solver.keys import MIN_CELLS_ACROSS
+
+    case = _linear_steel(6.875, n=16)
+    assert 0 < 16 / MIN_CELLS_ACROSS - case.grid.half_width <= 1.001e-3  # rounded down
+    (note,) = case.warnings
+    wide = _linear_steel(6.875, n=32)  # the window the zone asks for
+    need = math.ceil(16 * wide.grid.half_width / case.grid.half_width)
+    assert note.startswith("grid.n: the plastic zone predicted") and f"n >= {need}" in note
+    assert not _linear_steel(6.875, n=need).warnings
