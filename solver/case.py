@@ -1865,31 +1865,6 @@ class Case:
         """The normalised case table (a deep copy); ``Case.from_dict(c.to_dict()) == c``."""
         return json.loads(json.dumps(self.spec))
 
-    def cost_estimate(self) -> float:
-        """Relative cost (arbitrary units ~ FFT work) for ordering cases costliest first.
-
-        Measured ratios on this project's scenes: a coupled friction case (beta != 0) costs
-        about 50 normal solves per step (slip-stick iterations and load sub-steps), an
-        uncoupled tangential step about 5.
-        """
-        n = 4 * self.grid.nx * self.grid.ny
-        per_solve = n * math.log2(n)
-        factor = 1.0
-        if self.friction_coefficient > 0:
-            if self.pair.dundurs_beta != 0.0 and not self.solver.goodman:
-                factor = 50.0
-            elif self.has_tangential_load:
-                factor = 5.0
-        volume = 0.0
-        if self.plastic_body is not None:
-            # ~10 plasticity iterations per step, each 12 padded 3-D transforms per plastic body
-            cells = 4 * self.grid.nx * self.grid.ny * 3 * self.grid.nz
-            volume = 10 * 12 * cells * math.log2(cells) * len(self.plastic_bodies)
-        elif "stress" in self.fields:
-            cells = 4 * self.grid.nx * self.grid.ny * self.grid.nz
-            volume = 3 * cells * math.log2(cells) / max(self.total_steps, 1)
-        return (per_solve * factor + volume) * self.total_steps
-
 
 def _resolved_half_width(grid: GridSpec, contact: HertzContact | None) -> float:
     """Widest window (units of the largest semi-axis) whose cells resolve the contact.

@@ -105,13 +105,27 @@ def build_parser() -> argparse.ArgumentParser:
         "validate",
         help="expand and validate a campaign without running it (no MPI)",
         description="Expand and validate every case; print the axes, the case count and the "
-        "estimated cost and memory per case; warn on stderr when the largest case needs more "
+        "estimated seconds (per case on one core of this machine, and for the campaign on "
+        "--ranks ranks) and memory per case; warn on stderr when the largest case needs more "
         "memory than this machine has (or than it has per core), with what one MPI rank "
         "needs; a progress line on stderr every 10 s for campaigns that take longer than 3 s "
         "to validate.  Exit status 2 for a bad campaign (one line on stderr).",
     )
     validate.add_argument("campaign", help="campaign file (.toml)")
     validate.add_argument("--list", action="store_true", help="list every case")
+    validate.add_argument(
+        "--ranks",
+        type=int,
+        default=None,
+        metavar="N",
+        help="MPI ranks for the campaign's estimated time (default: this machine's cores)",
+    )
+    validate.add_argument(
+        "--recalibrate",
+        action="store_true",
+        help="measure this machine's solver speed again for the time estimates (a few "
+        "seconds; otherwise the saved calibration, measured when missing or outdated)",
+    )
 
     status = sub.add_parser(
         "status",
@@ -349,7 +363,14 @@ def _validate(args: argparse.Namespace) -> int:
     progress = ProgressLine()
     campaign = load_campaign_file(args.campaign, progress=progress)
     progress.finish()
-    print(describe_campaign(campaign, list_cases=args.list))
+    from .run import calibration as machine
+
+    if args.ranks is not None and args.ranks < 1:
+        print(f"error: --ranks: must be at least 1, got {args.ranks}", file=sys.stderr)
+        return 2
+    units = machine.calibration(recalibrate=args.recalibrate)
+    ranks = args.ranks or os.cpu_count() or 1
+    print(describe_campaign(campaign, list_cases=args.list, ranks=ranks, calibration=units))
     lines = memory_warnings(campaign, machine_memory(), os.cpu_count())
     lines += path_warnings(campaign) + case_warnings(campaign)
     for line in lines:
@@ -504,9 +525,33 @@ def memory_warnings(campaign: Campaign, total: int | None, cores: int | None) ->
     return []
 
 
-def describe_campaign(campaign: Campaign, list_cases: bool = False) -> str:
-    """Text summary of a campaign: axes, case count, estimated cost and memory."""
-    from .campaign import format_value
+def describe_campaign(
+    campaign: Campaign,
+    list_cases: bool = False,
+    ranks: int | None = None,
+    calibration=None,
+) -> str:
+    """Text summary of a campaign: axes, case count, estimated seconds and memory.
+
+    Parameters
+    ----------
+    campaign : Campaign
+        The validated campaign.
+    list_cases : bool
+        List every case (else the costliest 20).
+    ranks : int, optional
+        MPI ranks for the campaign's estimated time (default: this machine's cores).
+    calibration : study.campaign.cost.Calibration, optional
+        Unit costs (default: this machine's, :func:`study.run.calibration.calibration`).
+
+    Returns
+    -------
+    str
+        The summary; seconds are CPU seconds of one core of the calibrated machine.
+    """
+    from .campaign import cost, format_value
+    from .run import calibration as machine
+    from .run.progress import format_duration
 
     cases = campaign.cases
     lines = [
@@ -521,18 +566,34 @@ def describe_campaign(campaign: Campaign, list_cases: bool = False) -> str:
             values = ", ".join(format_value(v) for v in c.values)
             units = f" [{c.units}]" if c.units else ""
             lines.append(f"    {c.name} = {c.key}{units}: {values}")
-    costs = [c.cost for c in cases]
+    calibration = calibration or machine.calibration()
+    ranks = ranks or os.cpu_count() or 1
+    seconds = {}
+    for c in cases:
+        try:
+            seconds[c.number] = cost.case_seconds(c.case(), calibration)
+        except Exception:  # noqa: BLE001 - a case the model cannot read: its reference cost
+            seconds[c.number] = float(c.cost)
+    times = list(seconds.values())
     memory = [c.memory for c in cases]
+    total = sum(times)
+    wall = cost.campaign_seconds(times, ranks)
     lines.append(
-        "estimated cost per case (relative FFT work ~ n^2 log n x steps x 4 with friction, to "
-        "order and compare cases, not seconds: time one case for that): "
-        f"min {min(costs):.3g}, max {max(costs):.3g}, total {sum(costs):.3g}"
+        "estimated cost per case (seconds on one core of this machine, study.campaign.cost: "
+        f"a count of solves and iterations x calibrated unit costs): min {min(times):.3g} s, "
+        f"max {max(times):.3g} s, total {total:.4g} s ({format_duration(total)})"
     )
+    lines.append(
+        f"estimated campaign time on {ranks} rank(s): {wall:.4g} s ({format_duration(wall)}; "
+        "costliest first onto the least-loaded rank, rank 0 computing too; with the FFT "
+        'plans of fft_planner = "wisdom" measured once per grid on top)'
+    )
+    lines.append(f"calibration: {machine.describe_calibration(calibration)}")
     lines.append(
         f"estimated memory per case: min {min(memory) / 2**20:.1f} MiB, "
         f"max {max(memory) / 2**20:.1f} MiB"
     )
-    shown = sorted(cases, key=lambda c: -c.cost)
+    shown = sorted(cases, key=lambda c: (-seconds[c.number], c.number))
     if not list_cases and len(shown) > 20:
         lines.append("costliest 20 cases (--list for all):")
         shown = shown[:20]
@@ -540,7 +601,8 @@ def describe_campaign(campaign: Campaign, list_cases: bool = False) -> str:
         lines.append("cases, costliest first:")
     for c in shown:
         lines.append(
-            f"  {c.case_id}  cost {c.cost:9.3g}  memory {c.memory / 2**20:7.1f} MiB  {c.label}"
+            f"  {c.case_id}  {seconds[c.number]:9.3g} s  memory {c.memory / 2**20:7.1f} MiB  "
+            f"{c.label}"
         )
     lines.append("valid")
     return "\n".join(lines)

@@ -15,6 +15,7 @@ from typing import Any
 
 import solver
 
+from .cost import reference_seconds
 from .model import (
     BETA_KEY,
     CASE_TABLES,
@@ -273,7 +274,7 @@ def _expand_cases(
                 coords=coords,
                 spec=case.spec,  # built for this case alone by from_dict: no copy needed
                 case_id=case_id,
-                cost=float(case.cost_estimate()),
+                cost=float(reference_seconds(case)),
                 memory=int(solver.memory_estimate(case)),
                 warnings=case.warnings,
             )

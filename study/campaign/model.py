@@ -156,7 +156,8 @@ class CampaignCase:
     case_id : str
         :attr:`solver.Case.case_id`.
     cost : float
-        :meth:`solver.Case.cost_estimate` (relative units).
+        Estimated work (:func:`study.campaign.cost.reference_seconds`: seconds at the reference
+        machine's unit costs; machine-independent, for ordering and comparing cases).
     memory : int
         :meth:`solver.Case.memory_estimate` (bytes).
     warnings : tuple of str

@@ -2,12 +2,12 @@
 
 Rank 0 expands and validates the campaign (:func:`broadcast_campaign`) and broadcasts it, or
 the error that stops every rank.  :func:`run_campaign` then hands out the unfinished cases
-costliest first (:meth:`solver.Case.cost_estimate`) with a root/worker loop over point-to-point
-messages: a worker sends a request carrying the report of its previous case and receives the
-next case number, or None to stop.  On rank 0 a dispatcher thread answers the requests (polling
-with short sleeps, so it costs no core) while the main thread computes cases too, so the root is
-not idle on small runs; the dispatcher's MPI calls are the only ones while it runs
-(``MPI_THREAD_SERIALIZED`` suffices).
+costliest first (estimated seconds, :mod:`study.campaign.cost`) with a root/worker loop over
+point-to-point messages: a worker sends a request carrying the report of its previous case
+and receives the next case number, or None to stop.  On rank 0 a dispatcher thread answers
+the requests (polling with short sleeps, so it costs no core) while the main thread computes
+cases too, so the root is not idle on small runs; the dispatcher's MPI calls are the only ones
+while it runs (``MPI_THREAD_SERIALIZED`` suffices).
 
 Each case is solved, checked for NaN/inf, and written by the rank that computed it
 (:mod:`study.run.storage`).  An exception or a non-finite result makes the case *failed*: its
@@ -43,9 +43,9 @@ import numpy as np
 import solver
 from solver import fftw
 
-from ..campaign import MAX_CASE_TIMEOUT, Campaign, CampaignCase, CampaignError
+from ..campaign import MAX_CASE_TIMEOUT, Campaign, CampaignCase, CampaignError, cost
 from ..campaign.surfaces import read_surface
-from . import storage, wisdom
+from . import calibration, storage, wisdom
 from .progress import LOGGER_NAME, Progress, format_duration
 
 _REQUEST, _TASK = 71, 72
@@ -404,8 +404,34 @@ def _total(history: dict, name: str) -> int:
 
 
 # -- scheduling on rank 0 ------------------------------------------------------------------------
+def _estimated_seconds(cases: list[CampaignCase], logger: logging.Logger) -> dict[int, float]:
+    """Case number -> estimated seconds on this machine (:mod:`.cost`, calibrated here).
+
+    A case whose estimate fails keeps its reference estimate (``CampaignCase.cost``: seconds
+    at the reference machine's unit costs); an estimate never stops a run.
+    """
+    try:
+        units = calibration.calibration(logger=logger) if cases else cost.REFERENCE
+    except Exception as error:  # noqa: BLE001 - the estimate orders cases, no more
+        logger.warning("cost calibration unavailable (%s): reference unit costs", error)
+        units = cost.REFERENCE
+    found = {}
+    for case in cases:
+        try:
+            found[case.number] = cost.case_seconds(case.case(), units)
+        except Exception:  # noqa: BLE001
+            found[case.number] = float(case.cost)
+    return found
+
+
 class _Scheduler:
-    """The queue of cases (costliest first), the reports, and the stopping rules.  Thread-safe."""
+    """The queue of cases (costliest first), the reports, and the stopping rules.  Thread-safe.
+
+    Cases are ordered by their estimated seconds on this machine (:func:`.cost.case_seconds`).
+    With a time limit a case starts only when 1.25 x its estimate, times the largest ratio of
+    measured to estimated time of the cases finished so far (1 before the first), fits in the
+    time left.
+    """
 
     def __init__(
         self,
@@ -414,7 +440,8 @@ class _Scheduler:
         max_initial_failures: int,
         logger: logging.Logger,
     ):
-        self.queue = sorted(todo, key=lambda c: (-c.cost, c.number))
+        self.seconds = _estimated_seconds(todo, logger)
+        self.queue = sorted(todo, key=lambda c: (-self.seconds[c.number], c.number))
         self.options = options
         self.max_initial_failures = max_initial_failures
         self.logger = logger
@@ -424,8 +451,9 @@ class _Scheduler:
         self.stopped = ""
         self.successes = 0
         self.failures = 0
-        self.rate = 0.0  # largest observed seconds per unit of estimated cost
-        self.progress = Progress(len(self.queue), sum(c.cost for c in self.queue), logger)
+        # largest measured / estimated seconds of the finished cases (None: none yet)
+        self.rate: float | None = None
+        self.progress = Progress(len(self.queue), sum(self.seconds.values()), logger)
         self.deadline = self._deadline()
 
     def _deadline(self) -> float | None:
@@ -449,7 +477,12 @@ class _Scheduler:
             pick = 0
             if self.deadline is not None:
                 left = self.deadline - time.perf_counter() - self.options.time_reserve
-                fits = [i for i, c in enumerate(self.queue) if 1.25 * self.rate * c.cost < left]
+                rate = 1.0 if self.rate is None else self.rate
+                fits = [
+                    i
+                    for i, c in enumerate(self.queue)
+                    if 1.25 * rate * self.seconds[c.number] < left
+                ]
                 if not fits:
                     self.stopped = (
                         f"time limit: {max(left, 0.0):.0f} s left before the reserve, too little "
@@ -482,9 +515,11 @@ class _Scheduler:
                 )
             else:
                 self.successes += 1
-                if case.cost > 0:
-                    self.rate = max(self.rate, report["case_time"] / case.cost)
-            self.progress.update(report, case.cost, len(self.running))
+                estimate = self.seconds[case.number]
+                if estimate > 0:
+                    ratio = report["case_time"] / estimate
+                    self.rate = ratio if self.rate is None else max(self.rate, ratio)
+            self.progress.update(report, self.seconds[case.number], len(self.running))
             k = self.max_initial_failures
             if k and not self.stopped and self.successes == 0 and self.failures >= k:
                 self.stopped = (
