@@ -6,7 +6,7 @@ the centre against the closed form (mu p_0 / a) [sqrt(a^2 - r^2) - sqrt(c^2 - r^
 stick zone r < c with c / a = (1 - Q / (mu W))^(1/3); the script prints the computed and exact
 c / a and exits with status 1 if they differ by more than 0.02.
 
-Run: ``python examples/cattaneo_stick_zone.py --out figures`` (about 3 s).
+Run: ``python examples/cattaneo_stick_zone.py --out figures`` (its run time: docs/run-times.md).
 """
 
 from __future__ import annotations

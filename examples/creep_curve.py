@@ -11,7 +11,7 @@ its stick zone at the leading edge.  The script prints the computed C11 beside K
 (4.12) and the largest force beside mu W, and exits with status 1 when C11 is off by more than
 3 % or the force at full slip by more than 1 %.
 
-Run: ``python examples/creep_curve.py --out figures`` (about 15 s).
+Run: ``python examples/creep_curve.py --out figures`` (its run time: docs/run-times.md).
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ every cycle; the script prints the energy dissipated per cycle beside Mindlin & 
 closed form (Johnson 1985, eq. 7.64) and exits with status 1 if the last cycle's differs by more
 than 5 %.
 
-Run: ``python examples/fretting_loop.py --out figures`` (about 5 s).
+Run: ``python examples/fretting_loop.py --out figures`` (its run time: docs/run-times.md).
 """
 
 from __future__ import annotations

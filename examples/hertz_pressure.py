@@ -5,7 +5,7 @@ on 32^2, 64^2 and 128^2 cells; the figure overlays the pressure along x through 
 Hertz's p_0 sqrt(1 - r^2/a^2) and prints the peak-pressure error per mesh, which falls with the
 square of the cell size.  Exits with status 1 if the finest error exceeds 0.1 %.
 
-Run: ``python examples/hertz_pressure.py --out figures`` (about 2 s).
+Run: ``python examples/hertz_pressure.py --out figures`` (its run time: docs/run-times.md).
 """
 
 from __future__ import annotations

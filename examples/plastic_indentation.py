@@ -7,7 +7,7 @@ through the contact centre at the maximum load (the volume box is sized from the
 right: the residual dent along x.  The script prints e_p,max, its depth (Johnson: first yield
 at 0.48 a) and the dent depth, and exits with status 1 if a step did not converge.
 
-Run: ``python examples/plastic_indentation.py --out figures`` (about 10 s).
+Run: ``python examples/plastic_indentation.py --out figures`` (its run time: docs/run-times.md).
 """
 
 from __future__ import annotations

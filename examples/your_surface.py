@@ -8,7 +8,7 @@ give Hertz's peak pressure within 0.5 % (a check of the file's sign and units); 
 shows the contact breaking into spots.  The figure: the rough heights, and the pressure on the
 smooth and the rough map.  Exits with status 1 if the check fails.
 
-Run: ``python examples/your_surface.py --out figures`` (about 3 s).
+Run: ``python examples/your_surface.py --out figures`` (its run time: docs/run-times.md).
 """
 
 from __future__ import annotations

@@ -106,8 +106,8 @@ def test_plastic_counts_grow_with_load_and_box():
     low, high = plastic_fretting(0.0), plastic_fretting(0.0)
     f = cost.features(low)
     assert f["plastic_bodies"] == 1 and f["box"] == [16, 16, 16]
-    less = cost.count_features({**f, "pmax_over_yield": 2.0})
-    more = cost.count_features({**f, "pmax_over_yield": 6.0})
+    less = cost.count_features({**f, "pmax_over_flow": 2.0})
+    more = cost.count_features({**f, "pmax_over_flow": 6.0})
     assert more.plastic > less.plastic >= f["steps"]  # at least one iteration per increment
     assert cost.count(high).volume_cells == 8 * 16**3
     bigger = cost.count(plastic_fretting(0.0, n=24))

@@ -66,3 +66,21 @@ def test_the_quickstart_and_python_snippets_run_verbatim(tmp_path):
         )  # fmt: skip
         assert done.returncode == 0, code + done.stderr[-2000:]
     assert (tmp_path / "out" / "quickstart" / "quickstart.nc").exists()
+
+
+def test_the_readme_picture_is_a_gallery_figure():
+    """The front door's picture is one of the gallery's (docs/gallery.py keeps it current)."""
+    images = re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", README)
+    assert images, "the README lost its picture"
+    for image in images:
+        assert image.startswith("docs/gallery/") and (ROOT / image).is_file(), image
+
+
+def test_every_row_of_the_feature_table_links_its_measurement():
+    table = README.split("\n## What it does", 1)[1].split("\n## ", 1)[0]
+    rows = [line for line in table.splitlines() if line.startswith("| ") and "---" not in line]
+    assert len(rows) >= 6, "the feature table lost rows"
+    for row in rows[1:]:
+        links = re.findall(r"\]\((docs/(?:validation|benchmarks)\.md[^)]*)\)", row)
+        assert len(links) == 1, row
+        assert (ROOT / links[0].split("#")[0]).is_file(), row
