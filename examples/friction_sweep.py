@@ -5,8 +5,8 @@ Writes a campaign file (a steel sphere on a steel flat, 1 GPa, Q = 3 N in 10 ste
 dataset with xarray and plots c / a against mu beside Cattaneo-Mindlin's (1 - Q/(mu W))^(1/3).
 Exits with status 1 if a case did not converge or c / a misses the closed form by more than 0.03.
 
-Run: ``python examples/friction_sweep.py --out figures`` (run time: docs/run-times.md; the campaign's own command
-is ``mpiexec -n 2 python -m study run FILE``).
+Run: ``python examples/friction_sweep.py --out figures`` (run time: docs/run-times.md; the
+campaign's own command is ``mpiexec -n 2 python -m study run FILE``).
 """
 
 from __future__ import annotations

@@ -1871,7 +1871,8 @@ def _resolved_half_width(grid: GridSpec, contact: HertzContact | None) -> float:
 
     The contact must span :data:`MIN_CELLS_ACROSS` cells across its smallest semi-axis
     (:meth:`Case._check_resolution`): square cells of side 2 half_width a_max / max(nx, ny);
-    rounded down to 1e-3, strictly (16 cells: 1.599, not 1.6 that round-off may not resolve).  ``contact`` None: a profile's, axisymmetric.
+    rounded down to 1e-3, strictly (16 cells: 1.599, not 1.6 that round-off may not resolve).
+    ``contact`` None: a profile's, axisymmetric.
     """
     ratio = 1.0
     if contact is not None:
