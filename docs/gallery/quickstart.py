@@ -12,8 +12,11 @@ lines = ratio.plot(x="friction_coefficient", hue="dundurs_beta", ax=left, add_le
 for j, line in enumerate(lines):  # beta = -0.12 and 0.12 coincide: own marker and style each
     line.set(**series_style(j, len(lines)))
 left.legend(lines, [f"{beta:g}" for beta in ds.dundurs_beta.values], title="dundurs_beta")
-left.set(xlabel="friction coefficient (1)", ylabel="stick radius / Hertz radius (1)",
-         title="stick zone at the end of loading")
+left.set(
+    xlabel="friction coefficient (1)",
+    ylabel="stick radius / Hertz radius (1)",
+    title="stick zone at the end of loading",
+)
 case = ds.sel(friction_coefficient=0.4, dundurs_beta=0.12, method="nearest")
 (case.pressure_profile / case.hertz_pressure).assign_attrs(units="1").plot(ax=right)
 right.set(xlabel="r / a_H (1), along +x at y = 0", ylabel="pressure / p_H (1)")
