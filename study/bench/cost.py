@@ -111,23 +111,29 @@ def run(targets: list[str], ranks: int = 1, jsonl: str | None = None) -> int:
                 }
                 with Path(jsonl).open("a") as handle:
                     handle.write(json.dumps(row) + "\n")
-        if len(chosen) > 1:
-            print(
-                f"{campaign.name:28s}  sum {sum(estimates):11.2f} {'':8s} {sum(measured):8.2f} "
-                f"{sum(measured) / sum(estimates):6.2f}  (these {len(chosen)} cases, 1 rank)"
-            )
-        if ranks > 1 and len(chosen) > 1:
-            planned = cost.campaign_seconds(estimates, ranks)
-            # the measured CPU times handed out in the estimated order (what the driver does)
-            clock = [0.0] * ranks
-            for _, taken in sorted(zip(estimates, measured, strict=True), key=lambda p: -p[0]):
-                clock[clock.index(min(clock))] += taken
-            print(
-                f"{campaign.name:28s}  on {ranks} ranks {planned:9.2f} {'':8s} {max(clock):8.2f} "
-                f"{max(clock) / planned:6.2f}  (list scheduling, costliest estimate first)"
-            )
+        _summary(campaign.name, estimates, measured, ranks)
     print(f"worst factor between measured CPU and estimated: {worst:.2f}")
     return 0 if worst <= 2.0 else 1
+
+
+def _summary(name: str, estimates: list[float], measured: list[float], ranks: int) -> None:
+    """A campaign's rows: the sum on one rank, and on ``ranks`` ranks as the driver hands out."""
+    if len(estimates) < 2:
+        return
+    print(
+        f"{name:28s}  sum {sum(estimates):11.2f} {'':8s} {sum(measured):8.2f} "
+        f"{sum(measured) / sum(estimates):6.2f}  (these {len(estimates)} cases, 1 rank)"
+    )
+    if ranks > 1:
+        planned = cost.campaign_seconds(estimates, ranks)
+        # the measured CPU times handed out in the estimated order (what the driver does)
+        clock = [0.0] * ranks
+        for _, taken in sorted(zip(estimates, measured, strict=True), key=lambda p: -p[0]):
+            clock[clock.index(min(clock))] += taken
+        print(
+            f"{name:28s}  on {ranks} ranks {planned:9.2f} {'':8s} {max(clock):8.2f} "
+            f"{max(clock) / planned:6.2f}  (list scheduling, costliest estimate first)"
+        )
 
 
 def replay(records: str, ranks: int = 1) -> int:
@@ -159,20 +165,7 @@ def replay(records: str, ranks: int = 1) -> int:
             )
         estimates = [estimate for _, estimate in found]
         measured = [record["cpu"] for record, _ in found]
-        if len(found) > 1:
-            print(
-                f"{name:28s}  sum {sum(estimates):11.2f} {'':8s} {sum(measured):8.2f} "
-                f"{sum(measured) / sum(estimates):6.2f}  (these {len(found)} cases, 1 rank)"
-            )
-        if ranks > 1 and len(found) > 1:
-            planned = cost.campaign_seconds(estimates, ranks)
-            clock = [0.0] * ranks
-            for _, taken in sorted(zip(estimates, measured, strict=True), key=lambda p: -p[0]):
-                clock[clock.index(min(clock))] += taken
-            print(
-                f"{name:28s}  on {ranks} ranks {planned:9.2f} {'':8s} {max(clock):8.2f} "
-                f"{max(clock) / planned:6.2f}  (list scheduling, costliest estimate first)"
-            )
+        _summary(name, estimates, measured, ranks)
     print(f"worst factor between measured CPU and estimated: {worst:.2f}")
     return 0 if worst <= 2.0 else 1
 
