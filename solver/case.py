@@ -1887,7 +1887,9 @@ def _narrow_window_note(grid: GridSpec, zone: float, sized: bool) -> str:
 
     ``zone`` (units of a_H): :data:`PLASTIC_WIDTH_MARGIN` x the elastic yield region's half
     width at the largest load, at most :data:`MAX_AUTO_HALF_WIDTH`; ``sized``: the window was
-    sized from it (no ``grid.half_width`` given), and held back by the cells or by that cap.
+    sized from it (no ``grid.half_width`` given).  The same words whether the window was given
+    or held back by the cells (a case rebuilt from its spec gives it), with the cells that keep
+    today's cell size over the wider window.
     """
     need = f"{PLASTIC_WIDTH_MARGIN:g} x the elastic yield region's half width at the largest load"
     if sized and zone >= MAX_AUTO_HALF_WIDTH:
@@ -1896,26 +1898,20 @@ def _narrow_window_note(grid: GridSpec, zone: float, sized: bool) -> str:
             f"sized for it ({MAX_AUTO_HALF_WIDTH:g} a_H): the case may end truncated; give "
             "half_width larger (and n in proportion)"
         )
-    if sized:
-        n = max(grid.nx, grid.ny)
-        cells = math.ceil(n * zone / grid.half_width)
+    if grid.size is not None:
         return (
-            f"grid.n: the plastic zone predicted ({zone:.4g} a_H: {need}) asks for a wider "
-            f"window than n = {n} cells resolve ({grid.half_width:g} a_H, the contact "
-            f"{MIN_CELLS_ACROSS} cells across), so the case may end truncated; give n >= "
-            f"{cells} (the window then holds the zone)"
+            f"grid.size: the domain is narrower than the plastic box the yield region asks for "
+            f"({zone:.4g} a_H: {need}), so the case may end truncated; enlarge grid.size"
         )
-    key = "grid.size" if grid.size is not None else "grid.half_width"
-    given = "the given domain" if grid.size is not None else f"{grid.half_width:g} a_H"
+    cells = math.ceil(max(grid.nx, grid.ny) * zone / grid.half_width - 1e-9)
     return (
-        f"{key}: the window ({given}) is narrower than the plastic box the yield region asks "
-        f"for ({zone:.4g} a_H: {need}), so the case will likely end truncated; leave "
-        f"half_width out (the window is then sized from the yield region) or give half_width "
-        f">= {zone:.4g}"
+        f"grid.half_width: the window ({grid.half_width:g} a_H) is narrower than the plastic box "
+        f"the yield region asks for ({zone:.4g} a_H: {need}), so the case may end truncated; "
+        f"give n >= {cells} and leave half_width out (the window then holds the zone), or "
+        f"half_width >= {zone:.4g} with n >= {cells}"
     )
 
 
-@functools.lru_cache(maxsize=8)
 def _map_slope(surface: HeightMap, grid: SurfaceGrid) -> float:
     """Rms slope of a map resampled onto a grid (:func:`~solver.surfaces.grid_rms_slope`).
 

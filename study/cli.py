@@ -130,7 +130,7 @@ def build_parser() -> argparse.ArgumentParser:
     status = sub.add_parser(
         "status",
         help="show how far a campaign is",
-        description="Count pending, converged, not converged and failed cases.",
+        description="Count pending, converged, not converged, truncated and failed cases.",
     )
     status.add_argument("target", metavar="FILE_OR_OUT", help="campaign file or output folder")
     status.add_argument("--out", help="output folder (with a campaign file)")
@@ -525,6 +525,13 @@ def memory_warnings(campaign: Campaign, total: int | None, cores: int | None) ->
     return []
 
 
+def _seconds(value: float) -> str:
+    """Seconds, and in minutes and hours too past a minute."""
+    from .run.progress import format_duration
+
+    return f"{value:.4g} s" + (f" ({format_duration(value)})" if value >= 60 else "")
+
+
 def describe_campaign(
     campaign: Campaign,
     list_cases: bool = False,
@@ -551,7 +558,6 @@ def describe_campaign(
     """
     from .campaign import cost, format_value
     from .run import calibration as machine
-    from .run.progress import format_duration
 
     cases = campaign.cases
     lines = [
@@ -581,13 +587,16 @@ def describe_campaign(
     lines.append(
         "estimated cost per case (seconds on one core of this machine, study.campaign.cost: "
         f"a count of solves and iterations x calibrated unit costs): min {min(times):.3g} s, "
-        f"max {max(times):.3g} s, total {total:.4g} s ({format_duration(total)})"
+        f"max {max(times):.3g} s, total {_seconds(total)}"
     )
+    wisdom = any(c.case().solver.fft_planner == "wisdom" for c in cases)
     lines.append(
-        f"estimated campaign time on {ranks} rank(s): {wall:.4g} s ({format_duration(wall)}; "
-        "costliest first onto the least-loaded rank, rank 0 computing too; with the FFT "
-        'plans of fft_planner = "wisdom" measured once per grid on top)'
-    )
+        f"estimated campaign time on {ranks} rank(s): {_seconds(wall)} (costliest first onto "
+        "the least-loaded rank, rank 0 computing too; MPI start-up and the dataset's assembly "
+        "on top"
+        + ('; and the FFT plans of fft_planner = "wisdom", measured once per grid)' if wisdom
+           else ")")
+    )  # fmt: skip
     lines.append(f"calibration: {machine.describe_calibration(calibration)}")
     lines.append(
         f"estimated memory per case: min {min(memory) / 2**20:.1f} MiB, "

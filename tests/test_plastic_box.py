@@ -308,5 +308,8 @@ def test_a_window_the_cells_cannot_resolve_stops_there_and_says_the_cells_to_use
     (note,) = case.warnings
     wide = _linear_steel(6.875, n=32)  # the window the zone asks for
     need = math.ceil(16 * wide.grid.half_width / case.grid.half_width)
-    assert note.startswith("grid.n: the plastic zone predicted") and f"n >= {need}" in note
+    assert note.startswith("grid.half_width: the window (1.599 a_H) is narrower")
+    assert f"give n >= {need} and leave half_width out" in note
+    # rebuilt from its spec (half_width then given, as the run does): the same note
+    assert solver.Case.from_dict(case.to_dict()).warnings == (note,)
     assert not _linear_steel(6.875, n=need).warnings

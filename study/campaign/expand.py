@@ -6,6 +6,7 @@ validated by :meth:`solver.Case.from_dict`; a failure names the case by its coor
 
 from __future__ import annotations
 
+import difflib
 import itertools
 import math
 from collections.abc import Mapping
@@ -150,8 +151,10 @@ def _parse_aliases(raw: Any, keys: list[str]) -> dict[str, str]:
     for written, name in _flatten_keys(raw, "[alias]"):
         key = normalise_key(written, "[alias]")
         if key not in keys:
+            close = difflib.get_close_matches(key, keys, n=1)  # the swept key misspelt?
+            hint = f' (is "{close[0]}" misspelt in the sweep?)' if close else ""
             raise CampaignError(
-                f'[alias] "{written}": not a swept key; swept keys are {", ".join(keys)}'
+                f'[alias] "{written}": not a swept key; swept keys are {", ".join(keys)}{hint}'
             )
         if not isinstance(name, str) or not _NAME.match(name):
             raise CampaignError(
