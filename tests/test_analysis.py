@@ -111,6 +111,9 @@ def test_tables_on_synthetic_dataset():
     # q = p_inf (1 + mu) on the finest mesh: dq/dmu = p(h_finest) / (1 + mu), exact (linear)
     expected = 2e9 * (1 - 0.5 * (3.0 / 128) ** 2)
     assert np.allclose(sens["derivative"], expected, rtol=1e-9)
+    # contact_radius does not depend on mu here: its derivative is zero, not round-off
+    flat = analysis.sensitivity_table(dataset, "contact_radius", "friction_coefficient")
+    assert (flat["derivative"] == 0.0).all() and (flat["elasticity"] == 0.0).all()
     speed = analysis.speed_error_table(dataset)
     assert len(speed) == 12 and speed["error_basis"].str.contains("extrapolated").all()
     assert speed["pareto"].any()

@@ -50,6 +50,10 @@ def sensitivity_table(dataset, quantity: str, axis: str):
         v = values.isel(isel).values.astype(float)
         with np.errstate(invalid="ignore", divide="ignore"):
             derivative = np.gradient(v, x) if len(x) > 1 else np.full_like(v, np.nan)
+            # a change below round-off of the values over the axis' span is none (a quantity
+            # the axis does not move showed -1e-19 in the report)
+            span = float(np.ptp(x)) if len(x) > 1 else 0.0
+            derivative[np.abs(derivative) * span <= 1e-12 * np.nanmax(np.abs(v), initial=0.0)] = 0.0
             elasticity = np.where((v != 0) & (x != 0), x / v * derivative, np.nan)
         for i in range(len(x)):
             rows.append(
