@@ -477,6 +477,14 @@ def test_stick_ratio_never_exceeds_one(five_out):
     derived = analysis.with_derived(synthetic)["stick_ratio"]
     np.testing.assert_allclose(derived.isel(grid_n=0), [0.5, 0.999, 1.0])
     assert float(derived.max()) == 1.0
+    # an elastic-plastic contact outgrows a_H: its ratio is over its own contact radius
+    plastic = synthetic.assign(
+        max_plastic_strain=synthetic["stick_radius"] * 0 + 0.01,
+        contact_radius=synthetic["hertz_radius"] * 1.08,
+    )
+    plastic["stick_radius"][:] = 1.03e-4
+    derived = analysis.with_derived(plastic)["stick_ratio"]
+    np.testing.assert_allclose(derived.where(derived.notnull(), 1.03 / 1.08), 1.03 / 1.08)
 
 
 def test_report_subcommand_parser():

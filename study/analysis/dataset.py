@@ -21,7 +21,7 @@ QUANTITIES = {
     "max_pressure": ("Pa", "max pressure p_0"),
     "contact_radius": ("m", "contact radius a"),
     "stick_radius": ("m", "stick radius c"),
-    "stick_ratio": ("1", "stick ratio c / a_H"),
+    "stick_ratio": ("1", "stick ratio c / a (a_H when elastic)"),
     "approach": ("m", "approach delta"),
     "max_plastic_strain": ("1", "max equivalent plastic strain"),
     "max_plastic_strain_depth": ("m", "depth of the max plastic strain"),
@@ -147,15 +147,15 @@ def is_plastic(dataset) -> bool:
 
 # -- closed forms --------------------------------------------------------------------------------
 def with_derived(dataset):
-    """A copy with derived quantities: ``stick_ratio = min(stick_radius / hertz_radius, 1)``.
+    """A copy with derived quantities: ``stick_ratio``, the stick radius over the contact's.
 
     ``stick_radius`` is ``sqrt(stick_area / pi)`` with the stick area counted in whole cells,
-    like the contact area.  Under full stick (friction, no tangential load, beta = 0) every
-    contact cell sticks, so the plain ratio would be the counted contact radius over the Hertz
-    radius, which overshoots 1 by up to about half a cell (1.0048 at 48^2); a stick zone never
-    exceeds the contact zone (c <= a), so the ratio is clipped to 1.  Below 1 it is the counted
-    stick radius over the Hertz radius, the c / a of Cattaneo-Mindlin (``(1 - Q / (mu W))^(1/3)``
-    for beta = 0).  Added only when some case has friction and a non-zero stick radius; NaN
+    like the contact area.  An elastic case's ratio is over the Hertz radius (the c / a of
+    Cattaneo-Mindlin, ``(1 - Q / (mu W))^(1/3)`` for beta = 0); an elastic-plastic case's
+    contact outgrows a_H, so its ratio is over its own (counted) contact radius.  Under full
+    stick every contact cell sticks, and the counted radius overshoots a_H by up to about half a
+    cell (1.0048 at 48^2); a stick zone never exceeds the contact zone (c <= a), so the ratio is
+    clipped to 1.  Added only when some case has friction and a non-zero stick radius; NaN
     where mu = 0.
     """
     dataset = dataset.copy()
@@ -163,12 +163,17 @@ def with_derived(dataset):
         mu = friction_coefficient(dataset)
         stick = dataset["stick_radius"].where(mu > 0)
         if bool(np.any(np.nan_to_num(stick.values) > 0)):
+            radius = dataset["hertz_radius"]
+            if "max_plastic_strain" in dataset and "contact_radius" in dataset:
+                plastic = dataset["max_plastic_strain"].fillna(0.0) > 0
+                radius = radius.where(~plastic, dataset["contact_radius"])
             dataset["stick_ratio"] = (
-                (stick / dataset["hertz_radius"])
+                (stick / radius)
                 .clip(max=1.0)
                 .assign_attrs(
                     units="1",
-                    long_name="stick radius over the Hertz radius (cell counts, at most 1)",
+                    long_name="stick radius over the contact radius (a_H when elastic; cell "
+                    "counts, at most 1)",
                 )
             )
     return dataset
