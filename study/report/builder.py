@@ -190,16 +190,26 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
     lines += ["## Speed versus error", ""]
     speed = analysis.speed_error_table(dataset)
     basis = "closed forms" if refs else "Richardson-extrapolated values"
-    lines += [
-        f"Errors relative to the {basis} (`err_*`, signed); `error` is the largest absolute one;",
-        "`pareto` marks the cases no other case beats in both wall time and error.  Wall time is",
-        "the solve time of the case (it includes FFTW planning for the first case of a size on a",
-        "rank); peak memory is the process's peak resident set during the case (Linux).",
-        "",
-    ]
+    cost = (
+        "Wall time is the solve time of the case (it includes FFTW planning for the first case "
+        "of a size on a rank); peak memory is the process's peak resident set during the case "
+        "(Linux)."
+    )
+    has_error = "error" in speed and bool(speed["error"].notna().any())
+    if has_error:
+        lines += [
+            f"Errors relative to the {basis} (`err_*`, signed); `error` is the largest absolute "
+            "one; `pareto` marks the cases no other case beats in both wall time and error.  "
+            + cost,
+            "",
+        ]
+    else:  # no closed form and no mesh axis: no error to show, only the cost
+        speed = speed.drop(columns=["error_basis", "error", "pareto"], errors="ignore")
+        speed = speed.dropna(axis=1, how="all")
+        lines += [f"No closed form applies and no mesh axis refines: no error.  {cost}", ""]
     lines.append(markdown_table(speed))
     if plt is not None:
-        png = plot_speed_error(speed, name, out / f"{name}_speed_error.png")
+        png = plot_speed_error(speed, name, out / f"{name}_speed_error.png") if has_error else None
         if png:
             note = speed_error_note(speed)
             figures.append(("Speed versus error", png, note))
