@@ -432,3 +432,21 @@ def test_shakedown_map_rings_untrusted_cases(tmp_path, monkeypatch):
     legend = [t.get_text() for t in figure.legends[0].get_texts()]
     assert "not converged or truncated" in legend
     _ratio_labels_say_one(figure)
+
+
+def test_panel_titles_carry_their_units():
+    """The trial read ``p_h=2.5e+09``: pressures in GPa, other units as declared, ratios bare."""
+    import xarray as xr
+
+    from study.report.figures import title
+
+    dataset = xr.Dataset(
+        coords={
+            "p_h": ("p_h", [2.5e9], {"units": "Pa"}),
+            "radius": ("radius", [0.015], {"units": "m"}),
+            "mu": ("mu", [0.3], {"units": "1"}),
+        }
+    )
+    labels = {"mu": 0.3, "p_h": 2.5e9, "radius": 0.015}
+    assert title(labels, width=80, dataset=dataset) == "mu=0.3, p_h=2.5 GPa, radius=0.015 m"
+    assert title(labels, width=80) == "mu=0.3, p_h=2.5e+09, radius=0.015"

@@ -118,7 +118,7 @@ def plot_loops(dataset, path: str | Path) -> Path | None:
             ax.plot(d[steps], q[steps], **style)
         statuses.append(figures.status_of(dataset, isel))
         figures.mark_panel(ax, statuses[-1:])
-        ax.set_title(figures.title(labels), fontsize=8)
+        ax.set_title(figures.title(labels, dataset=dataset), fontsize=8)
         ax.set_xlabel("tangential shift Delta_x (um)")
         if k % columns == 0:
             ax.set_ylabel("tangential force Q_x (N)")

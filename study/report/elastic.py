@@ -358,7 +358,7 @@ def plot_profiles(dataset, path: str | Path) -> Path | None:
                 shear = sign * _cattaneo_shear(r, mu, p0, ratio) / 1e9
                 ax.plot(r, shear, "--", **grey)
                 drawn["Cattaneo-Mindlin q_x"] = True
-        ax.set_title(title(labels), fontsize=8)
+        ax.set_title(title(labels, dataset=dataset), fontsize=8)
         ax.set_xlim(0.0, float(r[-1]))
         ax.xaxis.set_major_locator(MultipleLocator(0.5))
         ax.set_xlabel("r / a (1)")

@@ -102,11 +102,23 @@ def units_of(dataset, name: str) -> str:
 
 
 # -- figures -------------------------------------------------------------------------------------
-def title(labels: dict, width: int = 30) -> str:
-    """A panel title from slice labels: one line when short, else one ``name=value`` per line."""
-    parts = [f"{k}={fmt(v)}" for k, v in labels.items()]
+def title(labels: dict, width: int = 30, dataset=None) -> str:
+    """A panel title from slice labels: one line when short, else one ``name=value`` per line.
+
+    With the ``dataset``, each value carries its coordinate's units (pressures in GPa).
+    """
+    parts = [_labelled(k, v, dataset) for k, v in labels.items()]
     text = ", ".join(parts)
     return text if len(text) <= width else "\n".join(parts)
+
+
+def _labelled(name: str, value, dataset) -> str:
+    """``name=value unit`` of a slice label (no unit for a ratio or a label without one)."""
+    coordinate = dataset.coords.get(name) if dataset is not None else None
+    units = str(coordinate.attrs.get("units", "")) if coordinate is not None else ""
+    if units == "Pa" and isinstance(value, int | float | np.number):
+        return f"{name}={fmt(value / 1e9)} GPa"
+    return f"{name}={fmt(value)}" + (f" {units}" if units not in ("", "1") else "")
 
 
 def series_colour(j: int, count: int):

@@ -217,7 +217,7 @@ def plot_profiles(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
         ax.axhline(0.0, color="0.5", lw=0.6)
         ax.set_xlim(0.0, float(r[-1]))
         ax.set_ylim(-0.06 * (count + 1), max(1.05, 1.05 * top))
-        ax.set_title(figures.title(labels) if labels else "", fontsize=8)
+        ax.set_title(figures.title(labels, dataset=dataset) if labels else "", fontsize=8)
         ax.set_xlabel("r / a (1)")
         if k % columns == 0:
             ax.set_ylabel("traction / p_H (1)")
@@ -372,7 +372,7 @@ def plot_sections(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
         )
         figures.mark_panel(ax, [status])
         ax.set_xlim(x[0] - dx / 2, x[-1] + dx / 2)  # the whole box: nothing of the zone cut
-        ax.set_title(figures.title(labels) if labels else "", fontsize=8)
+        ax.set_title(figures.title(labels, dataset=dataset) if labels else "", fontsize=8)
         ax.set_xlabel("x / a_H (1)")
         if k % columns == 0:
             ax.set_ylabel("depth z / a_H (1)")
