@@ -72,11 +72,16 @@ from .reference import (
     first_yield_pressure,
     hertz,
     hertz_force_for_pressure,
-    hertz_yield_depth,
-    hertz_yield_half_width,
     hertz_yield_region,
 )
-from .sizing import elastic_yield_region, slope_index
+from .sizing import (
+    auto_depth,
+    auto_plastic_half_width,
+    elastic_yield_region,
+    narrow_window_note,
+    resolved_half_width,
+    slope_index,
+)
 from .sneddon import SneddonContact, radius_for_force
 from .surfaces import (
     MAX_ROUGHNESS_LATTICE,
@@ -926,7 +931,8 @@ class GridSpec:
     ``size`` (m): the domain's sides instead of ``half_width`` (point heights).
 
     ``depth`` None (not given) is resolved by :meth:`Case.from_dict`: the elastic yield depth
-    with a margin for elastic-plastic cases (:func:`auto_depth`), else :data:`DEFAULT_DEPTH`.
+    with a margin for elastic-plastic cases (:func:`~solver.sizing.auto_depth`), else
+    :data:`DEFAULT_DEPTH`.
     ``depth_body1``: the depth of body 1's own volume grid when both bodies are elastic-plastic
     and different (same cells; default: ``depth`` when given, else body 1's yield depth).
     """
@@ -954,41 +960,6 @@ FIELD_OUTPUTS = OPTIONAL_FIELDS
 #: plastic increment whose loop did not converge was kept as it was, where version 3 halves
 #: it, and a sliding increment's friction work missed the step after a reversal).
 MODEL_VERSION = 3
-
-
-def auto_depth(max_pressure: float, yield_stress: float, nu: float) -> float:
-    """Volume depth (units of a_H) for an elastic-plastic body: yield depth x margin.
-
-    The frictionless Hertz von Mises stress at the maximum load exceeds ``yield_stress`` on the
-    axis down to :func:`~solver.reference.hertz_yield_depth`; the box is
-    :data:`YIELD_DEPTH_MARGIN` times deeper, and never shallower than :data:`DEFAULT_DEPTH`.
-    """
-    depth = hertz_yield_depth(max_pressure, yield_stress, nu)
-    return max(DEFAULT_DEPTH, YIELD_DEPTH_MARGIN * depth)
-
-
-def auto_plastic_half_width(
-    max_pressure: float,
-    yield_stress: float,
-    nu: float,
-    traction_ratio: float,
-    depth: float,
-    half_width: float,
-) -> float:
-    """Half side (units of a_H) of the plastic box for an elastic-plastic body, at most the window.
-
-    :data:`PLASTIC_WIDTH_MARGIN` times the largest lateral distance at which the elastic stress
-    of the maximum load yields (:func:`~solver.reference.hertz_yield_half_width`, down to the
-    box's ``depth``, with a sliding shear of ``traction_ratio`` = the largest |Q|/W of the
-    path), never below :data:`MIN_PLASTIC_HALF_WIDTH`, rounded up to 1e-3.  Plastic flow
-    spreads the zone beyond the elastic prediction by up to 14 % in the scenes measured
-    (p_0 / sigma_Y0 = 1.8 to 6, linear hardening and perfectly plastic, mu = 0 and 0.5); a
-    zone that still reaches the box's sides is a note and the status ``truncated``.
-    """
-    reach = half_width / PLASTIC_WIDTH_MARGIN + 0.05
-    extent = hertz_yield_half_width(max_pressure, yield_stress, nu, traction_ratio, depth, reach)
-    width = max(MIN_PLASTIC_HALF_WIDTH, PLASTIC_WIDTH_MARGIN * extent)
-    return min(half_width, math.ceil(width * 1000.0 - 1e-6) / 1000.0)
 
 
 @dataclass(frozen=True)
@@ -1236,12 +1207,12 @@ class Case:
                 zone = box_width(MAX_AUTO_HALF_WIDTH)
                 if window_free:  # as wide as the zone asks and the cells resolve the contact
                     contact = hertz(force, e_star, (kx, ky)) if region is None else None
-                    widest = _resolved_half_width(grid, contact)
+                    widest = resolved_half_width(grid, contact)
                     window = max(DEFAULT_HALF_WIDTH, min(zone, widest))
                     grid = dataclasses.replace(grid, half_width=window)
                     auto = grid.half_width
                 if zone > grid.half_width or (window_free and zone >= MAX_AUTO_HALF_WIDTH):
-                    warnings.append(_narrow_window_note(grid, zone, window_free))
+                    warnings.append(narrow_window_note(grid, zone, window_free))
             chosen = grid.plastic_half_width
             if moving:  # the box covers the track: the window
                 if chosen is not None:
@@ -1864,52 +1835,6 @@ class Case:
     def to_dict(self) -> dict:
         """The normalised case table (a deep copy); ``Case.from_dict(c.to_dict()) == c``."""
         return json.loads(json.dumps(self.spec))
-
-
-def _resolved_half_width(grid: GridSpec, contact: HertzContact | None) -> float:
-    """Widest window (units of the largest semi-axis) whose cells resolve the contact.
-
-    The contact must span :data:`MIN_CELLS_ACROSS` cells across its smallest semi-axis
-    (:meth:`Case._check_resolution`): square cells of side 2 half_width a_max / max(nx, ny);
-    rounded down to 1e-3, strictly (16 cells: 1.599, not 1.6 that round-off may not resolve).
-    ``contact`` None: a profile's, axisymmetric.
-    """
-    ratio = 1.0
-    if contact is not None:
-        axes = (contact.semi_axis_x, contact.semi_axis_y)
-        ratio = min(axes) / max(axes)
-    widest = max(grid.nx, grid.ny) * ratio / MIN_CELLS_ACROSS
-    return math.floor(widest * 1000.0 * (1.0 - 1e-9)) / 1000.0
-
-
-def _narrow_window_note(grid: GridSpec, zone: float, sized: bool) -> str:
-    """The note of a surface window narrower than the plastic box the yield region asks for.
-
-    ``zone`` (units of a_H): :data:`PLASTIC_WIDTH_MARGIN` x the elastic yield region's half
-    width at the largest load, at most :data:`MAX_AUTO_HALF_WIDTH`; ``sized``: the window was
-    sized from it (no ``grid.half_width`` given).  The same words whether the window was given
-    or held back by the cells (a case rebuilt from its spec gives it), with the cells that keep
-    today's cell size over the wider window.
-    """
-    need = f"{PLASTIC_WIDTH_MARGIN:g} x the elastic yield region's half width at the largest load"
-    if sized and zone >= MAX_AUTO_HALF_WIDTH:
-        return (
-            f"grid.half_width: the plastic zone predicted ({need}) reaches the widest window "
-            f"sized for it ({MAX_AUTO_HALF_WIDTH:g} a_H): the case may end truncated; give "
-            "half_width larger (and n in proportion)"
-        )
-    if grid.size is not None:
-        return (
-            f"grid.size: the domain is narrower than the plastic box the yield region asks for "
-            f"({zone:.4g} a_H: {need}), so the case may end truncated; enlarge grid.size"
-        )
-    cells = math.ceil(max(grid.nx, grid.ny) * zone / grid.half_width - 1e-9)
-    return (
-        f"grid.half_width: the window ({grid.half_width:g} a_H) is narrower than the plastic box "
-        f"the yield region asks for ({zone:.4g} a_H: {need}), so the case may end truncated; "
-        f"give n >= {cells} and leave half_width out (the window then holds the zone), or "
-        f"half_width >= {zone:.4g} with n >= {cells}"
-    )
 
 
 def _map_slope(surface: HeightMap, grid: SurfaceGrid) -> float:

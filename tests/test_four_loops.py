@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import solver
-from solver.case import auto_depth
 from solver.operators import CaseOperators
+from solver.sizing import auto_depth
 from solver.steps import ContactState, ResidualDisplacement, slip_stick_step
 
 SWIFT = {"law": "swift", "B": 945e6, "C": 20, "n": 0.121}
