@@ -202,10 +202,10 @@ def cli_page() -> str:
 #: The public Python API, by module: (module, [names]) documented with autodoc.
 API = (
     ("solver", ["Case", "solve", "Result", "SpecError", "memory_estimate"]),
-    ("solver.reference", None),
-    ("solver.geometry", None),
-    ("solver.sneddon", None),
-    ("solver.dundurs", None),
+    ("solver.theory.reference", None),
+    ("solver.bodies.geometry", None),
+    ("solver.theory.sneddon", None),
+    ("solver.bodies.dundurs", None),
     ("study.campaign", ["load_campaign", "expand_campaign", "Campaign", "CampaignCase"]),
     ("study.run.driver", ["run_campaign", "RunOptions"]),
     ("study.run.assemble", ["assemble_to_file"]),

@@ -21,8 +21,8 @@ import numpy as np
 import xarray as xr
 from _common import output_folder
 
-from solver.reference import cattaneo_stick_ratio
 from solver.result import STATUS_FLAGS
+from solver.theory.reference import cattaneo_stick_ratio
 
 CAMPAIGN = """
 [campaign]

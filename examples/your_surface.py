@@ -2,7 +2,7 @@
 
 Writes two netCDF height maps the way a profilometer export would be converted (a variable
 ``height(y, x)`` in metres over coordinates ``x``, ``y`` in metres): a flat surface, and the same
-surface with a measured-like roughness (here made by ``solver.surfaces.Roughness``, rms 0.2 um).
+surface with a measured-like roughness (here made by ``solver.bodies.heights.Roughness``, rms 0.2 um).
 Each map is body 2's surface under a rigid sphere (R = 15 mm, 60 N, steel).  The flat map must
 give Hertz's peak pressure within 0.5 % (a check of the file's sign and units); the rough one
 shows the contact breaking into spots.  The figure: the rough heights, and the pressure on the
@@ -21,7 +21,7 @@ import xarray as xr
 from _common import output_folder
 
 import solver
-from solver.surfaces import Roughness
+from solver.bodies.heights import Roughness
 from study.campaign.surfaces import read_surface
 
 

@@ -9,10 +9,10 @@ Public entry point::
 No MPI, no file output: the study layer (``study``) does both.
 """
 
-from .case import Case, SpecError
-from .loops import solve
-from .operators import memory_estimate
+from .drive.loops import solve
+from .drive.operators import memory_estimate
 from .result import Result
+from .spec.case import Case, SpecError
 
 __all__ = ["Case", "Result", "SpecError", "memory_estimate", "solve"]
 __version__ = "0.1.0"

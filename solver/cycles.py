@@ -1,6 +1,6 @@
 """Per-cycle quantities of a cyclic load path, from the per-step histories.
 
-A load path with a cycle block (``cycles = N``, :class:`solver.case.LoadStage`) records the
+A load path with a cycle block (``cycles = N``, :class:`solver.spec.case.LoadStage`) records the
 cycle of every step (history ``step_cycle``).  Cycle ``c`` runs over its steps; its loop closes
 on the state before its first step (the last step of the previous cycle, or of the stage before
 the block).  With ``Q`` the tangential force on body 2 and ``Delta`` the rigid shift of body 1

@@ -1,6 +1,6 @@
 """Every key of a case table, declared once: type, unit, default, accepted range, who uses it.
 
-:mod:`solver.case` takes the keys each table accepts (:func:`table_keys`), the required ones,
+:mod:`solver.spec.case` takes the keys each table accepts (:func:`table_keys`), the required ones,
 the limits it checks and the solver defaults from here, and the guide's reference page of case
 keys is written from :data:`CASE_KEYS` (``docs/generate.py``): the parser, its messages and the
 documentation cannot drift apart.
@@ -34,7 +34,7 @@ RADIUS_RANGE = (1e-9, 1e6)
 #: contact is a rounding error, above 1 the small-strain theory the solver rests on is void.
 PRESSURE_RATIO_RANGE = (1e-9, 1.0)
 #: Largest cone angle (degrees) to the tangent plane: slopes up to 1 (small-slope theory,
-#: :data:`solver.geometry.MAX_PROFILE_SLOPE`).
+#: :data:`solver.bodies.geometry.MAX_PROFILE_SLOPE`).
 PROFILE_MAX_ANGLE = 45.0
 #: Largest surface slope (dz/dr) of a profile inside the contact, and largest rms slope of a
 #: roughness: the half-space theory the solver rests on assumes small slopes (a sphere at the
@@ -68,9 +68,9 @@ MAX_FRICTION = 100.0
 DEPTH_RANGE = (0.05, 20.0)
 #: Smallest half side of the plastic box (``grid.plastic_half_width``, units of a_H).
 MIN_PLASTIC_HALF_WIDTH = 0.25
-#: Fewest volume cells across the elastic yield region in depth (``solver.case``).
+#: Fewest volume cells across the elastic yield region in depth (``solver.spec.case``).
 MIN_YIELD_CELLS = 2
-#: Thickest volume cell (units of a_H) of an elastic-plastic body (``solver.case``).
+#: Thickest volume cell (units of a_H) of an elastic-plastic body (``solver.spec.case``).
 MAX_CELL_DEPTH = 0.25
 #: Margin on the elastic yield region's half width that sizes the plastic box laterally.
 PLASTIC_WIDTH_MARGIN = 1.25
@@ -106,7 +106,7 @@ HARDENING_KEYS = {
 #: Kinematic hardening laws (``hardening.kinematic.law``) and their keys.
 KINEMATIC_KEYS = {"prager": {"C"}, "armstrong-frederick": {"C", "gamma"}}
 
-#: Defaults of ``[solver]`` (:class:`solver.case.SolverOptions` takes them from here).
+#: Defaults of ``[solver]`` (:class:`solver.spec.case.SolverOptions` takes them from here).
 SOLVER_DEFAULTS = {
     "normal_tolerance": 1e-8,
     "normal_max_iterations": 2000,
@@ -395,7 +395,7 @@ CASE_KEYS: tuple[Key, ...] = (
         "Half side of the plastic box: plastic strain lives, and the volume convolutions run, on "
         "the cells within this distance of the axis along x and y (the surface window stays "
         "half_width; half_width itself: the whole window).  By default sized from the Hertz "
-        "stress (a profile: the computed elastic stress, solver.sizing), with a sliding shear "
+        "stress (a profile: the computed elastic stress, solver.spec.sizing), with a sliding shear "
         "of the path's largest |Q|/W, where it exceeds the initial "
         "yield stress, its cell count rounded up to a fast FFT size; a plastic zone reaching "
         "its sides is a note and the status truncated."),

@@ -6,11 +6,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .case import Case
 from .cycles import cycle_summary, cycle_variables
-from .grid import SurfaceGrid
-from .shakedown import Shakedown, classify, shakedown_variable
-from .tensor import COMPONENTS
+from .numerics.grid import SurfaceGrid
+from .numerics.tensor import COMPONENTS
+from .spec.case import Case
+from .theory.shakedown import Shakedown, classify, shakedown_variable
 from .variables import BODY1_SUFFIX, FIELDS, HISTORIES
 
 #: CF metadata of every history variable: name -> (units, long_name) (from :mod:`.variables`).
@@ -68,7 +68,7 @@ class Result:
         bodies), dimension ``z_body1``.
     melan_factor : float or None
         Melan's static shakedown factor of the final residual stress under the sliding Hertz
-        load (:func:`solver.shakedown.melan_factor`): sliding cases along x with a circular
+        load (:func:`solver.theory.shakedown.melan_factor`): sliding cases along x with a circular
         Hertz contact on isotropic hardening; None otherwise.
     """
 
@@ -105,7 +105,7 @@ class Result:
     def shakedown(self) -> Shakedown | None:
         """Shakedown regime of an elastic-plastic path with a cycle block (None otherwise).
 
-        :func:`solver.shakedown.classify` of the per-cycle plastic strain gains; a path that
+        :func:`solver.theory.shakedown.classify` of the per-cycle plastic strain gains; a path that
         is not ``"converged"`` (status) is ``undetermined``.
         """
         per_cycle = cycle_summary(self.history)

@@ -7,13 +7,13 @@ A history has one value per load step; its ``reduction`` says how a campaign tur
 per-case scalar (``"last"`` step, ``"max"`` over the steps, ``"sum"``; None: not reduced) and
 ``scalar`` names that scalar.  A field has named dimensions: ``x``, ``y`` (surface cells),
 ``z`` (volume layers, depth into body 2; ``z_body1`` into body 1 on its own grid),
-``component`` (:data:`solver.tensor.COMPONENTS`).
+``component`` (:data:`solver.numerics.tensor.COMPONENTS`).
 
 ``swap_sign`` is the factor a value takes when the bodies are relabelled (an elastic-plastic
-body 1 is solved as body 2, :meth:`solver.case.Case.swapped`): body 1's frame is body 2's
+body 1 is solved as body 2, :meth:`solver.spec.case.Case.swapped`): body 1's frame is body 2's
 rotated by 180 degrees about x (x, -y, -z), so tractions and forces on the other body change
 sign, and y components change sign again.  Tensor fields mirror by component
-(:data:`solver.tensor.Y_REFLECTION`).
+(:data:`solver.numerics.tensor.Y_REFLECTION`).
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from solver.anderson import Anderson
+from solver.numerics.anderson import Anderson
 
 
 def iterations_to_converge(memory, matrix, rhs, tolerance=1e-10):
@@ -48,7 +48,7 @@ def test_segments_mix_in_place_as_one_vector():
     """A vector given as views of an array's pieces (the deviatoric components of a strain)
     is mixed where it lies, as the gathered vector would be: same iterates up to the
     summation order of the dot products, across chunks and with threads."""
-    from solver import anderson
+    from solver.numerics import anderson
 
     rng = np.random.default_rng(1)
     n = 3 * anderson.CHUNK + 17  # several chunks per piece

@@ -10,7 +10,7 @@ import pytest
 from study_fixtures import CATTANEO_BASE, NORMAL_BASE, small_campaign, write
 
 import solver
-from solver.materials import Body
+from solver.bodies.materials import Body
 from study.campaign import (
     Campaign,
     CampaignError,

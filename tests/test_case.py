@@ -8,8 +8,8 @@ from study_fixtures import DELETE, set_path
 
 import solver
 from solver import SpecError
-from solver.eigenstrain import EigenstrainOperator
-from solver.operators import PLASTIC_LOOP_ARRAYS, PLASTIC_VOLUME_ARRAYS, plastic_work_arrays
+from solver.drive.operators import PLASTIC_LOOP_ARRAYS, PLASTIC_VOLUME_ARRAYS, plastic_work_arrays
+from solver.volume.eigenstrain import EigenstrainOperator
 
 STEEL = {"E": 210e9, "nu": 0.3}
 
@@ -226,7 +226,7 @@ def test_swift_yield_stress_overflow_names_the_hardening(hertz_table):
 
 
 def test_half_width_advice_respects_the_largest_grid(hertz_table):
-    from solver.case import MAX_CELLS, MIN_CELLS_ACROSS
+    from solver.spec.case import MAX_CELLS, MIN_CELLS_ACROSS
 
     with pytest.raises(SpecError) as info:
         solver.Case.from_dict(mutate(hertz_table, "grid.half_width", 1e6))

@@ -5,10 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from solver.convolution import SurfaceOperator
-from solver.grid import SurfaceGrid
-from solver.influence import surface_kernels
-from solver.materials import Body, Pair
+from solver.bodies.materials import Body, Pair
+from solver.numerics.grid import SurfaceGrid
+from solver.surface.convolution import SurfaceOperator
+from solver.surface.influence import surface_kernels
 
 PAIR = Pair(Body("elastic", 0.01, 0.02, 210e9, 0.3), Body("elastic", math.inf, math.inf, 70e9, 0.2))
 

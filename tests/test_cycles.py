@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 import solver
-from solver import reference
-from solver.case import SpecError, path_steps
-from solver.tensor import von_mises
+from solver.numerics.tensor import von_mises
+from solver.spec.case import SpecError, path_steps
+from solver.theory import reference
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
 SWIFTLESS = {

@@ -8,7 +8,10 @@ import math
 import numpy as np
 import pytest
 
-from solver.cuboid import (
+from solver.numerics.grid import SurfaceGrid, VolumeGrid
+from solver.numerics.tensor import deviator
+from solver.surface.influence import cell_integral
+from solver.volume.cuboid import (
     FIRST,
     FOURTH,
     SECOND,
@@ -17,11 +20,8 @@ from solver.cuboid import (
     cuboid_stress,
     potentials,
 )
-from solver.eigenstrain import EigenstrainOperator
-from solver.grid import SurfaceGrid, VolumeGrid
-from solver.influence import cell_integral
-from solver.stress import rectangle_stress
-from solver.tensor import deviator
+from solver.volume.eigenstrain import EigenstrainOperator
+from solver.volume.stress import rectangle_stress
 
 E, NU = 210e9, 0.3
 G = E / (2 * (1 + NU))
@@ -386,7 +386,7 @@ def test_direct_route_converges_with_the_window():
 
 def test_deviatoric_path_equals_the_deviator_of_the_full_stress():
     """Five components in and out (the plasticity loop's path) against the full evaluation."""
-    from solver.tensor import deviator
+    from solver.numerics.tensor import deviator
 
     grid = VolumeGrid(SurfaceGrid.centred(12, 10, 1.0, 0.9), 8, 0.1)
     op = EigenstrainOperator(grid, 210e9, 0.3)
@@ -410,7 +410,7 @@ def test_depth_transforms_are_the_dct_and_dst_of_the_columns(nz):
     counts."""
     import scipy.fft
 
-    from solver.eigenstrain import _parity3, _rotation
+    from solver.volume.eigenstrain import _parity3, _rotation
 
     op = operator(VolumeGrid(SurfaceGrid(4, 3, 1.0, 1.0), nz, 1.0))
     worker = op._workers()[0]

@@ -16,8 +16,8 @@ import xarray as xr
 from study_fixtures import write
 
 import solver
-from solver import fftw
-from solver.operators import CaseOperators
+from solver.drive.operators import CaseOperators
+from solver.numerics import fftw
 from study.run import storage, wisdom
 
 PLASTIC = """

@@ -409,7 +409,7 @@ def test_creep_curves_passes_distinct_and_labelled_as_ratios(tmp_path, monkeypat
 
 
 def test_shakedown_map_rings_untrusted_cases(tmp_path, monkeypatch):
-    from solver.shakedown import SHAKEDOWN_FLAGS
+    from solver.theory.shakedown import SHAKEDOWN_FLAGS
     from study.report import shakedown
 
     saved = _capture(monkeypatch)

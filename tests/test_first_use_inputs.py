@@ -1,7 +1,7 @@
 """Bad inputs a first user gives that used to get through (issue 35, items 6 and 9).
 
 Each is refused in one line naming the field (and the file where there is one) with a
-:class:`solver.SpecError` or :class:`solver.surfaces.SurfaceError`, never a bare numpy or Python
+:class:`solver.SpecError` or :class:`solver.bodies.heights.SurfaceError`, never a bare numpy or Python
 exception, and ``python -m study validate`` exits with status 2:
 
 * surfaces too steep for small-slope theory: a height map whose heights resampled onto the
@@ -34,8 +34,8 @@ import xarray as xr
 from scipy import ndimage
 
 from solver import Case, SpecError
+from solver.bodies.heights import HeightMap, Roughness, SurfaceError, _roughness_lattice
 from solver.keys import MAX_SURFACE_SLOPE, PRESSURE_RATIO_RANGE
-from solver.surfaces import HeightMap, Roughness, SurfaceError, _roughness_lattice
 from study.campaign.surfaces import read_surface
 
 REPO = Path(__file__).resolve().parents[1]

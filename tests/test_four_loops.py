@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import solver
-from solver.operators import CaseOperators
-from solver.sizing import auto_depth
-from solver.steps import ContactState, ResidualDisplacement, slip_stick_step
+from solver.drive.operators import CaseOperators
+from solver.drive.steps import ContactState, ResidualDisplacement, slip_stick_step
+from solver.spec.sizing import auto_depth
 
 SWIFT = {"law": "swift", "B": 945e6, "C": 20, "n": 0.121}
 STEEL = {"E": 210e9, "nu": 0.3}
@@ -312,7 +312,7 @@ def test_merged_coupling_in_the_four_loops_equals_alternating_solves(monkeypatch
     """Fretting II (rigid sphere on Swift steel, beta != 0, mu = 0.5) at 16^3: the merged
     normal-tangential iteration inside the plasticity loop gives the solution of alternating
     whole solves, to the loops' tolerances."""
-    import solver.steps as steps
+    import solver.drive.steps as steps
 
     table = {
         "body1": {"radius": 0.015, "behaviour": "rigid"},

@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from solver.convolution import SurfaceOperator
-from solver.grid import SurfaceGrid
-from solver.influence import COMPONENTS, surface_kernels
-from solver.materials import Body, Pair
+from solver.bodies.materials import Body, Pair
+from solver.numerics.grid import SurfaceGrid
+from solver.surface.convolution import SurfaceOperator
+from solver.surface.influence import COMPONENTS, surface_kernels
 
 STEEL = Body("elastic", 0.01, 0.01, 210e9, 0.3)
 ALUMINIUM = Body("elastic", math.inf, math.inf, 70e9, 0.33)

@@ -44,7 +44,10 @@ def test_a_box_that_holds_the_plastic_zone_gives_the_windows_answer(mu, box):
     if case.grid.plastic_half_width == 1.4:
         assert box.shape == (24, 24, 16)  # 1.4 a_H of a 2 a_H window: 24 of 32 cells
     else:  # automatic: narrower than the window, padded to a fast FFT size
-        assert box.shape[0] < 32 and solver.fftw.fft_size(2 * box.shape[0]) == 2 * box.shape[0]
+        assert (
+            box.shape[0] < 32
+            and solver.numerics.fftw.fft_size(2 * box.shape[0]) == 2 * box.shape[0]
+        )
     boxed = solver.solve(case)
     assert window.status == boxed.status == "converged", boxed.notes
     # the same fixed point: within the plasticity loop's tolerance (of the yield strain)
@@ -99,10 +102,10 @@ def test_the_yield_region_half_width_matches_the_numerical_stress_field(ratio, t
     The numerical field's yield region, on the cell centres of two meshes, is within a cell
     of the sampled closed form, and closer on the finer mesh.
     """
-    from solver.grid import SurfaceGrid, VolumeGrid
-    from solver.reference import hertz_yield_half_width
-    from solver.stress import SubsurfaceStressOperator
-    from solver.tensor import von_mises
+    from solver.numerics.grid import SurfaceGrid, VolumeGrid
+    from solver.numerics.tensor import von_mises
+    from solver.theory.reference import hertz_yield_half_width
+    from solver.volume.stress import SubsurfaceStressOperator
 
     expected = hertz_yield_half_width(1.0, 1.0 / ratio, 0.3, traction, depth=1.5)
     errors = []
@@ -222,7 +225,7 @@ def _linear_steel(ratio, mu=0.0, n=24, **grid):
 def test_the_window_holds_the_plastic_box_when_half_width_is_not_given(ratio):
     """Window = max(1.5, the plastic box the elastic yield region asks for); box = window."""
     from solver.keys import DEFAULT_HALF_WIDTH, MAX_AUTO_HALF_WIDTH
-    from solver.sizing import auto_plastic_half_width
+    from solver.spec.sizing import auto_plastic_half_width
 
     case = _linear_steel(ratio)
     box = auto_plastic_half_width(  # within the default window

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 from scipy.optimize import brentq
+from solver.plasticity.return_mapping import RETURN_MAX_ITERATIONS, return_mapping
 
-from solver.materials import SWIFT_STRAIN_UNIT, Hardening
-from solver.plasticity import RETURN_MAX_ITERATIONS, return_mapping
-from solver.tensor import (
+from solver.bodies.materials import SWIFT_STRAIN_UNIT, Hardening
+from solver.numerics.tensor import (
     deviator,
     equivalent_strain,
     from_matrix,

@@ -1,7 +1,7 @@
 """Axisymmetric profiles (cone, flat punch with rounded edges, power law) through the loops.
 
 Expected values come from closed forms (Love's cone, Johnson 1985 §5.2; Hertz) or from Sneddon's
-integrals taken here by adaptive quadrature (scipy), independently of :mod:`solver.sneddon`.
+integrals taken here by adaptive quadrature (scipy), independently of :mod:`solver.theory.sneddon`.
 """
 
 from __future__ import annotations
@@ -14,8 +14,8 @@ from scipy import integrate, optimize
 
 import solver
 from solver import Case, SpecError
-from solver.geometry import FlatPunch, Geometry, PowerLaw
-from solver.reference import hertz
+from solver.bodies.geometry import FlatPunch, Geometry, PowerLaw
+from solver.theory.reference import hertz
 
 E_STEEL, NU_STEEL = 210e9, 0.3
 ELASTIC = {"behaviour": "elastic", "E": E_STEEL, "nu": NU_STEEL}
@@ -297,7 +297,7 @@ def test_plastic_cone_yields_at_the_tip_and_the_box_holds_the_zone():
     table.update(body2=LINEAR_STEEL, grid={"n": [32, 32, 32], "half_width": 2.0})
     table["load"] = {"path": [{"normal_force": 5.0, "steps": 4}, {"normal_force": 0.0}]}
     case = Case.from_dict(table)
-    from solver.sizing import elastic_yield_region
+    from solver.spec.sizing import elastic_yield_region
 
     a = case.reference.radius
     region = elastic_yield_region(

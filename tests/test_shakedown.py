@@ -16,9 +16,9 @@ import pytest
 
 import solver
 from solver import Case
-from solver.loops import axis_value
-from solver.reference import first_yield_pressure
-from solver.shakedown import (
+from solver.drive.loops import axis_value
+from solver.theory.reference import first_yield_pressure
+from solver.theory.shakedown import (
     CLOSED_CYCLE_FRACTION,
     SHAKEDOWN_FLAGS,
     SHAKEDOWN_TOLERANCE,
@@ -149,7 +149,7 @@ def test_far_above_the_limit_every_pass_yields():
 
 # -- first yield under a sliding point contact (the map's lower line) ----------------------------
 def test_sliding_first_yield_meets_the_frictionless_closed_form_and_moves_to_the_surface():
-    from solver.shakedown import sliding_first_yield
+    from solver.theory.shakedown import sliding_first_yield
 
     p_axis, z_axis = first_yield_pressure(math.sqrt(3.0), PERFECT["nu"])  # k = 1: p_0 / k
     ratio, x, z = sliding_first_yield(0.0, PERFECT["nu"])
@@ -194,7 +194,7 @@ def _fake_plastic_step(reach):
 
 @pytest.mark.parametrize(("reach", "pieces"), [(1.0, 1), (0.5, 2), (0.25, 4), (0.125, 8)])
 def test_a_failed_increment_is_halved_until_it_converges(monkeypatch, reach, pieces):
-    from solver import loops
+    from solver.drive import loops
 
     monkeypatch.setattr(loops, "plastic_step", _fake_plastic_step(reach))
     out = loops._halving_plastic_step(None, None, 0.0, 0.0, (0.0,), (1.0,), None)
@@ -206,7 +206,7 @@ def test_a_failed_increment_is_halved_until_it_converges(monkeypatch, reach, pie
 
 
 def test_an_increment_that_fails_at_every_halving_keeps_the_whole_increments_state(monkeypatch):
-    from solver import loops
+    from solver.drive import loops
 
     monkeypatch.setattr(loops, "plastic_step", _fake_plastic_step(0.5 / 2**loops.MAX_SPLITS))
     out = loops._halving_plastic_step(None, None, 0.0, 0.0, (0.0,), (1.0,), None)
@@ -218,7 +218,7 @@ def test_an_increment_that_fails_at_every_halving_keeps_the_whole_increments_sta
 # -- the surface shear a perfectly plastic body can carry ----------------------------------------
 def test_the_shear_limit_is_k_for_bounded_flow_and_inf_for_hardening():
     """sqrt(3) |tau| <= sigma_eq: k = sigma_Y / sqrt 3, raised by a saturated back stress."""
-    from solver.materials import Hardening
+    from solver.bodies.materials import Hardening
 
     perfect = Hardening("perfect", yield_stress=YIELD)
     assert perfect.shear_limit == pytest.approx(SHEAR_YIELD, rel=1e-15)
@@ -273,7 +273,7 @@ def test_a_sliding_shear_past_k_is_told_and_its_surface_strain_follows_the_layer
 
 def test_many_failed_increments_are_told_in_one_note():
     """A case past what its body can carry fails every increment: one note names them all."""
-    from solver.loops import MAX_FAILURE_NOTES, _failure_notes
+    from solver.drive.loops import MAX_FAILURE_NOTES, _failure_notes
 
     few = [(3, "plasticity loop not converged"), (4, "(sub-step to W = 1 N): normal")]
     assert _failure_notes(few) == [
@@ -291,7 +291,7 @@ def test_many_failed_increments_are_told_in_one_note():
 def test_a_plasticity_loop_whose_iterates_run_away_stops_with_its_best(monkeypatch):
     """Iterates pushed away (each mixed increment 50 times the last step's): the loop stops
     once the change is DIVERGED times its best, keeps the best iterate, says so, finite."""
-    from solver import plastic_loop
+    from solver.drive import plastic_loop
 
     case = Case.from_dict(
         {

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 import solver
-from solver import reference
-from solver.loops import load_substeps
-from solver.operators import CaseOperators
-from solver.steps import ContactState, slip_stick_step
+from solver.drive.loops import load_substeps
+from solver.drive.operators import CaseOperators
+from solver.drive.steps import ContactState, slip_stick_step
+from solver.theory import reference
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
 #: Spence (1975), rigid sphere on a nu = 0 half-space (beta = -0.5), mu = 0.2986 (c/a = 0.5):
@@ -111,7 +111,7 @@ def test_beta_zero_normal_loading_gives_no_shear(validation):
         {**cattaneo_table(48, 0.5, mu=0.5), "load": {"normal_force": 1000.0, "steps": 4}}
     )
     assert case.pair.dundurs_beta == 0.0
-    assert not solver.loops.needs_slip_stick(case)  # the scene skips the loop ...
+    assert not solver.drive.loops.needs_slip_stick(case)  # the scene skips the loop ...
     operators = CaseOperators.build(case)
     state = ContactState.unloaded(operators.gap.shape)
     for target in case.step_targets():  # ... and running it anyway changes nothing
@@ -351,7 +351,7 @@ def test_uncoupled_tangential_stage_reuses_the_normal_solution():
     assert np.all(h["normal_iterations"][1:5] == 0)  # W = 1000 N throughout
     assert h["normal_iterations"][5] > 0  # W = 1500 N: a new normal problem
     operators = CaseOperators.build(case)
-    fresh = solver.normal.solve_normal(operators.surface, operators.gap, 1500.0)
+    fresh = solver.surface.normal.solve_normal(operators.surface, operators.gap, 1500.0)
     assert np.abs(result.pressure - fresh.pressure).max() < 1e-6 * fresh.pressure.max()
     assert h["approach"][5] == pytest.approx(fresh.approach, rel=1e-6)
     assert np.all(h["approach"][1:5] == h["approach"][0])
@@ -372,7 +372,7 @@ def test_state_carries_the_tangential_displacement_of_its_shear():
 
 
 def test_extrapolated_start_only_for_a_repeated_increment():
-    from solver.loops import _extrapolated
+    from solver.drive.loops import _extrapolated
 
     shape = (4, 4)
     rng = np.random.default_rng(1)
@@ -389,7 +389,7 @@ def test_extrapolated_start_only_for_a_repeated_increment():
 def test_substep_iterations_are_counted(monkeypatch):
     """The iteration histories include the sub-steps of a coupled scene: their sums equal what
     the normal and tangential solvers reported over the whole solve."""
-    import solver.steps as steps
+    import solver.drive.steps as steps
 
     reported = {"normal": [], "slip": []}
 
@@ -422,7 +422,7 @@ def test_merged_coupling_equals_alternating_solves(monkeypatch, path):
     tangential solve) converges to the solution of alternating whole solves, to the
     tolerances, falling back on them at most once (the first sub-step of Spence's scene, a
     contact of a dozen cells whose split has no stick cell)."""
-    import solver.steps as steps
+    import solver.drive.steps as steps
 
     if path == "spence":
         table = spence_table(40, steps=10)
@@ -473,7 +473,7 @@ def test_the_force_projection_stays_finite_when_no_cell_can_carry_the_force():
     rolling run); it now stops there, finite, and the force it misses is the caller's residual."""
     import warnings
 
-    from solver.tangential import project_onto_feasible
+    from solver.surface.tangential import project_onto_feasible
 
     z = np.ones((4, 4))
     with warnings.catch_warnings():

@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from solver.grid import SurfaceGrid, VolumeGrid
-from solver.stress import (
+from solver.numerics.grid import SurfaceGrid, VolumeGrid
+from solver.volume.stress import (
     TRACTIONS,
     IndexBox,
     SubsurfaceStressOperator,

@@ -17,7 +17,7 @@ import xarray as xr
 
 import solver
 from solver import Case, SpecError
-from solver.surfaces import HeightMap, Roughness
+from solver.bodies.heights import HeightMap, Roughness
 from study.campaign.surfaces import read_surface
 
 RADIUS = 0.01
@@ -143,7 +143,7 @@ def test_roughness_is_reproducible_exact_in_rms_and_self_affine():
     other = Roughness(0.8, 2e-4, 2e-5, rms=2e-7, seed=8).sample(xx, yy)
     assert np.corrcoef(first.ravel(), other.ravel())[0, 1] < 0.2
     # the lattice realisation has the rms asked for, and the power spectrum's slope
-    from solver.surfaces import _roughness_lattice
+    from solver.bodies.heights import _roughness_lattice
 
     points, spacing = rough.lattice(3.2e-3)  # 640 points: 16 long cutoffs
     lattice = _roughness_lattice(rough, points, spacing)
@@ -367,7 +367,7 @@ def test_two_bumps_make_two_spots_and_two_stick_zones():
     tangential load each has its own Cattaneo-Mindlin stick zone."""
     force, mu, ratio = 100.0, 0.4, 0.5
     half = force / 2
-    from solver.reference import cattaneo_stick_ratio, hertz
+    from solver.theory.reference import cattaneo_stick_ratio, hertz
 
     e_star = 210e9 / (2 * (1 - 0.3**2))
     single = hertz(half, e_star, (1 / RADIUS, 1 / RADIUS))
@@ -395,7 +395,7 @@ def test_two_bumps_make_two_spots_and_two_stick_zones():
     assert loads == pytest.approx([half, half], rel=1e-9)  # the mirror symmetry
     assert result.pressure.max() == pytest.approx(single.max_pressure, rel=0.02)
     stick = result.contact_state == solver.result.STICK
-    assert solver.loops.contact_spots(stick) == 2
+    assert solver.drive.loops.contact_spots(stick) == 2
     expected = single.radius * cattaneo_stick_ratio(ratio * mu * half, mu, half)
     for side_ in (left, ~left):
         measured = math.sqrt(np.count_nonzero(stick & side_[:, None]) * area / math.pi)

@@ -18,7 +18,7 @@ import pytest
 from study_fixtures import write
 
 import solver
-from solver.case import (
+from solver.spec.case import (
     FULLY_PLASTIC_INDEX,
     MAX_CELL_DEPTH,
     MAX_INCREMENTS,
@@ -28,7 +28,7 @@ from solver.case import (
     SpecError,
     plastic_index,
 )
-from solver.reference import first_yield_pressure, hertz_yield_region
+from solver.theory.reference import first_yield_pressure, hertz_yield_region
 from study.campaign import load_campaign
 from study.cli import LONG_PATH, main, path_warnings
 
@@ -97,8 +97,8 @@ def test_the_refused_cells_do_give_an_elastic_answer(monkeypatch):
     coarse = swift_case(p_h, nz=4, depth=2.0)  # cells 0.5 a_H thick
     with pytest.raises(SpecError, match=r"grid\.depth: cells 0\.5 a_H thick .* use nz >= 8"):
         solver.Case.from_dict(coarse)
-    monkeypatch.setattr("solver.case.MAX_CELL_DEPTH", 10.0)
-    monkeypatch.setattr("solver.case.MIN_YIELD_CELLS", 0)
+    monkeypatch.setattr("solver.spec.case.MAX_CELL_DEPTH", 10.0)
+    monkeypatch.setattr("solver.spec.case.MIN_YIELD_CELLS", 0)
     silent = solver.solve(solver.Case.from_dict(coarse))
     assert silent.converged and silent.history["max_plastic_strain"][-1] == 0.0
     monkeypatch.undo()
@@ -314,9 +314,9 @@ def _rayleigh_quotient(thickness: float, pattern: str) -> float:
     thick; 1 for an eigenstrain its own stress fully resists, negative for one its stress
     drives on.
     """
-    from solver.eigenstrain import EigenstrainOperator
-    from solver.grid import SurfaceGrid, VolumeGrid
-    from solver.tensor import WEIGHTS, deviator
+    from solver.numerics.grid import SurfaceGrid, VolumeGrid
+    from solver.numerics.tensor import WEIGHTS, deviator
+    from solver.volume.eigenstrain import EigenstrainOperator
 
     n, nz = 16, round(16 / thickness)
     grid = VolumeGrid(SurfaceGrid(n, n, 1.0, 1.0), nz, thickness)

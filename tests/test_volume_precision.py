@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import solver
-from solver.eigenstrain import EigenstrainOperator
-from solver.grid import SurfaceGrid, VolumeGrid
+from solver.numerics.grid import SurfaceGrid, VolumeGrid
+from solver.volume.eigenstrain import EigenstrainOperator
 
 SWIFT = {"law": "swift", "B": 945e6, "C": 20.0, "n": 0.121}
 

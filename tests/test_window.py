@@ -1,4 +1,4 @@
-"""The window that follows a moving contact (solver.window) against the whole track.
+"""The window that follows a moving contact (solver.drive.window) against the whole track.
 
 Every increment of a sliding or rolling case is solved on a window of the track's cells placed
 at the contact; ``grid.follow_contact = false`` solves it on the whole track.  Elastic: the
@@ -15,11 +15,11 @@ import numpy as np
 import pytest
 
 import solver
-from solver.case import Case, SpecError
-from solver.operators import CaseOperators
-from solver.plastic_loop import PlasticState
+from solver.drive.operators import CaseOperators
+from solver.drive.plastic_loop import PlasticState
+from solver.drive.window import Follower
+from solver.spec.case import Case, SpecError
 from solver.variables import PLASTIC_ZONE_THRESHOLD
-from solver.window import Follower
 
 YIELD = 433.0127e6  # Pa: k = 250 MPa
 RIGID = {"behaviour": "rigid", "radius": 0.01}

@@ -42,7 +42,7 @@ def _table(n: int) -> dict:
 
 def _ours(n: int, repeat: int) -> dict:
     import solver
-    from solver.convolution import surface_operator
+    from solver.surface.convolution import surface_operator
 
     table = _table(n)
     table["solver"] = {"fft_planner": "measure"}

@@ -30,8 +30,8 @@ HERTZ_TABLE = {
 
 def _ours_hertz(n: int, repeat: int, planner: str = "measure") -> dict:
     import solver
-    from solver.convolution import surface_operator
-    from solver.operators import planner_flag
+    from solver.drive.operators import planner_flag
+    from solver.surface.convolution import surface_operator
 
     table = {**HERTZ_TABLE, "grid": {"n": n, "half_width": 1.6}}
     table["solver"] = {"fft_planner": planner}

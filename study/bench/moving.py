@@ -5,7 +5,7 @@ E = 210 GPa, nu = 0.3) is pressed at the origin in two steps and slid 8 a along 
 of a/4, mu = 0 (issue 24's cost scene); the grid has ``n`` cells across the contact diameter
 (cells of 2a/n, layers of a/n; the grid covers the track plus 1.5 a on every side, the volume
 twice the static yield depth).  Two rows per size, in the same run: every increment on the
-window that follows the contact (``follows``, the default, :mod:`solver.window`) and on the
+window that follows the contact (``follows``, the default, :mod:`solver.drive.window`) and on the
 whole track (``track``, ``grid.follow_contact = false``): cells of the window and of the
 track, wall and CPU time, peak memory, plasticity iterations, largest plastic strain and its
 difference from the whole track's, status.  Each row runs in a fresh process.

@@ -66,7 +66,7 @@ def scene_table(n: int, precision: str = "double", planner: str = "estimate") ->
 
 def _ours(n: int, precision: str = "double", planner: str = "estimate") -> dict:
     import solver
-    from solver.operators import PROCESS_BYTES, CaseOperators
+    from solver.drive.operators import PROCESS_BYTES, CaseOperators
 
     case = solver.Case.from_dict(scene_table(n, precision, planner))
     plans = 0.0
@@ -484,7 +484,7 @@ def box_sweep(n: int, ratios=(1.8, 2.5, 3.5, 4.42), mus=(0.0, 0.5)) -> list[dict
 def _threaded(n: int, threads: int) -> dict:
     """Tamaas' scene at n^3 on ``threads`` FFTW threads: wall and CPU of set-up plus solve."""
     import solver
-    from solver.operators import CaseOperators
+    from solver.drive.operators import CaseOperators
 
     table = scene_table(n)
     table["solver"]["fft_threads"] = threads

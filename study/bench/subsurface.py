@@ -12,7 +12,7 @@ displacement evaluation, minus the resident set before (sampled every 2 ms,
 excluded); ``setup_MB`` the same over setup alone (what the operator keeps, plus construction
 transients); ``stress_MB`` and ``disp_MB`` the tracemalloc peaks of one evaluation (its numpy
 temporaries and output); ``est_MB`` is
-:meth:`solver.eigenstrain.EigenstrainOperator.memory_bytes`.
+:meth:`solver.volume.eigenstrain.EigenstrainOperator.memory_bytes`.
 The last lines fit ``time ~ N^p`` (N = n^3) and compare p with the exponent of N log N over
 the same sizes.
 """
@@ -42,8 +42,8 @@ def _traced_peak(function, *args) -> float:
 
 
 def _run(n: int, repeat: int, threads: int) -> dict:
-    from solver.eigenstrain import EigenstrainOperator
-    from solver.grid import SurfaceGrid, VolumeGrid
+    from solver.numerics.grid import SurfaceGrid, VolumeGrid
+    from solver.volume.eigenstrain import EigenstrainOperator
 
     grid = VolumeGrid(SurfaceGrid(n, n, 1.0, 1.0), n, 1.0)
     rng = np.random.default_rng(0)

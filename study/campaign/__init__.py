@@ -63,7 +63,7 @@ the paths they set), :mod:`.expand` (axes from ``[sweep]``/``[zip]``, cases from
 :mod:`.read` (files, ``[campaign]`` settings, ``[define]``) on top.
 """
 
-from solver.dundurs import beta_range, body1_for_beta
+from solver.bodies.dundurs import beta_range, body1_for_beta
 
 from .model import (
     BETA_KEY,

@@ -180,7 +180,7 @@ def features(case: solver.Case) -> dict:
         :data:`REFERENCE_PLASTIC_STRAIN`, ``repeated_share``: the share of repeated cycles of
         bodies without a back stress) and ``stress``.
     """
-    from solver.loops import needs_slip_stick
+    from solver.drive.loops import needs_slip_stick
 
     grid = case.grid
     plastic = case.plastic_body is not None
@@ -260,8 +260,8 @@ def features(case: solver.Case) -> dict:
 
 
 def _substeps(case: solver.Case) -> int:
-    """Load sub-steps a coupled case adds (:func:`solver.loops.load_substeps`), as it does."""
-    from solver import loops
+    """Load sub-steps a coupled case adds (:func:`solver.drive.loops.load_substeps`), as it does."""
+    from solver.drive import loops
 
     grid, pair = case.surface_grid, case.pair
     try:

@@ -1,4 +1,4 @@
-"""Height-map files: read them into :class:`solver.surfaces.HeightMap` (the solver reads no files).
+"""Height-map files: read them into :class:`solver.bodies.heights.HeightMap` (the solver reads no files).
 
 Two formats (docs: how-to "Contact shapes"):
 
@@ -8,7 +8,7 @@ Two formats (docs: how-to "Contact shapes"):
 * ``.npy`` with ``spacing = dx`` or ``[dx, dy]`` (m) given in the surface table: rows are y,
   columns x, centred on the origin.
 
-Every problem is a :class:`~solver.surfaces.SurfaceError` naming the file, the problem and what
+Every problem is a :class:`~solver.bodies.heights.SurfaceError` naming the file, the problem and what
 to change; :meth:`solver.Case.from_dict` turns it into a :class:`~solver.SpecError` naming the
 field (``bodyN.surface``), and the command line exits with status 2.  Maps are cached per file
 (path, size, modification time), so a campaign's cases read a map once per process.
@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from solver.surfaces import HeightMap, SurfaceError
+from solver.bodies.heights import HeightMap, SurfaceError
 
 #: File suffixes read as netCDF/HDF5.
 NETCDF_SUFFIXES = (".nc", ".nc4", ".cdf", ".h5", ".hdf5")

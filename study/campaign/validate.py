@@ -8,9 +8,9 @@ import re
 from collections.abc import Mapping
 from typing import Any
 
-from solver.case import MODULUS_RANGE
-from solver.dundurs import body1_for_beta
-from solver.materials import Body
+from solver.bodies.dundurs import body1_for_beta
+from solver.bodies.materials import Body
+from solver.spec.case import MODULUS_RANGE
 
 from .model import BETA_KEY, CASE_TABLES, Axis, CampaignError
 from .naming import _is_inf, _kind

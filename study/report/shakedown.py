@@ -2,18 +2,18 @@
 
 For campaigns whose cases repeat a load on an elastic-plastic body (cycle blocks: fretting
 cycles, passes of a moving contact) the dataset holds the regime of every case
-(``shakedown``, :mod:`solver.shakedown`) and its evidence, the plastic strain gained per
+(``shakedown``, :mod:`solver.theory.shakedown`) and its evidence, the plastic strain gained per
 cycle.  This section writes
 
 - a table per case: peak pressure over the shear yield stress p_0/k, friction coefficient,
   regime, the pressure up to which the case's final residual stress proves shakedown under
-  the sliding Hertz load (Melan's static theorem, :func:`solver.shakedown.melan_factor`),
+  the sliding Hertz load (Melan's static theorem, :func:`solver.theory.shakedown.melan_factor`),
   cycles, the gain of the first and the last cycle and the net tensor change of the last one;
 - ``<name>_shakedown_map.png``: p_0/k against mu, one marker per case coloured by its regime,
   with first yield under a sliding point contact (Hamilton's field,
-  :func:`solver.shakedown.sliding_first_yield`), the line mu p_0 = k (above it the sliding
+  :func:`solver.theory.shakedown.sliding_first_yield`), the line mu p_0 = k (above it the sliding
   shear at Hertz's peak exceeds what a perfectly plastic surface can carry:
-  :attr:`solver.materials.Hardening.shear_limit`) and each converged case's Melan bound drawn
+  :attr:`solver.bodies.materials.Hardening.shear_limit`) and each converged case's Melan bound drawn
   over it.
 """
 
@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from solver.result import STATUS_FLAGS
-from solver.shakedown import SHAKEDOWN_FLAGS, sliding_first_yield
+from solver.theory.shakedown import SHAKEDOWN_FLAGS, sliding_first_yield
 
 from .. import analysis
 from . import figures
@@ -138,7 +138,7 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
         mu, ratio = first_yield_curve(mu_max, nu)
         ax.plot(mu, ratio, "k-", lw=1, label=f"first yield (Hamilton 1983, nu = {nu:g})")
     # mu p_0 = k: past it the sliding shear at Hertz's peak exceeds the shear a perfectly
-    # plastic surface can carry (solver.materials.Hardening.shear_limit)
+    # plastic surface can carry (solver.bodies.materials.Hardening.shear_limit)
     top = ax.get_ylim()[1]
     if mu_max > 1.0 / top:
         mu = np.linspace(1.0 / top, mu_max, 41)
@@ -164,7 +164,7 @@ def section(dataset, out: Path, name: str, plt, shown: list, nu: float | None) -
     """Markdown lines of the shakedown part of the report (figures appended to ``shown``)."""
     lines = ["## Shakedown", ""]
     lines += [
-        "`regime`: solver.shakedown.classify of the plastic strain gained per cycle (the largest",
+        "`regime`: solver.theory.shakedown.classify of the plastic strain gained per cycle (the largest",
         "over the volume): elastic (never yields), elastic shakedown (the last cycle gains less",
         "than 1e-3 of the largest), plastic shakedown (a steady gain whose net tensor change is",
         "below 0.1 of it), ratchetting (a steady net gain), undetermined (not converged, or",

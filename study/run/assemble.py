@@ -38,9 +38,9 @@ import numpy as np
 
 import solver
 from solver.cycles import cycle_variables
-from solver.loops import axis_value
+from solver.drive.loops import axis_value
 from solver.result import HISTORY_META, STATUS_FLAGS, length_scale
-from solver.shakedown import shakedown_variable
+from solver.theory.shakedown import shakedown_variable
 from solver.variables import CYCLE_QUANTITIES, HISTORIES, reduced_scalars
 
 from ..campaign import Axis, Campaign
@@ -97,7 +97,7 @@ SCALARS = {
     "melan_factor": (
         "1",
         "Melan's static shakedown factor of the final residual stress under the sliding Hertz "
-        "load (solver.shakedown.melan_factor): the load times it is proven to shake down",
+        "load (solver.theory.shakedown.melan_factor): the load times it is proven to shake down",
     ),
     "shear_yield_stress": (
         "Pa",
@@ -112,7 +112,7 @@ BOOKKEEPING = {
     "notes": "the solver's notes on the case ('; '-separated: warnings, path dependence, "
     "non-convergence, truncation)",
     "loops": "loops that ran (space-separated)",
-    "shakedown_reason": "why the case has its shakedown regime (solver.shakedown.classify)",
+    "shakedown_reason": "why the case has its shakedown regime (solver.theory.shakedown.classify)",
 }
 _ATTRS = (
     "hertz_radius",
@@ -135,7 +135,7 @@ _ATTRS = (
 
 
 def _case_steps(spec: dict) -> int:
-    return solver.case.path_steps(spec["load"]["path"])
+    return solver.spec.case.path_steps(spec["load"]["path"])
 
 
 def _grid_cells(spec: dict) -> int:
@@ -261,7 +261,9 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     texts = {name: np.full(shape, "", dtype=object) for name in ("notes", "loops")}
     scalars = {name: np.full(shape, np.nan) for name in SCALARS}
     histories: dict[str, np.ndarray] = {}
-    cycle_count = max(solver.case.path_cycles(case.spec["load"]["path"]) for case in campaign.cases)
+    cycle_count = max(
+        solver.spec.case.path_cycles(case.spec["load"]["path"]) for case in campaign.cases
+    )
     per_cycle: dict[str, np.ndarray] = {}
     regimes = None  # shakedown flags, when a case has them
     profiles = {name: np.full((*shape, len(r_over_a)), np.nan) for name in ("pressure", "shear_x")}

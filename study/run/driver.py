@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 
 import solver
-from solver import fftw
+from solver.numerics import fftw
 
 from ..campaign import MAX_CASE_TIMEOUT, Campaign, CampaignCase, CampaignError, cost
 from ..campaign.surfaces import read_surface

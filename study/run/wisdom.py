@@ -1,6 +1,6 @@
 """FFTW wisdom kept per machine, for cases with ``solver.fft_planner = "wisdom"``.
 
-Measured FFT plans (:mod:`solver.fftw`) are faster than FFTW's estimates, but measuring them
+Measured FFT plans (:mod:`solver.numerics.fftw`) are faster than FFTW's estimates, but measuring them
 takes time and depends on timing noise, so two processes measuring alike may round
 differently.  Here they are measured once per machine and grid, on rank 0, and saved in a cache
 folder (:func:`wisdom_file`; ``$SLIPSTICK_CACHE``, else ``$XDG_CACHE_HOME/slipstick``, else
@@ -23,8 +23,8 @@ from pathlib import Path
 import pyfftw
 
 import solver
-from solver import fftw
-from solver.operators import CaseOperators
+from solver.drive.operators import CaseOperators
+from solver.numerics import fftw
 
 from ..campaign.surfaces import read_surface
 
@@ -127,7 +127,7 @@ def prepare(cases: Iterable[solver.Case], logger: logging.Logger | None = None):
     """Import the saved wisdom, measure the plans of the grids it lacks, save; the wisdom.
 
     Only ``cases`` with ``fft_planner = "wisdom"`` count.  Returns the wisdom to hand to the
-    other ranks (:func:`solver.fftw.import_wisdom`), or None when no case asks for it.  A
+    other ranks (:func:`solver.numerics.fftw.import_wisdom`), or None when no case asks for it.  A
     cache folder that cannot be written costs the speed, not the run: a warning.
     """
     logger = logger or logging.getLogger("study")

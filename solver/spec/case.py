@@ -23,10 +23,17 @@ from typing import Any
 
 import numpy as np
 
-from .fftw import PLANNER_FLAGS, fft_size
-from .geometry import MAX_PROFILE_SLOPE, PROFILE_KEYS, PROFILES, Geometry, Profile
-from .grid import IndexBox, SurfaceGrid, VolumeGrid
-from .keys import (
+from ..bodies.geometry import MAX_PROFILE_SLOPE, PROFILE_KEYS, PROFILES, Geometry, Profile
+from ..bodies.heights import (
+    MAX_ROUGHNESS_LATTICE,
+    ROUGHNESS_POINTS_PER_CUTOFF,
+    HeightMap,
+    Roughness,
+    SurfaceError,
+    grid_rms_slope,
+)
+from ..bodies.materials import Body, Hardening, Pair
+from ..keys import (
     DEFAULT_DEPTH,
     DEFAULT_HALF_WIDTH,
     DEPTH_RANGE,
@@ -66,14 +73,17 @@ from .keys import (
     required_keys,
     table_keys,
 )
-from .materials import Body, Hardening, Pair
-from .reference import (
+from ..numerics.fftw import PLANNER_FLAGS, fft_size
+from ..numerics.grid import IndexBox, SurfaceGrid, VolumeGrid
+from ..theory.reference import (
     HertzContact,
     first_yield_pressure,
     hertz,
     hertz_force_for_pressure,
     hertz_yield_region,
 )
+from ..theory.sneddon import SneddonContact, radius_for_force
+from ..variables import OPTIONAL_FIELDS
 from .sizing import (
     auto_depth,
     auto_plastic_half_width,
@@ -82,16 +92,6 @@ from .sizing import (
     resolved_half_width,
     slope_index,
 )
-from .sneddon import SneddonContact, radius_for_force
-from .surfaces import (
-    MAX_ROUGHNESS_LATTICE,
-    ROUGHNESS_POINTS_PER_CUTOFF,
-    HeightMap,
-    Roughness,
-    SurfaceError,
-    grid_rms_slope,
-)
-from .variables import OPTIONAL_FIELDS
 
 #: Equivalent plastic strain up to which the small-strain theory is trusted (the reference
 #: paper stops at 2 %); also the strain of the reference flow stress of :func:`plastic_index`.
@@ -113,7 +113,7 @@ class SpecError(ValueError):
 HARDENING, KINEMATIC = "bodyN.hardening", "bodyN.hardening.kinematic"
 PROFILE, SURFACE, ROUGHNESS = "bodyN.profile", "bodyN.surface", "bodyN.roughness"
 #: What reads a height-map file: a surface table ({"file": ..., "spacing": ...}) to a
-#: :class:`~solver.surfaces.HeightMap` (``study.campaign.surfaces.read_surface``; solver/ reads no
+#: :class:`~solver.bodies.heights.HeightMap` (``study.campaign.surfaces.read_surface``; solver/ reads no
 #: files).
 SurfaceReader = Callable[[dict], HeightMap]
 STAGE, CYCLE_BLOCK = "load.path[i]", "load.path[i] (cycle block)"
@@ -291,7 +291,7 @@ def _parse_surface(value: Any, path: str, read_surface: SurfaceReader | None) ->
             path,
             "a height-map file is read by the study layer: build the case with "
             "Case.from_dict(table, read_surface=study.campaign.surfaces.read_surface), or give a "
-            "solver.surfaces.HeightMap",
+            "solver.bodies.heights.HeightMap",
         )
     try:
         surface = read_surface(origin)
@@ -836,7 +836,7 @@ class SolverOptions:
     bit-identical results in any process; ``"measure"`` plans by timing (about 15 % faster
     solves, 0.5 s more set-up per grid) and results then agree only to round-off, which
     path-dependent coupled friction cases can amplify to ~1e-4.  ``"wisdom"`` takes measured
-    plans from the wisdom imported into the process (:mod:`solver.fftw`), estimate plans where
+    plans from the wisdom imported into the process (:mod:`solver.numerics.fftw`), estimate plans where
     it has none: processes with the same wisdom give bit-identical results.
     """
 
@@ -931,7 +931,7 @@ class GridSpec:
     ``size`` (m): the domain's sides instead of ``half_width`` (point heights).
 
     ``depth`` None (not given) is resolved by :meth:`Case.from_dict`: the elastic yield depth
-    with a margin for elastic-plastic cases (:func:`~solver.sizing.auto_depth`), else
+    with a margin for elastic-plastic cases (:func:`~solver.spec.sizing.auto_depth`), else
     :data:`DEFAULT_DEPTH`.
     ``depth_body1``: the depth of body 1's own volume grid when both bodies are elastic-plastic
     and different (same cells; default: ``depth`` when given, else body 1's yield depth).
@@ -1021,7 +1021,7 @@ class Case:
         Numpy scalars (``np.int64``, ``np.float32``, ``np.bool_``, ...) are taken as the Python
         values they hold; a list (a pair of numbers, ``grid.n``, ``output.fields``) may be given
         as a list, a tuple or a 1-D numpy array alike (the same case id), a file name as a
-        string or a path, a roughness as its table or a :class:`~solver.surfaces.Roughness`; a
+        string or a path, a roughness as its table or a :class:`~solver.bodies.heights.Roughness`; a
         boolean is never a number.
         """
         _check_keys(table, "", table_keys(""), required_keys(""))
@@ -1374,9 +1374,9 @@ class Case:
 
         * a height map: the rms slope of its heights resampled at the grid's cell centres (at
           the start of the path), by forward differences between neighbouring cells
-          (:func:`~solver.surfaces.grid_rms_slope`);
+          (:func:`~solver.bodies.heights.grid_rms_slope`);
         * a roughness given by ``rms``: the rms slope of its realisation, spectral on its own
-          lattice (:meth:`~solver.surfaces.Roughness.realised_rms_slope`, the measure
+          lattice (:meth:`~solver.bodies.heights.Roughness.realised_rms_slope`, the measure
           ``rms_slope`` is given in, so the largest rms that passes is rms x limit / slope);
           computed only when the bound ``rms 2 pi / short_cutoff`` passes the limit.  One
           given by ``rms_slope`` has that slope, checked when parsed.
@@ -1597,7 +1597,7 @@ class Case:
         Centred on the axis (the same cells in body 1's mirrored frame): the fewest cells with
         the window's parity that cover ``[-w, w]`` along x and y, ``w`` =
         ``grid.plastic_half_width`` x the largest Hertz semi-axis, and whose padded length
-        (twice as many) is a fast FFT size (:func:`~solver.fftw.fft_size`); every
+        (twice as many) is a fast FFT size (:func:`~solver.numerics.fftw.fft_size`); every
         layer.  None when that is the whole window.
         """
         if self.grid.plastic_half_width is None or not self.grid.nz:
@@ -1838,7 +1838,7 @@ class Case:
 
 
 def _map_slope(surface: HeightMap, grid: SurfaceGrid) -> float:
-    """Rms slope of a map resampled onto a grid (:func:`~solver.surfaces.grid_rms_slope`).
+    """Rms slope of a map resampled onto a grid (:func:`~solver.bodies.heights.grid_rms_slope`).
 
     Memoised: a campaign's cases often share a map and a grid.
     """
@@ -2056,11 +2056,11 @@ def _check_volume(
     ``depth`` in units of a_H.  Cells at most :data:`MAX_CELL_DEPTH` thick: the Hertz von
     Mises stress peaks at 0.48 a_H, and half-a_H cells gave no plastic strain at all
     (p_H = 1.8 sigma_Y) or 40 % too little (2.9 sigma_Y).  With the frictionless Hertz yield
-    region on the axis at the maximum load (:func:`~solver.reference.hertz_yield_region`),
+    region on the axis at the maximum load (:func:`~solver.theory.reference.hertz_yield_region`),
     the box must reach the depth where plasticity starts (a shallower one gives an elastic
     answer), and the region inside the box must span :data:`MIN_YIELD_CELLS` cells.  ``region``
     (top, bottom, half width, in units of the contact radius): a profile's computed region
-    (:func:`~solver.sizing.elastic_yield_region`) instead of Hertz's.
+    (:func:`~solver.spec.sizing.elastic_yield_region`) instead of Hertz's.
     """
     nu, sigma = body.nu, body.hardening.initial_yield_stress
     cell = depth / nz

@@ -256,7 +256,7 @@ def hertz_yield_half_width(
     """Largest lateral distance x / a or y / a where the elastic von Mises stress yields.
 
     The elastic prediction of the plastic zone's half width: the stress of a Hertz pressure
-    with a sliding shear ``q_x = traction_ratio p`` (:func:`solver.stress.hamilton_stress`,
+    with a sliding shear ``q_x = traction_ratio p`` (:func:`solver.volume.stress.hamilton_stress`,
     closed form) is sampled every 0.02 a in the planes ``y = 0`` and ``x = 0`` for ``0 < z <=
     depth``, ``|x|, |y| <= reach``; the largest ``|x|`` or ``|y|`` where the von Mises stress
     reaches ``yield_stress`` is returned (0 when nothing yields, ``reach`` when the region
@@ -284,8 +284,8 @@ def hertz_yield_half_width(
 def _yield_half_width(ratio: float, nu: float, traction: float, depth: float, reach: float):
     import numpy as np
 
-    from .stress import hamilton_stress
-    from .tensor import von_mises
+    from ..numerics.tensor import von_mises
+    from ..volume.stress import hamilton_stress
 
     step = 0.02
     lateral = np.linspace(-reach, reach, 2 * math.ceil(reach / step) + 1)
@@ -350,7 +350,7 @@ def kalker_linear_force(
 
     ``F_x = G a^2 C11 xi``, ``F_y = G a^2 C22 eta + G a^3 C23 phi`` (``G`` the pair's shear
     modulus, 2/G = 1/G1 + 1/G2; ``a`` the contact radius; ``phi`` the spin, 1/m), with the
-    signs of :mod:`solver.case` (the force on body 2 points along the rigid slip of body 1; a
+    signs of :mod:`solver.spec.case` (the force on body 2 points along the rigid slip of body 1; a
     positive spin turns x towards y and pushes body 2 towards +y, as tested).  Valid where the
     contact nearly adheres (a force well below ``mu W``); ``nu`` one of
     :data:`KALKER_CIRCLE_COEFFICIENTS`.

@@ -4,7 +4,7 @@ Both steps have one signature::
 
     step(operators, previous, target, residual, initial) -> StepResult
 
-- ``operators``: the case's :class:`~solver.operators.CaseOperators`;
+- ``operators``: the case's :class:`~solver.drive.operators.CaseOperators`;
 - ``previous``: the converged :class:`ContactState` of the previous increment (the memory of
   the path-dependent friction law);
 - ``target``: (W, Q_x, Q_y) at the end of the increment (N); W may be 0 (unloaded);
@@ -45,9 +45,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .anderson import Anderson
-from .normal import NormalSolution, solve_normal
-from .tangential import solve_tangential, solve_tangential_coupled
+from ..numerics.anderson import Anderson
+from ..surface.normal import NormalSolution, solve_normal
+from ..surface.tangential import solve_tangential, solve_tangential_coupled
 
 if TYPE_CHECKING:
     from .operators import CaseOperators

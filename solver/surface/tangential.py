@@ -4,7 +4,7 @@ In load step k the slip increment of body 2 relative to body 1 at a surface cell
 
     s = K_t q + c - Delta                                                    (m)
 
-where ``K_t`` is the tangential 2x2 block of :class:`solver.convolution.SurfaceOperator`, ``q`` the
+where ``K_t`` is the tangential 2x2 block of :class:`solver.surface.convolution.SurfaceOperator`, ``q`` the
 shear traction on body 2 (Pa), ``c`` everything the caller knows (minus the previous step's
 ``K_t q_{k-1}``, plus the pressure-induced tangential displacement increment, the residual
 displacement increment, plus the previous shift), and ``Delta`` the rigid tangential shift of

@@ -1,9 +1,9 @@
 """DC-FFT surface operators: non-periodic convolution of cell tractions with the influence kernels.
 
 Discrete convolution–FFT (Liu, Wang & Liu 2000): a field on the (nx, ny) grid is zero-padded to
-(Lx, Ly), the smallest 7-smooth lengths >= (2nx - 1, 2ny - 1) (:func:`solver.grid.fft_length`),
+(Lx, Ly), the smallest 7-smooth lengths >= (2nx - 1, 2ny - 1) (:func:`solver.numerics.grid.fft_length`),
 the kernel is laid out in wrap-around order on the same padded grid
-(:meth:`solver.grid.SurfaceGrid.offsets`), and the cyclic convolution of the padded arrays, cut
+(:meth:`solver.numerics.grid.SurfaceGrid.offsets`), and the cyclic convolution of the padded arrays, cut
 back to (nx, ny), equals the linear (aperiodic) sum ``u_i = sum_j K(x_i - x_j) f_j`` exactly up to
 round-off.
 
@@ -20,10 +20,10 @@ import functools
 import numpy as np
 import pyfftw
 
-from .fftw import plan
-from .grid import SurfaceGrid, fft_length
+from ..bodies.materials import Pair
+from ..numerics.fftw import plan
+from ..numerics.grid import SurfaceGrid, fft_length
 from .influence import surface_kernels
-from .materials import Pair
 
 #: Kernel blocks with real spectra (even, or odd in both x and y).
 REAL_SPECTRA = ("zz", "xx", "yy", "xy")
@@ -47,7 +47,7 @@ class SurfaceOperator:
     Notes
     -----
     Tractions are those acting on body 2, ``(q_x, q_y, p)`` in Pa; displacements are body 2 minus
-    body 1 in m (see :mod:`solver.influence`).
+    body 1 in m (see :mod:`solver.surface.influence`).
     """
 
     def __init__(
@@ -86,7 +86,7 @@ class SurfaceOperator:
 
         The convolution depends on the cells' offsets only (kernels, plans and preconditioners
         stay); the grid's place serves the coordinates (:meth:`SurfaceGrid.mesh`): the window
-        that follows a moving contact (:mod:`solver.window`) is placed anew every increment.
+        that follows a moving contact (:mod:`solver.drive.window`) is placed anew every increment.
         """
         if (grid.nx, grid.ny, grid.dx, grid.dy) != (
             self.grid.nx, self.grid.ny, self.grid.dx, self.grid.dy
@@ -96,7 +96,7 @@ class SurfaceOperator:
         return self
 
     def kernel_spectrum(self, name: str) -> np.ndarray:
-        """Normalised spectrum of kernel block ``name`` (:data:`solver.influence.COMPONENTS`).
+        """Normalised spectrum of kernel block ``name`` (:data:`solver.surface.influence.COMPONENTS`).
 
         The offsets no pair of cells has are set to zero, so each kernel keeps its parity in x
         and y over the whole wrap-around layout: the even ``zz``, ``xx``, ``yy`` and the odd-odd

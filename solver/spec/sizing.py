@@ -1,18 +1,18 @@
 """The elastic yield region of any smooth shape, computed: it sizes the plastic box.
 
 For quadric bodies the volume depth and the plastic box come from Hertz's closed-form stress
-(:func:`solver.reference.hertz_yield_region`).  For a profile (a cone, a flat punch, a power
+(:func:`solver.theory.reference.hertz_yield_region`).  For a profile (a cone, a flat punch, a power
 law) there is no such closed form, so the region is computed the way the solver would see it
 elastically: the frictionless normal contact at the largest load on a trial surface grid
-(Polonsky-Keer, :func:`solver.normal.solve_normal`), a sliding shear traction of the path's
+(Polonsky-Keer, :func:`solver.surface.normal.solve_normal`), a sliding shear traction of the path's
 largest |Q|/W times the pressure along x, and the von Mises stress of both in the body
-(:class:`solver.stress.SubsurfaceStressOperator`) on a trial volume, deepened until the yield
+(:class:`solver.volume.stress.SubsurfaceStressOperator`) on a trial volume, deepened until the yield
 region ends above its floor.  Memoised per input.
 
 Also the window and the box of an elastic-plastic case from that region: its depth
 (:func:`auto_depth`), the box's half side (:func:`auto_plastic_half_width`), the widest window
 the cells resolve (:func:`resolved_half_width`) and the note of a window narrower than the box
-(:func:`narrow_window_note`); ``grid`` arguments are the case's :class:`solver.case.GridSpec`.
+(:func:`narrow_window_note`); ``grid`` arguments are the case's :class:`solver.spec.case.GridSpec`.
 """
 
 from __future__ import annotations
@@ -24,9 +24,8 @@ from typing import Any
 
 import numpy as np
 
-from .convolution import surface_operator
-from .grid import SurfaceGrid, VolumeGrid
-from .keys import (
+from ..bodies.materials import Pair
+from ..keys import (
     DEFAULT_DEPTH,
     MAX_AUTO_HALF_WIDTH,
     MIN_CELLS_ACROSS,
@@ -34,10 +33,11 @@ from .keys import (
     PLASTIC_WIDTH_MARGIN,
     YIELD_DEPTH_MARGIN,
 )
-from .materials import Pair
-from .normal import solve_normal
-from .reference import HertzContact, hertz_yield_depth, hertz_yield_half_width
-from .stress import SubsurfaceStressOperator, von_mises
+from ..numerics.grid import SurfaceGrid, VolumeGrid
+from ..surface.convolution import surface_operator
+from ..surface.normal import solve_normal
+from ..theory.reference import HertzContact, hertz_yield_depth, hertz_yield_half_width
+from ..volume.stress import SubsurfaceStressOperator, von_mises
 
 #: Trial volume: cells in depth, first depth (units of the contact radius) and deepest.
 TRIAL_LAYERS = 48
@@ -141,7 +141,7 @@ def auto_depth(max_pressure: float, yield_stress: float, nu: float) -> float:
     """Volume depth (units of a_H) for an elastic-plastic body: yield depth x margin.
 
     The frictionless Hertz von Mises stress at the maximum load exceeds ``yield_stress`` on the
-    axis down to :func:`~solver.reference.hertz_yield_depth`; the box is
+    axis down to :func:`~solver.theory.reference.hertz_yield_depth`; the box is
     :data:`YIELD_DEPTH_MARGIN` times deeper, and never shallower than :data:`DEFAULT_DEPTH`.
     """
     depth = hertz_yield_depth(max_pressure, yield_stress, nu)
@@ -159,7 +159,7 @@ def auto_plastic_half_width(
     """Half side (units of a_H) of the plastic box for an elastic-plastic body, at most the window.
 
     :data:`PLASTIC_WIDTH_MARGIN` times the largest lateral distance at which the elastic stress
-    of the maximum load yields (:func:`~solver.reference.hertz_yield_half_width`, down to the
+    of the maximum load yields (:func:`~solver.theory.reference.hertz_yield_half_width`, down to the
     box's ``depth``, with a sliding shear of ``traction_ratio`` = the largest |Q|/W of the
     path), never below :data:`MIN_PLASTIC_HALF_WIDTH`, rounded up to 1e-3.  Plastic flow
     spreads the zone beyond the elastic prediction by up to 14 % in the scenes measured

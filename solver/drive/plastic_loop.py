@@ -6,7 +6,7 @@ coincide; or body 2 and body 1, each in its own frame, when both are elastic-pla
 different).  One evaluation of the fixed-point map ``d -> G(d)``:
 
 1. plastic strain ``eps_p = eps_p,k-1 + d``; its residual stress ``sigma^r(eps_p)`` and surface
-   displacements ``u^r(eps_p)`` (:class:`~solver.eigenstrain.EigenstrainOperator`, one call
+   displacements ``u^r(eps_p)`` (:class:`~solver.volume.eigenstrain.EigenstrainOperator`, one call
    per body);
 2. contact step with the residual displacements in the gap (:func:`relative_residual`:
    ``u_z^r`` doubled for the symmetric pair, the paper's eq. 2; body 1's mapped from its frame
@@ -15,12 +15,12 @@ different).  One evaluation of the fixed-point map ``d -> G(d)``:
    :func:`body_tractions`), and the trial stress of the increment
    ``sigma + 2 G d`` (the stress had ``d`` been elastic: ``d`` is deviatoric); only deviators
    are computed (all a von Mises return needs, five components instead of six);
-4. radial return (:func:`solver.plasticity.return_mapping`) from the equivalent plastic strain
+4. radial return (:func:`solver.plasticity.return_mapping.return_mapping`) from the equivalent plastic strain
    at the start of the increment: ``G(d)`` is its plastic strain increment.
 
 The loop stops when ``max |G(d) - d| <= plastic_tolerance * sigma_Y0 / E`` in every body (the
 change of the increment relative to its yield strain) and the contact step converged.  The
-iterates are mixed by Anderson acceleration (:mod:`solver.anderson`, memory
+iterates are mixed by Anderson acceleration (:mod:`solver.numerics.anderson`, memory
 ``solver.anderson_memory``); the contact step starts from the previous iterate's tractions.
 Hitting ``plastic_max_iterations`` returns the last iterate with ``converged = False`` and its
 residual.
@@ -34,12 +34,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .anderson import Anderson
-from .eigenstrain import DEVIATORIC
-from .plasticity import return_mapping_by_blocks
+from ..numerics.anderson import Anderson
+from ..numerics.tensor import complete_deviator, deviator
+from ..numerics.threads import by_rows
+from ..plasticity.return_mapping import return_mapping_by_blocks
+from ..volume.eigenstrain import DEVIATORIC
 from .steps import ContactState, ResidualDisplacement, StepResult
-from .tensor import complete_deviator, deviator
-from .threads import by_rows
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -60,7 +60,7 @@ class PlasticState:
     Attributes
     ----------
     strain : ndarray
-        ``(6, nx, ny, nz)`` plastic strain tensor (dimensionless), :mod:`solver.tensor` order.
+        ``(6, nx, ny, nz)`` plastic strain tensor (dimensionless), :mod:`solver.numerics.tensor` order.
     equivalent : ndarray
         ``(nx, ny, nz)`` accumulated equivalent plastic strain (dimensionless).
     displacement : tuple of ndarray
@@ -69,7 +69,7 @@ class PlasticState:
     back_stress : ndarray or None
         ``(6, nx, ny, nz)`` back stress (Pa) of kinematic hardening; None: zero.
     frozen_stress : ndarray or None
-        On a window of the body's volume (:mod:`solver.window`): the deviatoric residual stress
+        On a window of the body's volume (:mod:`solver.drive.window`): the deviatoric residual stress
         ``(6, nx, ny, nz)`` (Pa) there of the body's whole plastic strain, inside the window
         and out, with ``displacement`` its residual displacements; the plasticity loop then
         adds those of the increment alone (linear superposition).  None: ``strain`` is all
@@ -208,7 +208,7 @@ def plastic_step(
     operators : CaseOperators
         The case's operators (with the eigenstrain operators).
     contact_step : callable
-        :func:`~solver.steps.normal_step` or :func:`~solver.steps.slip_stick_step`.
+        :func:`~solver.drive.steps.normal_step` or :func:`~solver.drive.steps.slip_stick_step`.
     previous : ContactState
         Converged contact state of the previous increment.
     previous_plastic : tuple of PlasticState

@@ -1,7 +1,7 @@
 """One bundle of operators per case: surface, subsurface stress and eigenstrain, built once.
 
 All three are built with the case's FFT planner and threads and share what they can: the
-eigenstrain operator uses the same :class:`~solver.stress.SubsurfaceStressOperator` (its kernels
+eigenstrain operator uses the same :class:`~solver.volume.stress.SubsurfaceStressOperator` (its kernels
 serve both the stress of the tractions and the residual surface displacements).  Bundles are
 cached per (grid, materials, FFT settings), so cases of a campaign on the same grid reuse them;
 the volume operators of the last case only (they can take gigabytes).
@@ -15,22 +15,22 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .case import Case, SolverOptions
-from .convolution import SurfaceOperator, surface_operator
-from .eigenstrain import VOLUME_PRECISIONS, EigenstrainOperator
-from .fftw import PLANNER_FLAGS
-from .grid import SurfaceGrid, VolumeGrid
-from .materials import Pair
-from .stress import SubsurfaceStressOperator
+from ..bodies.materials import Pair
+from ..numerics.fftw import PLANNER_FLAGS
+from ..numerics.grid import SurfaceGrid, VolumeGrid
+from ..spec.case import Case, SolverOptions
+from ..surface.convolution import SurfaceOperator, surface_operator
+from ..volume.eigenstrain import VOLUME_PRECISIONS, EigenstrainOperator
+from ..volume.stress import SubsurfaceStressOperator
 
 
 def planner_flag(options: SolverOptions) -> str:
-    """FFTW planner flag of ``solver.fft_planner`` (:data:`solver.fftw.PLANNER_FLAGS`)."""
+    """FFTW planner flag of ``solver.fft_planner`` (:data:`solver.numerics.fftw.PLANNER_FLAGS`)."""
     return PLANNER_FLAGS[options.fft_planner]
 
 
 def initial_gap(case: Case) -> np.ndarray:
-    """Undeformed gap (m) on the case's surface grid (:meth:`solver.geometry.Geometry.gap`)."""
+    """Undeformed gap (m) on the case's surface grid (:meth:`solver.bodies.geometry.Geometry.gap`)."""
     return case.pair.geometry.gap(*case.surface_grid.mesh())
 
 
@@ -117,7 +117,7 @@ class CaseOperators:
         The surface operator is placed there (:meth:`SurfaceOperator.place`): the bundle it
         came from is there too from now on.
 
-        The window that follows a moving contact (:mod:`solver.window`) is :attr:`local`
+        The window that follows a moving contact (:mod:`solver.drive.window`) is :attr:`local`
         placed at the contact, increment by increment.
         """
         surface = self.surface.place(grid)
@@ -240,7 +240,7 @@ BOX_SURFACE_ARRAYS = 2
 
 
 #: Six-component float64 fields of the track a case solved on the window that follows its
-#: contact (:mod:`solver.window`) holds besides the window's loop: the plastic strain and its
+#: contact (:mod:`solver.drive.window`) holds besides the window's loop: the plastic strain and its
 #: copy as the window's goes back in, the frozen residual stress and its evaluation's output.
 TRACK_FIELDS = 4
 

@@ -12,8 +12,8 @@ symmetric EP-EP pair (seed eq. 2), any friction    load_steps, plasticity, norma
                                                    return_mapping
 =================================================  ============================================
 
-(DESIGN §3.8.)  Every increment calls one contact step (:mod:`solver.steps`), wrapped by the
-plasticity loop (:mod:`solver.plastic_loop`) in elastic-plastic scenes.  The driver owns the
+(DESIGN §3.8.)  Every increment calls one contact step (:mod:`solver.drive.steps`), wrapped by the
+plasticity loop (:mod:`solver.drive.plastic_loop`) in elastic-plastic scenes.  The driver owns the
 sub-stepping of coupled friction scenes (:func:`load_substeps`; a sub-step's iterations and
 friction work count in its step, its state is not recorded), the
 per-step histories (declared in :mod:`solver.variables`) and the notes.
@@ -29,24 +29,13 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .case import SMALL_STRAIN_LIMIT, Case
-from .grid import IndexBox, VolumeGrid
-from .keys import MIN_CELLS_ACROSS
-from .operators import CaseOperators
-from .plastic_loop import PlasticState, PlasticStepResult, mirror, plastic_step
-from .result import SEPARATED, SLIP, STICK, Result
-from .shakedown import melan_factor
-from .steps import (
-    ContactState,
-    StepResult,
-    normal_step,
-    position_of,
-    sliding_step,
-    slip_stick_step,
-)
-from .stress import hamilton_stress
-from .tensor import Y_REFLECTION, equivalent_strain, von_mises
-from .variables import (
+from ..keys import MIN_CELLS_ACROSS
+from ..numerics.grid import IndexBox, VolumeGrid
+from ..numerics.tensor import Y_REFLECTION, equivalent_strain, von_mises
+from ..result import SEPARATED, SLIP, STICK, Result
+from ..spec.case import SMALL_STRAIN_LIMIT, Case
+from ..theory.shakedown import melan_factor
+from ..variables import (
     BODY1_SUFFIX,
     CYCLE_PLASTIC_HISTORIES,
     CYCLE_PROFILES,
@@ -55,6 +44,10 @@ from .variables import (
     PLASTIC_BODY_HISTORIES,
     PLASTIC_ZONE_THRESHOLD,
 )
+from ..volume.stress import hamilton_stress
+from .operators import CaseOperators
+from .plastic_loop import PlasticState, PlasticStepResult, mirror, plastic_step
+from .steps import ContactState, StepResult, normal_step, position_of, sliding_step, slip_stick_step
 from .window import Follower, shifted
 
 #: Halvings of an increment whose plasticity loop does not converge (down to 1/8 of it).
@@ -99,7 +92,7 @@ def needs_slip_stick(case: Case) -> bool:
 def scene(case: Case) -> tuple[tuple[str, ...], Callable[..., StepResult]]:
     """The loops a case runs and its contact step.
 
-    A sliding increment runs :func:`~solver.steps.sliding_step` instead (``sliding`` in loops);
+    A sliding increment runs :func:`~solver.drive.steps.sliding_step` instead (``sliding`` in loops);
     a rolling one the contact step at the moved position (``rolling``).
     """
     loops, step = _scene(case)
@@ -243,7 +236,7 @@ def _placed(
 ) -> tuple[CaseOperators, ContactState, tuple[PlasticState, ...], tuple[int, int]]:
     """What an increment is solved with: the case's operators and states, or the window's.
 
-    With a window that follows the contact (:mod:`solver.window`): its operators placed for the
+    With a window that follows the contact (:mod:`solver.drive.window`): its operators placed for the
     increment, the state moved into it, the plastic state on it, the cells it moved by.
     """
     if follower is None:
@@ -730,7 +723,7 @@ def _record_plastic(
 def _shear_excess(case: Case, state) -> float:
     """The largest surface shear traction over the plastic bodies' shear limit (0: none).
 
-    :attr:`solver.materials.Hardening.shear_limit`: above 1 no stress field in equilibrium
+    :attr:`solver.bodies.materials.Hardening.shear_limit`: above 1 no stress field in equilibrium
     with the tractions stays within yield.
     """
     limit = min((case.body2 if b == 2 else case.body1).hardening.shear_limit

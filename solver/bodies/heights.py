@@ -2,7 +2,7 @@
 
 Heights are in metres, measured away from the other body (as a sphere's sag ``r^2/(2R)``), over
 the common x, y frame whose origin is the first contact point of the smooth shape; they add to
-the body's quadric and profile (:class:`solver.geometry.Geometry`).
+the body's quadric and profile (:class:`solver.bodies.geometry.Geometry`).
 
 * :class:`HeightMap`: a measured or computed topography on a uniform lattice, checked on
   construction (2-D, finite, uniform spacing, at least 4 x 4 points) and resampled onto the
@@ -62,7 +62,7 @@ class HeightMap:
 
     def __init__(self, x, y, height, source: str = "the height map") -> None:
         self.source = source
-        self.origin: dict = {}  # the surface table it was read from (solver.case)
+        self.origin: dict = {}  # the surface table it was read from (solver.spec.case)
         x, y = (_real_array(v, f"coordinate {n}", source) for n, v in (("x", x), ("y", y)))
         height = _real_array(height, "height", source)
         if height.ndim != 2:

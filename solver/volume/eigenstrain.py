@@ -1,17 +1,17 @@
 r"""Residual stress and surface displacement of an eigenstrain (plastic strain) field.
 
 The half-space ``z > 0`` (z into body 2) holds a piecewise-constant eigenstrain on the cells of
-a :class:`~solver.grid.VolumeGrid`, components (xx, yy, zz, yz, xz, xy), tensor values.  Chiu's
+a :class:`~solver.numerics.grid.VolumeGrid`, components (xx, yy, zz, yz, xz, xy), tensor values.  Chiu's
 (1978) construction, applied with FFTs as Liu & Wang (2005):
 
 1. *Source*: every cell is a cuboid of uniform eigenstrain in an infinite body
-   (:mod:`solver.cuboid`).
+   (:mod:`solver.volume.cuboid`).
 2. *Image*: the mirror cuboid at ``-z`` with ``e_xz`` and ``e_yz`` negated.  Source plus image is
    symmetric about ``z = 0``: there ``u_z = 0``, ``sigma_xz = sigma_yz = 0``, and the normal
    stress ``S_zz(x, y, 0) = 2 sigma_zz^source(x, y, 0)`` remains.
 3. *Boussinesq correction*: the half-space solution of a surface pressure ``p = S_zz`` (its
    values at the surface-cell centres, piecewise constant) cancels it (the pressure kernels of
-   :class:`~solver.stress.SubsurfaceStressOperator` at every layer).  ``S_zz`` is known on the
+   :class:`~solver.volume.stress.SubsurfaceStressOperator` at every layer).  ``S_zz`` is known on the
    grid only; the part outside is dropped, which changes the stresses by ~1e-5 of their maximum
    in the tests (an eigenstrain blob at depth 4 in a window 8 depths wide).
 
@@ -40,7 +40,7 @@ with ``e_zz > 0`` gives ``u_z = -h e_zz``), two routes:
 
 * ``"reciprocal"`` (default, DESIGN §3.7): ``u_k = sum_cells sigma^(k)_ij e_ij dV / dA``, with
   ``sigma^(k)`` the stress of a unit traction on one surface cell in direction k (the
-  :class:`~solver.stress.SubsurfaceStressOperator` kernels; a 2-D correlation per layer).  The
+  :class:`~solver.volume.stress.SubsurfaceStressOperator` kernels; a 2-D correlation per layer).  The
   surface-cell average of u, with the volume integral taken by the midpoint rule in each cell;
   nothing is truncated (lateral sums of the kernels are exact).
 * ``"direct"``: ``u_x, u_y = 2 u^source(z = 0)`` plus the Boussinesq displacement of ``p``;
@@ -52,7 +52,7 @@ with ``e_zz > 0`` gives ``u_z = -h e_zz``), two routes:
   with the grid 2 and 4 times wider).  It cross-checks the reciprocal route: u_x, u_y agree
   to second order in the cell size.
 
-FFT normalisation as :mod:`solver.convolution`: forward transforms unnormalised, the factor
+FFT normalisation as :mod:`solver.surface.convolution`: forward transforms unnormalised, the factor
 ``1/size`` folded into the stored kernel spectra.
 """
 
@@ -66,6 +66,11 @@ from dataclasses import dataclass
 import numpy as np
 import pyfftw
 
+from ..numerics.fftw import fft_size, plan
+from ..numerics.grid import VolumeGrid
+from ..numerics.tensor import WEIGHTS, complete_deviator, deviator
+from ..numerics.threads import by_rows, each
+from ..surface.influence import cell_integral
 from .cuboid import (
     DISPLACEMENT_BASE,
     STRESS_BASE,
@@ -73,9 +78,6 @@ from .cuboid import (
     displacement_coefficients,
     stress_coefficients,
 )
-from .fftw import fft_size, plan
-from .grid import VolumeGrid
-from .influence import cell_integral
 from .stress import (
     STRESS_COMPONENTS,
     IndexBox,
@@ -83,8 +85,6 @@ from .stress import (
     kernel_parity,
     wrap_layout,
 )
-from .tensor import WEIGHTS, complete_deviator, deviator
-from .threads import by_rows, each
 
 #: Tensor weights of the six components in ``sigma : e`` (off-diagonal terms count twice).
 COMPONENT_WEIGHTS = WEIGHTS
@@ -187,7 +187,7 @@ class EigenstrainOperator:
     Kernels are built on first use (:meth:`prepare` builds them explicitly): 20 (trace-free)
     or 21 real 3-D spectra ``(nx + 1, ny + 1, M + 1)`` for the stress, float per-layer 2-D
     spectra for the surface traction (6), the
-    :class:`~solver.stress.SubsurfaceStressOperator` kernels (pressure for the correction, both
+    :class:`~solver.volume.stress.SubsurfaceStressOperator` kernels (pressure for the correction, both
     shears as well for the reciprocal displacement) and, only if the direct displacement route
     is used, its 12 per-layer kernels.
     :meth:`memory_bytes` states the peak; ``python -m study.bench.subsurface`` measures
@@ -346,7 +346,7 @@ class EigenstrainOperator:
 
         ``combinations`` maps a key ``(a, b)`` (output and input component names; ``"mean"``
         counts as a normal component) to the coefficients of the
-        :data:`~solver.cuboid.STRESS_BASE` functions followed by the one of the eigenstress
+        :data:`~solver.volume.cuboid.STRESS_BASE` functions followed by the one of the eigenstress
         inside the source cell (a delta at offset 0: a flat spectrum).  Each kernel has a
         parity in x, y and z: its z offsets ``0 .. M`` go through a DCT-I (even) or DST-I
         (odd), then the x and y offsets through a 2-D FFT, whose value is ``i^(r_a + r_b)``
@@ -437,7 +437,7 @@ class EigenstrainOperator:
         """Make every FFT plan a solve uses, without building kernels.
 
         With the ``"FFTW_MEASURE"`` planner this measures them into FFTW's wisdom
-        (:mod:`solver.fftw`), which ``solver.fft_planner = "wisdom"`` then reuses.
+        (:mod:`solver.numerics.fftw`), which ``solver.fft_planner = "wisdom"`` then reuses.
         """
         self._volume_plans()
         self._workers()
@@ -669,7 +669,7 @@ class EigenstrainOperator:
         return max(p[0] for p in parts) <= 1e-12 * max(p[1] for p in parts)
 
     def _by_rows(self, function, rows: int) -> list:
-        """:func:`~solver.threads.by_rows` on this operator's threads."""
+        """:func:`~solver.numerics.threads.by_rows` on this operator's threads."""
         return by_rows(function, rows, self.threads)
 
     def _layer_sums(self, layers: np.ndarray, *kernel_sets: np.ndarray) -> list[np.ndarray]:
@@ -776,7 +776,7 @@ class EigenstrainOperator:
         """Residual stress plus the stress of surface tractions on the half-space (Pa).
 
         The tractions (``pressure``, ``shear_x``, ``shear_y``, ``(nx, ny)`` arrays in Pa, as
-        :meth:`solver.stress.SubsurfaceStressOperator.stress`) share the per-layer transforms
+        :meth:`solver.volume.stress.SubsurfaceStressOperator.stress`) share the per-layer transforms
         of the residual stress's Boussinesq correction: one pass instead of two.
 
         Parameters
@@ -916,8 +916,8 @@ class EigenstrainOperator:
         """Per output component, the traction stresses' terms ``[(kernel, factor)]``.
 
         ``spectra`` are the tractions' surface spectra
-        (:meth:`~solver.stress.SubsurfaceStressOperator.surface_spectrum`); the kernels those of
-        :meth:`~solver.stress.SubsurfaceStressOperator.kernel_spectra`, combined for a
+        (:meth:`~solver.volume.stress.SubsurfaceStressOperator.surface_spectrum`); the kernels those of
+        :meth:`~solver.volume.stress.SubsurfaceStressOperator.kernel_spectra`, combined for a
         trace-free route's outputs: ``sigma_xx - sigma_zz`` and ``sigma_yy - sigma_zz`` for xx
         and yy, the mean stress for ``"mean"`` (kept once built).  ``kernel[rows] *
         factor[rows]`` is the layer spectra of the component's output (every output but the
@@ -1221,7 +1221,7 @@ class EigenstrainOperator:
 def depth_length(nz: int) -> int:
     """M, the half period of the symmetric depth convolution of ``nz`` layers.
 
-    The smallest even fast FFT length (:func:`~solver.fftw.fft_size`) of at least ``2 nz``:
+    The smallest even fast FFT length (:func:`~solver.numerics.fftw.fft_size`) of at least ``2 nz``:
     even for the real FFTs of length M that carry the z transforms (Makhoul 1980).
     """
     return 2 * fft_size(nz)

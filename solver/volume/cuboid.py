@@ -29,7 +29,7 @@ cancel in the sum and are dropped.  With ``r = |c|``, ``r_ij^2 = c_i^2 + c_j^2``
 (:func:`_atan_ratio`), i.e. the field point is on the side of the face where ``c_k > 0``.
 
 Eigenstrain and stress components are stored in the order (xx, yy, zz, yz, xz, xy)
-(:data:`solver.stress.STRESS_COMPONENTS`); eigenstrains are tensor components (``e_xz``, not
+(:data:`solver.volume.stress.STRESS_COMPONENTS`); eigenstrains are tensor components (``e_xz``, not
 the engineering ``gamma_xz = 2 e_xz``).
 """
 

@@ -15,7 +15,7 @@ at the origin and a field point at (x, y), r^2 = x^2 + y^2::
     u_z from q_x:  -beta A x / (pi r^2)            u_z from q_y:  -beta A y / (pi r^2)
 
 with ``A = sum (1 - nu_i^2)/E_i``, ``C = sum (1 + nu_i) nu_i / E_i`` and Dundurs' ``beta`` (see
-:mod:`solver.materials`).  The operator mapping (q_x, q_y, p) to (u_x, u_y, u_z) is symmetric
+:mod:`solver.bodies.materials`).  The operator mapping (q_x, q_y, p) to (u_x, u_y, u_z) is symmetric
 (``K_xz(d) = K_zx(-d)``), as the work ``q.u_t + p u_z`` requires.  With beta > 0 a pressure pulls
 the relative surface outwards (body 1 more compressible, it moves in further).
 
@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .materials import Pair
+from ..bodies.materials import Pair
 
 #: Names of the six independent kernel blocks: displacement component, traction component.
 COMPONENTS = ("zz", "xx", "yy", "xy", "xp", "yp")

@@ -4,16 +4,16 @@ A sliding or rolling case covers its whole track with the case's surface grid (a
 volume grid under it: the plastic strain of every earlier position and pass lives there).  An
 increment, though, only needs the contact and the plastic flow it drives, both within
 ``grid.half_width`` of the contact.  So each increment is solved on a window of
-:attr:`~solver.case.Case.moving_window` cells of the same grid, placed at the contact
+:attr:`~solver.spec.case.Case.moving_window` cells of the same grid, placed at the contact
 (whole cells: it covers the contacts at both ends of the increment), with the window's own
-operators (:attr:`~solver.operators.CaseOperators.local`, kernels built once):
+operators (:attr:`~solver.drive.operators.CaseOperators.local`, kernels built once):
 
 * the contact state of the last increment is moved into the new window (tractions by whole
   cells; the displacements they cause recomputed there: the convolutions are exact for
   tractions inside a window);
 * body 2's plastic strain under the window is the plasticity loop's; what it does not change
   enters as the residual stress and surface displacement of the whole track's plastic strain
-  at the start of the increment (:attr:`~solver.plastic_loop.PlasticState.frozen_stress`,
+  at the start of the increment (:attr:`~solver.drive.plastic_loop.PlasticState.frozen_stress`,
   the loop adding those of the increment alone: linear superposition);
 * after the increment the window's plastic strain goes back into the track's, whose residual
   stress and surface displacement are evaluated once (the track's operators): the frozen
@@ -21,7 +21,7 @@ operators (:attr:`~solver.operators.CaseOperators.local`, kernels built once):
 
 Exact for elastic cases (to round-off); with plasticity the increment's residual stress is the
 window's, whose Boussinesq correction drops the surface normal stress outside the window
-(:mod:`solver.eigenstrain`), small at ``grid.half_width`` from the contact, and plastic flow
+(:mod:`solver.volume.eigenstrain`), small at ``grid.half_width`` from the contact, and plastic flow
 must stay inside the window (its sides are checked: :meth:`Follower.sides_reached`).
 ``grid.follow_contact = false`` solves every increment on the whole track instead.
 """
@@ -33,11 +33,11 @@ import math
 
 import numpy as np
 
-from .grid import SurfaceGrid
+from ..numerics.grid import SurfaceGrid
+from ..variables import PLASTIC_ZONE_THRESHOLD
 from .operators import CaseOperators
 from .plastic_loop import PlasticState
 from .steps import ContactState, position_of
-from .variables import PLASTIC_ZONE_THRESHOLD
 
 
 def shifted(values: np.ndarray, cells: tuple[int, ...], axes: tuple[int, ...]) -> np.ndarray:

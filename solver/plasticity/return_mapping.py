@@ -19,7 +19,7 @@ and the plastic strain increment and the returned stress are
 ``r`` decreases strictly on ``[0, q/(3G)]`` with ``r(0) = f > 0`` and ``r(q/(3G)) < 0``: the root is
 bracketed.  Newton's method is kept inside the bracket (a Newton step that leaves it is replaced
 by bisection), so it converges for any hardening law, including Swift's with its initial slope
-of ~8000 GPa (:meth:`solver.materials.Hardening.slope`).
+of ~8000 GPa (:meth:`solver.bodies.materials.Hardening.slope`).
 """
 
 from __future__ import annotations
@@ -28,9 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .materials import Hardening
-from .tensor import contract, deviator, norm
-from .threads import ROW_BLOCK, by_rows
+from ..bodies.materials import Hardening
+from ..numerics.tensor import contract, deviator, norm
+from ..numerics.threads import ROW_BLOCK, by_rows
 
 #: Relative tolerance of the consistency equation (on |r| / sigma_Y).
 RETURN_TOLERANCE = 1e-12
@@ -182,7 +182,7 @@ def return_mapping(
     Parameters
     ----------
     trial_stress : ndarray
-        ``(6, ...)`` trial stress (Pa), components :data:`solver.tensor.COMPONENTS`.
+        ``(6, ...)`` trial stress (Pa), components :data:`solver.numerics.tensor.COMPONENTS`.
     plastic_strain : ndarray
         Equivalent plastic strain before the increment (dimensionless), shape ``(...)``.
     hardening : Hardening
@@ -257,7 +257,7 @@ def return_mapping_by_blocks(
 ) -> ReturnMapping:
     """:func:`return_mapping` by blocks of rows shared by ``threads`` threads.
 
-    Blocks of :data:`~solver.threads.ROW_BLOCK` rows (the first cell axis).  Every cell
+    Blocks of :data:`~solver.numerics.threads.ROW_BLOCK` rows (the first cell axis).  Every cell
     returns on its own (the scalar Newton solve of a cell depends on that cell only), so the
     blocks give the bits of one call whatever the number of threads; one thread makes that
     one call.

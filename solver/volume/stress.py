@@ -1,6 +1,6 @@
 r"""Stresses inside an elastic half-space loaded by piecewise-constant surface tractions.
 
-Conventions (as :mod:`solver.influence`): ``z`` points down, into body 2, the half-space whose
+Conventions (as :mod:`solver.surface.influence`): ``z`` points down, into body 2, the half-space whose
 stresses are computed.  The tractions acting on its surface are ``(q_x, q_y, p)``: ``p > 0``
 pushes into the body (+z), ``q_x > 0`` acts in +x.  Stresses are positive in tension and are
 returned in the order :data:`STRESS_COMPONENTS` = (xx, yy, zz, yz, xz, xy).  At the surface the
@@ -64,12 +64,12 @@ import math
 import numpy as np
 import pyfftw
 
-from .fftw import plan
-from .grid import IndexBox, VolumeGrid  # noqa: F401  (IndexBox: re-exported)
-from .tensor import COMPONENTS, von_mises  # noqa: F401  (von_mises: re-exported)
-from .threads import copy_by_rows, each
+from ..numerics.fftw import plan
+from ..numerics.grid import IndexBox, VolumeGrid  # noqa: F401  (IndexBox: re-exported)
+from ..numerics.tensor import COMPONENTS, von_mises  # noqa: F401  (von_mises: re-exported)
+from ..numerics.threads import copy_by_rows, each
 
-#: Order of the six stress components in every array returned here (:mod:`solver.tensor`).
+#: Order of the six stress components in every array returned here (:mod:`solver.numerics.tensor`).
 STRESS_COMPONENTS = COMPONENTS
 #: Surface traction components, in the order of :meth:`SubsurfaceStressOperator.kernel_spectra`.
 TRACTIONS = ("pressure", "shear_x", "shear_y")
@@ -568,7 +568,7 @@ class SubsurfaceStressOperator:
         return max(1, min(self.grid.nz, 2**22 // (4 * g.nx * g.ny)))
 
     def make_plans(self) -> None:
-        """Make every FFT plan this operator uses (see :mod:`solver.fftw`), nothing else."""
+        """Make every FFT plan this operator uses (see :mod:`solver.numerics.fftw`), nothing else."""
         nz, chunk = self.grid.nz, self._kernel_chunk()
         for nlayers in {nz, chunk, nz % chunk or chunk}:
             self.batched_transforms(nlayers)

@@ -1,7 +1,7 @@
 """Normal contact under force control: conjugate gradient with an active set (Polonsky & Keer 1999).
 
 The CG is preconditioned by the inverse Boussinesq symbol |k|/(2A) applied on the contact set
-(:meth:`solver.convolution.SurfaceOperator.inverse_normal`), which makes the iteration count
+(:meth:`solver.surface.convolution.SurfaceOperator.inverse_normal`), which makes the iteration count
 nearly independent of the mesh (about 10 for a Hertz start at 64^2 ... 512^2).
 
 Find the pressure ``p >= 0`` (Pa) with ``sum(p) dA = W`` such that the gap

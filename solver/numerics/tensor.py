@@ -52,7 +52,7 @@ def deviator(a: np.ndarray) -> np.ndarray:
 def complete_deviator(a: np.ndarray, threads: int = 1) -> None:
     """Set ``a[2] = -(a[0] + a[1])`` in place: zz of a deviatoric tensor from xx and yy.
 
-    By row blocks of the axis after the components (:func:`~solver.threads.by_rows`), on
+    By row blocks of the axis after the components (:func:`~solver.numerics.threads.by_rows`), on
     ``threads`` threads; the same bits on any number.
     """
 

@@ -1,15 +1,15 @@
 """Shapes of the contacting bodies and the initial gap of a pair.
 
-A body's surface is a quadric (radii of curvature, :class:`~solver.materials.Body`) plus, at
+A body's surface is a quadric (radii of curvature, :class:`~solver.bodies.materials.Body`) plus, at
 most, one analytic axisymmetric profile (a :class:`Cone`, a :class:`FlatPunch` with rounded
 edges, or a :class:`PowerLaw`), plus heights given point by point (a height map, a random
-roughness: :mod:`solver.surfaces`).  Heights are measured away from the other body (a sphere's
+roughness: :mod:`solver.bodies.heights`).  Heights are measured away from the other body (a sphere's
 sag ``r^2/(2R)``), in metres, from the body's apex on the z axis; the initial gap of a pair is
 the sum of both bodies' heights (:class:`Geometry`).
 
 The closed-form reference a case is scaled by (its contact radius sets the domain in units of
 ``half_width``) is that of the smooth part: Hertz's for quadric pairs, Sneddon's
-(:mod:`solver.sneddon`) for axisymmetric pairs with a profile, none for a gap made of point
+(:mod:`solver.theory.sneddon`) for axisymmetric pairs with a profile, none for a gap made of point
 heights only (the domain is then given in metres): :meth:`Geometry.reference`.  With point
 heights it is a first estimate, not the answer.
 """
@@ -22,9 +22,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from . import sneddon
-from .keys import MAX_SURFACE_SLOPE
-from .reference import HertzContact, hertz
+from ..keys import MAX_SURFACE_SLOPE
+from ..theory import sneddon
+from ..theory.reference import HertzContact, hertz
 
 #: Largest surface slope (dz/dr) a profile may have inside the contact (:mod:`solver.keys`).
 MAX_PROFILE_SLOPE = MAX_SURFACE_SLOPE
@@ -189,8 +189,8 @@ class Geometry:
     profiles : tuple
         The profiles of both bodies (:data:`Profile`), on the common z axis.
     surfaces : tuple
-        Point heights of both bodies (:class:`~solver.surfaces.HeightMap`,
-        :class:`~solver.surfaces.Roughness`).
+        Point heights of both bodies (:class:`~solver.bodies.heights.HeightMap`,
+        :class:`~solver.bodies.heights.Roughness`).
     """
 
     curvature: tuple[float, float]

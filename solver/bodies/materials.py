@@ -19,7 +19,7 @@ from typing import Literal
 import numpy as np
 
 from .geometry import Geometry, Profile
-from .surfaces import HeightMap, Roughness
+from .heights import HeightMap, Roughness
 
 #: Swift's law counts plastic strain in micro-strain: sigma_Y = B (C + 1e6 e_p)^n, so C is the
 #: pre-strain in micro-strain (the paper's C = 20 is 2e-5) and B (Pa), C, n are kept as written.
@@ -132,11 +132,11 @@ class Body:
     hardening : Hardening or None
         Hardening law, required for ``elastic-plastic``.
     profile : Profile or None
-        An axisymmetric profile added to the quadric (:mod:`solver.geometry`).
+        An axisymmetric profile added to the quadric (:mod:`solver.bodies.geometry`).
     surface : HeightMap or None
-        A height map added to the shape (:mod:`solver.surfaces`).
+        A height map added to the shape (:mod:`solver.bodies.heights`).
     roughness : Roughness or None
-        A random roughness added to the shape (:mod:`solver.surfaces`).
+        A random roughness added to the shape (:mod:`solver.bodies.heights`).
     """
 
     behaviour: Behaviour

@@ -37,9 +37,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .stress import hamilton_stress
-from .tensor import contract, deviator, von_mises
-from .variables import PLASTIC_ZONE_THRESHOLD
+from ..numerics.tensor import contract, deviator, von_mises
+from ..variables import PLASTIC_ZONE_THRESHOLD
+from ..volume.stress import hamilton_stress
 
 #: The classes and their flags (CF ``flag_values`` / ``flag_meanings`` of ``shakedown``).
 SHAKEDOWN_FLAGS = {
@@ -151,7 +151,7 @@ def shakedown_variable(regime: Shakedown | np.ndarray, dims: tuple[str, ...] = (
     """
     flags = regime.flag if isinstance(regime, Shakedown) else np.asarray(regime, np.int8)
     attrs = {
-        "long_name": "shakedown regime of the cyclic path (solver.shakedown)",
+        "long_name": "shakedown regime of the cyclic path (solver.theory.shakedown)",
         "flag_values": np.array(list(SHAKEDOWN_FLAGS.values()), np.int8),
         "flag_meanings": " ".join(SHAKEDOWN_FLAGS),
     }
@@ -163,7 +163,7 @@ def shakedown_variable(regime: Shakedown | np.ndarray, dims: tuple[str, ...] = (
 def sliding_first_yield(friction_coefficient: float, nu: float) -> tuple[float, float, float]:
     """First yield (von Mises) under a sliding Hertz point contact, from Hamilton's field.
 
-    The largest von Mises stress of :func:`solver.stress.hamilton_stress` (pressure p_0 and
+    The largest von Mises stress of :func:`solver.volume.stress.hamilton_stress` (pressure p_0 and
     shear ``mu p`` along +x) over the plane y = 0, found on a grid of a/200 (x from -1.5 a to
     1.5 a, depth from 1e-4 a to 1.2 a) and refined on a grid of a/20000 around the best point.
 
@@ -179,7 +179,7 @@ def sliding_first_yield(friction_coefficient: float, nu: float) -> tuple[float, 
     (float, float, float)
         ``p_0 / k`` at first yield (k = sigma_Y / sqrt 3, the shear yield stress) and the point
         ``(x / a, z / a)`` where it starts: below the surface for small mu (2.79 k at 0.48 a
-        for mu = 0, nu = 0.3, as :func:`solver.reference.first_yield_pressure`), on the surface
+        for mu = 0, nu = 0.3, as :func:`solver.theory.reference.first_yield_pressure`), on the surface
         at the trailing edge once mu is past about 0.3.
     """
     x = np.linspace(-1.5, 1.5, 601)
@@ -209,7 +209,7 @@ def melan_factor(
     Parameters
     ----------
     residual : ndarray
-        ``(6, ...)`` residual stress (Pa), :mod:`solver.tensor` order.
+        ``(6, ...)`` residual stress (Pa), :mod:`solver.numerics.tensor` order.
     elastic : iterable of ndarray
         The elastic stress fields ``(6, ...)`` (Pa) of the load at each of its positions.
     yield_stress : ndarray or float
