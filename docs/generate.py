@@ -202,7 +202,7 @@ def cli_page() -> str:
 #: The public Python API, by module: (module, [names]) documented with autodoc.
 API = (
     ("solver", ["Case", "solve", "Result", "SpecError", "memory_estimate"]),
-    ("solver.theory.reference", None),
+    ("solver.theory.hertz", None),
     ("solver.bodies.geometry", None),
     ("solver.theory.sneddon", None),
     ("solver.bodies.dundurs", None),

@@ -19,7 +19,7 @@ import numpy as np
 from _common import output_folder
 
 import solver
-from solver.theory.reference import cattaneo_stick_ratio
+from solver.theory.friction import cattaneo_stick_ratio
 
 MU, W, FRACTION = 0.3, 1000.0, 0.5
 STEEL = {"behaviour": "elastic", "radius": 0.015, "E": 210e9, "nu": 0.3}

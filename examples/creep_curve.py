@@ -23,7 +23,7 @@ import numpy as np
 from _common import output_folder
 
 import solver
-from solver.theory.reference import KALKER_CIRCLE_COEFFICIENTS
+from solver.theory.friction import KALKER_CIRCLE_COEFFICIENTS
 
 E, NU, MU, W = 210e9, 0.25, 0.3, 1000.0
 G = E / (2 * (1 + NU))

@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt
 from _common import output_folder, series_style
 
 import solver
-from solver.theory.reference import mindlin_deresiewicz_energy
+from solver.theory.friction import mindlin_deresiewicz_energy
 
 MU, W, FRACTION, E, NU = 0.3, 1000.0, 0.5, 210e9, 0.3
 STEEL = {"behaviour": "elastic", "radius": 0.015, "E": E, "nu": NU}

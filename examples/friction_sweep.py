@@ -22,7 +22,7 @@ import xarray as xr
 from _common import output_folder
 
 from solver.result import STATUS_FLAGS
-from solver.theory.reference import cattaneo_stick_ratio
+from solver.theory.friction import cattaneo_stick_ratio
 
 CAMPAIGN = """
 [campaign]

@@ -106,7 +106,7 @@ HARDENING_KEYS = {
 #: Kinematic hardening laws (``hardening.kinematic.law``) and their keys.
 KINEMATIC_KEYS = {"prager": {"C"}, "armstrong-frederick": {"C", "gamma"}}
 
-#: Defaults of ``[solver]`` (:class:`solver.spec.case.SolverOptions` takes them from here).
+#: Defaults of ``[solver]`` (:class:`solver.spec.options.SolverOptions` takes them from here).
 SOLVER_DEFAULTS = {
     "normal_tolerance": 1e-8,
     "normal_max_iterations": 2000,

@@ -130,7 +130,7 @@ CYCLE_PLASTIC_HISTORIES = (
     "cycle_residual_stress",
 )
 
-#: Per-cycle quantities of a cyclic load path (:func:`solver.cycles.cycle_summary`), dim
+#: Per-cycle quantities of a cyclic load path (:func:`solver.result.cycle_summary`), dim
 #: ``cycle``: name -> (units, long_name).
 CYCLE_QUANTITIES: dict[str, tuple[str, str]] = {
     "loop_energy": (

@@ -386,10 +386,10 @@ LONG_PATH = 10_000
 def path_warnings(campaign: Campaign, limit: int = LONG_PATH) -> list[str]:
     """A warning (one line) when cases' load paths are longer than ``limit`` increments.
 
-    The accepted maximum is :data:`solver.spec.case.MAX_INCREMENTS`; a long path is valid but costs
+    The accepted maximum is :data:`solver.keys.MAX_INCREMENTS`; a long path is valid but costs
     a solve per increment, so the line says how many cases, the longest and what to change.
     """
-    from solver.spec.case import path_steps
+    from solver.spec.path import path_steps
 
     steps = [path_steps(c.spec["load"]["path"]) for c in campaign.cases]
     long = [s for s in steps if s > limit]

@@ -226,7 +226,7 @@ def test_swift_yield_stress_overflow_names_the_hardening(hertz_table):
 
 
 def test_half_width_advice_respects_the_largest_grid(hertz_table):
-    from solver.spec.case import MAX_CELLS, MIN_CELLS_ACROSS
+    from solver.keys import MAX_CELLS, MIN_CELLS_ACROSS
 
     with pytest.raises(SpecError) as info:
         solver.Case.from_dict(mutate(hertz_table, "grid.half_width", 1e6))

@@ -5,8 +5,9 @@ import pytest
 
 import solver
 from solver.numerics.tensor import von_mises
-from solver.spec.case import SpecError, path_steps
-from solver.theory import reference
+from solver.spec.path import path_steps
+from solver.spec.reading import SpecError
+from solver.theory import hertz as reference
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
 SWIFTLESS = {

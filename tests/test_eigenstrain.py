@@ -11,6 +11,7 @@ import pytest
 from solver.numerics.grid import SurfaceGrid, VolumeGrid
 from solver.numerics.tensor import deviator
 from solver.surface.influence import cell_integral
+from solver.theory.half_space import rectangle_stress
 from solver.volume.cuboid import (
     FIRST,
     FOURTH,
@@ -21,7 +22,6 @@ from solver.volume.cuboid import (
     potentials,
 )
 from solver.volume.eigenstrain import EigenstrainOperator
-from solver.volume.stress import rectangle_stress
 
 E, NU = 210e9, 0.3
 G = E / (2 * (1 + NU))

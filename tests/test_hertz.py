@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import solver
-from solver.theory.reference import hertz
+from solver.theory.hertz import hertz
 
 
 def contact_radius(result):
@@ -42,7 +42,7 @@ def test_rigid_sphere_on_steel_converges_to_hertz(hertz_table, validation):
     assert e128["radius"] < e64["radius"]
     validation(
         "Hertz, rigid sphere on steel, p_H = 6 GPa, 64^2 / 128^2",
-        "Hertz: p_H, a_H, approach (`solver.theory.reference.hertz`)",
+        "Hertz: p_H, a_H, approach (`solver.theory.hertz.hertz`)",
         f"p_max error {e64['pmax']:.1e} / {e128['pmax']:.1e}, contact radius "
         f"{e64['radius'] / coarse.grid.dx:.2f} / {e128['radius'] / fine.grid.dx:.2f} cells, "
         f"approach {e64['approach']:.1e} / {e128['approach']:.1e}",

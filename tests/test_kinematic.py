@@ -7,11 +7,11 @@ strain" and the stress stays ``sigma d``; the return mapping is the solver's.
 
 import numpy as np
 import pytest
-from solver.plasticity.return_mapping import return_mapping
 
 import solver
-from solver.bodies.materials import Hardening
-from solver.spec.case import SpecError
+from solver.plasticity.hardening import Hardening
+from solver.plasticity.return_mapping import return_mapping
+from solver.spec.reading import SpecError
 
 G = 80e9
 SIGMA_Y = 1.0e9

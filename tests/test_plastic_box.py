@@ -104,7 +104,7 @@ def test_the_yield_region_half_width_matches_the_numerical_stress_field(ratio, t
     """
     from solver.numerics.grid import SurfaceGrid, VolumeGrid
     from solver.numerics.tensor import von_mises
-    from solver.theory.reference import hertz_yield_half_width
+    from solver.theory.hertz import hertz_yield_half_width
     from solver.volume.stress import SubsurfaceStressOperator
 
     expected = hertz_yield_half_width(1.0, 1.0 / ratio, 0.3, traction, depth=1.5)

@@ -8,7 +8,7 @@ import pytest
 
 import solver
 from solver.drive.loops import axis_value
-from solver.theory.reference import first_yield_pressure
+from solver.theory.hertz import first_yield_pressure
 
 SWIFT = {"law": "swift", "B": 945e6, "C": 20, "n": 0.121}
 STEEL = {"E": 210e9, "nu": 0.3}
@@ -261,7 +261,7 @@ def test_hard_cases_finish_with_status(n, pressure, steps):
 @pytest.mark.validation
 def test_swift_sphere_8gpa_matches_the_finite_element_reference(validation):
     """32^3 and 48^3: within 3 % of the FE values (zone depth 5 %), settling with the mesh."""
-    from solver.theory.reference import FE_SWIFT_8GPA as fe
+    from solver.theory.hertz import FE_SWIFT_8GPA as fe
 
     rows = []
     for n in (32, 48):
@@ -290,7 +290,7 @@ def test_swift_sphere_8gpa_matches_the_finite_element_reference(validation):
         assert abs(rows[1][key] - fe[key]) < abs(rows[0][key] - fe[key]), key
     validation(
         "rigid sphere on Swift steel, p_H = 8 GPa, 8 steps + unloading, 32^3 / 48^3",
-        "independent axisymmetric FE (`solver.theory.reference.FE_SWIFT_8GPA`): "
+        "independent axisymmetric FE (`solver.theory.hertz.FE_SWIFT_8GPA`): "
         + ", ".join(f"{key} {value:.4g}" for key, value in fe.items()),
         "; ".join(f"{key} " + " / ".join(f"{row[key]:.4g}" for row in rows) for key in fe),
     )

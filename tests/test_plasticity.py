@@ -3,9 +3,7 @@
 import numpy as np
 import pytest
 from scipy.optimize import brentq
-from solver.plasticity.return_mapping import RETURN_MAX_ITERATIONS, return_mapping
 
-from solver.bodies.materials import SWIFT_STRAIN_UNIT, Hardening
 from solver.numerics.tensor import (
     deviator,
     equivalent_strain,
@@ -14,6 +12,8 @@ from solver.numerics.tensor import (
     to_matrix,
     von_mises,
 )
+from solver.plasticity.hardening import SWIFT_STRAIN_UNIT, Hardening
+from solver.plasticity.return_mapping import RETURN_MAX_ITERATIONS, return_mapping
 
 E, NU = 210e9, 0.3
 G = E / (2 * (1 + NU))

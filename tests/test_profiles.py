@@ -15,7 +15,7 @@ from scipy import integrate, optimize
 import solver
 from solver import Case, SpecError
 from solver.bodies.geometry import FlatPunch, Geometry, PowerLaw
-from solver.theory.reference import hertz
+from solver.theory.hertz import hertz
 
 E_STEEL, NU_STEEL = 210e9, 0.3
 ELASTIC = {"behaviour": "elastic", "E": E_STEEL, "nu": NU_STEEL}

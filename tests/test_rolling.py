@@ -19,7 +19,7 @@ import pytest
 
 import solver
 from solver import Case, SpecError
-from solver.theory.reference import KALKER_CIRCLE_COEFFICIENTS, kalker_linear_force
+from solver.theory.friction import KALKER_CIRCLE_COEFFICIENTS, kalker_linear_force
 
 E, NU, MU, FORCE = 210e9, 0.25, 0.3, 1000.0
 #: Body 1 carries the pair's curvature (R = 25 mm: two 50 mm spheres), body 2 is flat (a

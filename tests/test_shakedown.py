@@ -17,7 +17,7 @@ import pytest
 import solver
 from solver import Case
 from solver.drive.loops import axis_value
-from solver.theory.reference import first_yield_pressure
+from solver.theory.hertz import first_yield_pressure
 from solver.theory.shakedown import (
     CLOSED_CYCLE_FRACTION,
     SHAKEDOWN_FLAGS,
@@ -218,7 +218,7 @@ def test_an_increment_that_fails_at_every_halving_keeps_the_whole_increments_sta
 # -- the surface shear a perfectly plastic body can carry ----------------------------------------
 def test_the_shear_limit_is_k_for_bounded_flow_and_inf_for_hardening():
     """sqrt(3) |tau| <= sigma_eq: k = sigma_Y / sqrt 3, raised by a saturated back stress."""
-    from solver.bodies.materials import Hardening
+    from solver.plasticity.hardening import Hardening
 
     perfect = Hardening("perfect", yield_stress=YIELD)
     assert perfect.shear_limit == pytest.approx(SHEAR_YIELD, rel=1e-15)

@@ -14,7 +14,7 @@ import pytest
 
 import solver
 from solver import Case, SpecError
-from solver.volume.stress import hamilton_stress
+from solver.theory.half_space import hamilton_stress
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
 SPHERE = {"behaviour": "rigid", "radius": 0.01}

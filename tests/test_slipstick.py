@@ -11,7 +11,7 @@ import solver
 from solver.drive.loops import load_substeps
 from solver.drive.operators import CaseOperators
 from solver.drive.steps import ContactState, slip_stick_step
-from solver.theory import reference
+from solver.theory import hertz as reference
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
 #: Spence (1975), rigid sphere on a nu = 0 half-space (beta = -0.5), mu = 0.2986 (c/a = 0.5):

@@ -6,16 +6,15 @@ import math
 import numpy as np
 import pytest
 
-from solver.numerics.grid import SurfaceGrid, VolumeGrid
-from solver.volume.stress import (
+from solver.numerics.grid import IndexBox, SurfaceGrid, VolumeGrid
+from solver.numerics.tensor import von_mises
+from solver.theory.half_space import (
     TRACTIONS,
-    IndexBox,
-    SubsurfaceStressOperator,
     hamilton_stress,
     point_force_stress,
     rectangle_stress,
-    von_mises,
 )
+from solver.volume.stress import SubsurfaceStressOperator
 
 # ---------------------------------------------------------------------------------------------
 # closed forms

@@ -5,7 +5,7 @@ import pytest
 from study_fixtures import write
 
 import solver
-from solver.theory.reference import hertz_yield_depth
+from solver.theory.hertz import hertz_yield_depth
 from study.analysis import speed_error_table
 from study.campaign import load_campaign
 from study.run.assemble import Z_OVER_A, assemble

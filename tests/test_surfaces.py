@@ -367,7 +367,8 @@ def test_two_bumps_make_two_spots_and_two_stick_zones():
     tangential load each has its own Cattaneo-Mindlin stick zone."""
     force, mu, ratio = 100.0, 0.4, 0.5
     half = force / 2
-    from solver.theory.reference import cattaneo_stick_ratio, hertz
+    from solver.theory.friction import cattaneo_stick_ratio
+    from solver.theory.hertz import hertz
 
     e_star = 210e9 / (2 * (1 - 0.3**2))
     single = hertz(half, e_star, (1 / RADIUS, 1 / RADIUS))

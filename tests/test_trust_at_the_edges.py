@@ -18,17 +18,16 @@ import pytest
 from study_fixtures import write
 
 import solver
-from solver.spec.case import (
+from solver.keys import MAX_INCREMENTS
+from solver.spec.grid import MAX_CELL_DEPTH, MIN_YIELD_CELLS
+from solver.spec.notes import (
     FULLY_PLASTIC_INDEX,
-    MAX_CELL_DEPTH,
-    MAX_INCREMENTS,
-    MIN_YIELD_CELLS,
     SMALL_STRAIN_LIMIT,
     UNCONTAINED_PLASTIC_INDEX,
-    SpecError,
     plastic_index,
 )
-from solver.theory.reference import first_yield_pressure, hertz_yield_region
+from solver.spec.reading import SpecError
+from solver.theory.hertz import first_yield_pressure, hertz_yield_region
 from study.campaign import load_campaign
 from study.cli import LONG_PATH, main, path_warnings
 
@@ -97,8 +96,8 @@ def test_the_refused_cells_do_give_an_elastic_answer(monkeypatch):
     coarse = swift_case(p_h, nz=4, depth=2.0)  # cells 0.5 a_H thick
     with pytest.raises(SpecError, match=r"grid\.depth: cells 0\.5 a_H thick .* use nz >= 8"):
         solver.Case.from_dict(coarse)
-    monkeypatch.setattr("solver.spec.case.MAX_CELL_DEPTH", 10.0)
-    monkeypatch.setattr("solver.spec.case.MIN_YIELD_CELLS", 0)
+    monkeypatch.setattr("solver.spec.grid.MAX_CELL_DEPTH", 10.0)
+    monkeypatch.setattr("solver.spec.grid.MIN_YIELD_CELLS", 0)
     silent = solver.solve(solver.Case.from_dict(coarse))
     assert silent.converged and silent.history["max_plastic_strain"][-1] == 0.0
     monkeypatch.undo()

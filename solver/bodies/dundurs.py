@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from ..spec.case import MODULUS_RANGE
+from ..keys import MODULUS_RANGE
 from .materials import Body
 
 
@@ -38,7 +38,7 @@ def beta_range(body1: Body, body2: Body) -> tuple[float, float]:
     (float, float)
         ``low`` is reached with ``nu1 = 0.5``; ``high`` with the most negative nu1 whose
         ``E1 = (1 - nu1^2)/c1`` is still the smallest modulus a case accepts
-        (:data:`solver.spec.case.MODULUS_RANGE`, 1e3 Pa): ``nu1 -> -1`` would need ``E1 -> 0``.
+        (:data:`solver.keys.MODULUS_RANGE`, 1e3 Pa): ``nu1 -> -1`` would need ``E1 -> 0``.
         ``high`` lies just below the limit ``(3/4 c1 - d2)/A`` (by ~1e-9 relative for steel).
         Both ends are reachable.
     """

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..keys import MAX_SURFACE_SLOPE
 from ..theory import sneddon
-from ..theory.reference import HertzContact, hertz
+from ..theory.hertz import HertzContact, hertz
 
 #: Largest surface slope (dz/dr) a profile may have inside the contact (:mod:`solver.keys`).
 MAX_PROFILE_SLOPE = MAX_SURFACE_SLOPE

@@ -33,7 +33,9 @@ from ..keys import MIN_CELLS_ACROSS
 from ..numerics.grid import IndexBox, VolumeGrid
 from ..numerics.tensor import Y_REFLECTION, equivalent_strain, von_mises
 from ..result import SEPARATED, SLIP, STICK, Result
-from ..spec.case import SMALL_STRAIN_LIMIT, Case
+from ..spec.case import Case
+from ..spec.notes import SMALL_STRAIN_LIMIT
+from ..theory.half_space import hamilton_stress
 from ..theory.shakedown import melan_factor
 from ..variables import (
     BODY1_SUFFIX,
@@ -44,7 +46,6 @@ from ..variables import (
     PLASTIC_BODY_HISTORIES,
     PLASTIC_ZONE_THRESHOLD,
 )
-from ..volume.stress import hamilton_stress
 from .operators import CaseOperators
 from .plastic_loop import PlasticState, PlasticStepResult, mirror, plastic_step
 from .steps import ContactState, StepResult, normal_step, position_of, sliding_step, slip_stick_step
@@ -723,7 +724,7 @@ def _record_plastic(
 def _shear_excess(case: Case, state) -> float:
     """The largest surface shear traction over the plastic bodies' shear limit (0: none).
 
-    :attr:`solver.bodies.materials.Hardening.shear_limit`: above 1 no stress field in equilibrium
+    :attr:`solver.plasticity.hardening.Hardening.shear_limit`: above 1 no stress field in equilibrium
     with the tractions stays within yield.
     """
     limit = min((case.body2 if b == 2 else case.body1).hardening.shear_limit

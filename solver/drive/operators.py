@@ -18,7 +18,8 @@ import numpy as np
 from ..bodies.materials import Pair
 from ..numerics.fftw import PLANNER_FLAGS
 from ..numerics.grid import SurfaceGrid, VolumeGrid
-from ..spec.case import Case, SolverOptions
+from ..spec.case import Case
+from ..spec.options import SolverOptions
 from ..surface.convolution import SurfaceOperator, surface_operator
 from ..volume.eigenstrain import VOLUME_PRECISIONS, EigenstrainOperator
 from ..volume.stress import SubsurfaceStressOperator

@@ -19,7 +19,7 @@ and the plastic strain increment and the returned stress are
 ``r`` decreases strictly on ``[0, q/(3G)]`` with ``r(0) = f > 0`` and ``r(q/(3G)) < 0``: the root is
 bracketed.  Newton's method is kept inside the bracket (a Newton step that leaves it is replaced
 by bisection), so it converges for any hardening law, including Swift's with its initial slope
-of ~8000 GPa (:meth:`solver.bodies.materials.Hardening.slope`).
+of ~8000 GPa (:meth:`solver.plasticity.hardening.Hardening.slope`).
 """
 
 from __future__ import annotations
@@ -28,9 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..bodies.materials import Hardening
 from ..numerics.tensor import contract, deviator, norm
 from ..numerics.threads import ROW_BLOCK, by_rows
+from .hardening import Hardening
 
 #: Relative tolerance of the consistency equation (on |r| / sigma_Y).
 RETURN_TOLERANCE = 1e-12

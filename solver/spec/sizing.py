@@ -1,7 +1,7 @@
 """The elastic yield region of any smooth shape, computed: it sizes the plastic box.
 
 For quadric bodies the volume depth and the plastic box come from Hertz's closed-form stress
-(:func:`solver.theory.reference.hertz_yield_region`).  For a profile (a cone, a flat punch, a power
+(:func:`solver.theory.hertz.hertz_yield_region`).  For a profile (a cone, a flat punch, a power
 law) there is no such closed form, so the region is computed the way the solver would see it
 elastically: the frictionless normal contact at the largest load on a trial surface grid
 (Polonsky-Keer, :func:`solver.surface.normal.solve_normal`), a sliding shear traction of the path's
@@ -12,7 +12,7 @@ region ends above its floor.  Memoised per input.
 Also the window and the box of an elastic-plastic case from that region: its depth
 (:func:`auto_depth`), the box's half side (:func:`auto_plastic_half_width`), the widest window
 the cells resolve (:func:`resolved_half_width`) and the note of a window narrower than the box
-(:func:`narrow_window_note`); ``grid`` arguments are the case's :class:`solver.spec.case.GridSpec`.
+(:func:`narrow_window_note`); ``grid`` arguments are the case's :class:`solver.spec.grid.GridSpec`.
 """
 
 from __future__ import annotations
@@ -27,17 +27,17 @@ import numpy as np
 from ..bodies.materials import Pair
 from ..keys import (
     DEFAULT_DEPTH,
-    MAX_AUTO_HALF_WIDTH,
     MIN_CELLS_ACROSS,
     MIN_PLASTIC_HALF_WIDTH,
     PLASTIC_WIDTH_MARGIN,
     YIELD_DEPTH_MARGIN,
 )
 from ..numerics.grid import SurfaceGrid, VolumeGrid
+from ..numerics.tensor import von_mises
 from ..surface.convolution import surface_operator
 from ..surface.normal import solve_normal
-from ..theory.reference import HertzContact, hertz_yield_depth, hertz_yield_half_width
-from ..volume.stress import SubsurfaceStressOperator, von_mises
+from ..theory.hertz import HertzContact, hertz_yield_depth, hertz_yield_half_width
+from ..volume.stress import SubsurfaceStressOperator
 
 #: Trial volume: cells in depth, first depth (units of the contact radius) and deepest.
 TRIAL_LAYERS = 48
@@ -141,7 +141,7 @@ def auto_depth(max_pressure: float, yield_stress: float, nu: float) -> float:
     """Volume depth (units of a_H) for an elastic-plastic body: yield depth x margin.
 
     The frictionless Hertz von Mises stress at the maximum load exceeds ``yield_stress`` on the
-    axis down to :func:`~solver.theory.reference.hertz_yield_depth`; the box is
+    axis down to :func:`~solver.theory.hertz.hertz_yield_depth`; the box is
     :data:`YIELD_DEPTH_MARGIN` times deeper, and never shallower than :data:`DEFAULT_DEPTH`.
     """
     depth = hertz_yield_depth(max_pressure, yield_stress, nu)
@@ -159,7 +159,7 @@ def auto_plastic_half_width(
     """Half side (units of a_H) of the plastic box for an elastic-plastic body, at most the window.
 
     :data:`PLASTIC_WIDTH_MARGIN` times the largest lateral distance at which the elastic stress
-    of the maximum load yields (:func:`~solver.theory.reference.hertz_yield_half_width`, down to the
+    of the maximum load yields (:func:`~solver.theory.hertz.hertz_yield_half_width`, down to the
     box's ``depth``, with a sliding shear of ``traction_ratio`` = the largest |Q|/W of the
     path), never below :data:`MIN_PLASTIC_HALF_WIDTH`, rounded up to 1e-3.  Plastic flow
     spreads the zone beyond the elastic prediction by up to 14 % in the scenes measured
@@ -186,33 +186,3 @@ def resolved_half_width(grid: Any, contact: HertzContact | None) -> float:
         ratio = min(axes) / max(axes)
     widest = max(grid.nx, grid.ny) * ratio / MIN_CELLS_ACROSS
     return math.floor(widest * 1000.0 * (1.0 - 1e-9)) / 1000.0
-
-
-def narrow_window_note(grid: Any, zone: float, sized: bool) -> str:
-    """The note of a surface window narrower than the plastic box the yield region asks for.
-
-    ``zone`` (units of a_H): :data:`PLASTIC_WIDTH_MARGIN` x the elastic yield region's half
-    width at the largest load, at most :data:`MAX_AUTO_HALF_WIDTH`; ``sized``: the window was
-    sized from it (no ``grid.half_width`` given).  The same words whether the window was given
-    or held back by the cells (a case rebuilt from its spec gives it), with the cells that keep
-    today's cell size over the wider window.
-    """
-    need = f"{PLASTIC_WIDTH_MARGIN:g} x the elastic yield region's half width at the largest load"
-    if sized and zone >= MAX_AUTO_HALF_WIDTH:
-        return (
-            f"grid.half_width: the plastic zone predicted ({need}) reaches the widest window "
-            f"sized for it ({MAX_AUTO_HALF_WIDTH:g} a_H): the case may end truncated; give "
-            "half_width larger (and n in proportion)"
-        )
-    if grid.size is not None:
-        return (
-            f"grid.size: the domain is narrower than the plastic box the yield region asks for "
-            f"({zone:.4g} a_H: {need}), so the case may end truncated; enlarge grid.size"
-        )
-    cells = math.ceil(max(grid.nx, grid.ny) * zone / grid.half_width - 1e-9)
-    return (
-        f"grid.half_width: the window ({grid.half_width:g} a_H) is narrower than the plastic box "
-        f"the yield region asks for ({zone:.4g} a_H: {need}), so the case may end truncated; "
-        f"give n >= {cells} and leave half_width out (the window then holds the zone), or "
-        f"half_width >= {zone:.4g} with n >= {cells}"
-    )

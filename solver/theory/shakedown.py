@@ -1,7 +1,7 @@
 """Shakedown classification of a cyclic elastic-plastic load path, from its per-cycle gains.
 
 A load path with a cycle block repeats a load (a fretting cycle, a pass of a moving contact,
-see :mod:`solver.cycles`).  Melan's and Koiter's theorems sort the long-run response of an
+see :mod:`solver.result`).  Melan's and Koiter's theorems sort the long-run response of an
 elastic-plastic body under repeated loads into four regimes (Johnson 1985, §9.5; Williams 2005):
 
 ``elastic``
@@ -39,7 +39,7 @@ import numpy as np
 
 from ..numerics.tensor import contract, deviator, von_mises
 from ..variables import PLASTIC_ZONE_THRESHOLD
-from ..volume.stress import hamilton_stress
+from .half_space import hamilton_stress
 
 #: The classes and their flags (CF ``flag_values`` / ``flag_meanings`` of ``shakedown``).
 SHAKEDOWN_FLAGS = {
@@ -163,7 +163,7 @@ def shakedown_variable(regime: Shakedown | np.ndarray, dims: tuple[str, ...] = (
 def sliding_first_yield(friction_coefficient: float, nu: float) -> tuple[float, float, float]:
     """First yield (von Mises) under a sliding Hertz point contact, from Hamilton's field.
 
-    The largest von Mises stress of :func:`solver.volume.stress.hamilton_stress` (pressure p_0 and
+    The largest von Mises stress of :func:`solver.theory.half_space.hamilton_stress` (pressure p_0 and
     shear ``mu p`` along +x) over the plane y = 0, found on a grid of a/200 (x from -1.5 a to
     1.5 a, depth from 1e-4 a to 1.2 a) and refined on a grid of a/20000 around the best point.
 
@@ -179,7 +179,7 @@ def sliding_first_yield(friction_coefficient: float, nu: float) -> tuple[float, 
     (float, float, float)
         ``p_0 / k`` at first yield (k = sigma_Y / sqrt 3, the shear yield stress) and the point
         ``(x / a, z / a)`` where it starts: below the surface for small mu (2.79 k at 0.48 a
-        for mu = 0, nu = 0.3, as :func:`solver.theory.reference.first_yield_pressure`), on the surface
+        for mu = 0, nu = 0.3, as :func:`solver.theory.hertz.first_yield_pressure`), on the surface
         at the trailing edge once mu is past about 0.3.
     """
     x = np.linspace(-1.5, 1.5, 601)

@@ -67,7 +67,7 @@ import numpy as np
 import pyfftw
 
 from ..numerics.fftw import fft_size, plan
-from ..numerics.grid import VolumeGrid
+from ..numerics.grid import IndexBox, VolumeGrid
 from ..numerics.tensor import WEIGHTS, complete_deviator, deviator
 from ..numerics.threads import by_rows, each
 from ..surface.influence import cell_integral
@@ -78,13 +78,7 @@ from .cuboid import (
     displacement_coefficients,
     stress_coefficients,
 )
-from .stress import (
-    STRESS_COMPONENTS,
-    IndexBox,
-    SubsurfaceStressOperator,
-    kernel_parity,
-    wrap_layout,
-)
+from .stress import STRESS_COMPONENTS, SubsurfaceStressOperator, kernel_parity, wrap_layout
 
 #: Tensor weights of the six components in ``sigma : e`` (off-diagonal terms count twice).
 COMPONENT_WEIGHTS = WEIGHTS

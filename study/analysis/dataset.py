@@ -236,7 +236,7 @@ def closed_forms(dataset) -> dict:
         "approach": dataset["hertz_approach"].where(hertz_ok),
     }
     if "stick_radius" in dataset:
-        from solver.theory.reference import cattaneo_stick_ratio
+        from solver.theory.friction import cattaneo_stick_ratio
 
         q = abs(dataset["tangential_force_x"]).fillna(0.0) if "tangential_force_x" in dataset else 0
         w = dataset["normal_force"]

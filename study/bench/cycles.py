@@ -5,7 +5,7 @@ Two scenes, each row in a fresh process (:mod:`study.bench`):
 - **Elastic fretting**: two identical steel spheres (beta = 0), R = 15 mm, W = 1000 N,
   mu = 0.3, Q ramped to Q* = 0.5 mu W, then cycles between -Q* and +Q* (a cycle block); the
   loop area of the last cycle against Johnson's eq. 7.64
-  (:func:`solver.theory.reference.mindlin_deresiewicz_energy`), the friction work summed over the
+  (:func:`solver.theory.friction.mindlin_deresiewicz_energy`), the friction work summed over the
   surface against the loop area, the smallest stick radius against Cattaneo's
   ``(1 - Q*/(mu W))^(1/3)``; over the mesh and the steps per half cycle.
 - **Elastic-plastic fretting**: the same pair with body 2 of the paper's Swift steel at
@@ -87,7 +87,7 @@ def _full_slip_shift(radius: float, force: float, mu: float) -> float:
 
 def run_cycles(sizes: list[int], steps_list=(10, 20, 40), cycles: int = 3) -> int:
     """Elastic fretting cycles over meshes and steps; prints the table, returns a status."""
-    from solver.theory.reference import cattaneo_stick_ratio, mindlin_deresiewicz_energy
+    from solver.theory.friction import cattaneo_stick_ratio, mindlin_deresiewicz_energy
 
     rows, failures = [], 0
     amplitude = FRACTION * MU * ELASTIC_FORCE

@@ -17,7 +17,7 @@ is about full slip), rolling along +x, no spin.
   rolling step one element), one input file per creepage, run in the same process tree.
 
 The linear rows (``xi_n = 1e-3``, along x and along y) give C11 and C22 beside Kalker's table
-(:data:`solver.theory.reference.KALKER_CIRCLE_COEFFICIENTS`).  Columns: code, cells across, steps a
+(:data:`solver.theory.friction.KALKER_CIRCLE_COEFFICIENTS`).  Columns: code, cells across, steps a
 radius, creepage, creep force over mu W (the linear rows: the coefficient), its difference from
 CONTACT on 120 elements across (the reference) and from Kalker's table, CPU and wall time, peak
 memory (ours: growth of the resident set; CONTACT's: its peak resident set),
@@ -36,7 +36,7 @@ import subprocess
 import tempfile
 import time
 
-from solver.theory.reference import KALKER_CIRCLE_COEFFICIENTS
+from solver.theory.friction import KALKER_CIRCLE_COEFFICIENTS
 
 from .timing import format_table, isolated, machine, timed_solve
 

@@ -11,7 +11,7 @@ Three scenes (issue "four loops", item 4), each row in a fresh process (:mod:`st
   in 10 steps; the ratio of their costs is the price of small increments.
 - **Fretting path**: the same pair, one normal step, then Q to +Q*, -Q*, +Q* in 20 steps each;
   the loop area of the last cycle against Mindlin-Deresiewicz
-  (:func:`solver.theory.reference.mindlin_deresiewicz_energy`).
+  (:func:`solver.theory.friction.mindlin_deresiewicz_energy`).
 
 ``python -m study bench slipstick [--sizes N ...]`` (sizes: the Cattaneo and fretting grids).
 Spence runs with both FFT planners (``solver.fft_planner``; the plans' timing is in the time).
@@ -81,7 +81,7 @@ def _solve(table: dict) -> dict:
 
 
 def _full_slip_shift(hertz_radius: float) -> float:
-    """C of :func:`solver.theory.reference.cattaneo_shift` for the two identical steel spheres (m)."""
+    """C of :func:`solver.theory.friction.cattaneo_shift` for the two identical steel spheres (m)."""
     shear_modulus = STEEL["E"] / (2 * (1 + STEEL["nu"]))
     return 2 * 3 * PAIR_MU * FORCE * (2 - STEEL["nu"]) / (16 * shear_modulus * hertz_radius)
 
@@ -104,7 +104,7 @@ def _row(scene: str, n: int, steps: int, out: dict, errors: dict) -> dict:
 
 def run_slipstick(sizes: list[int]) -> int:
     """Run the three scenes and print their table; returns an exit status."""
-    from solver.theory.reference import (
+    from solver.theory.friction import (
         cattaneo_shift,
         cattaneo_stick_ratio,
         mindlin_deresiewicz_energy,

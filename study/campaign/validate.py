@@ -10,7 +10,7 @@ from typing import Any
 
 from solver.bodies.dundurs import body1_for_beta
 from solver.bodies.materials import Body
-from solver.spec.case import MODULUS_RANGE
+from solver.keys import MODULUS_RANGE
 
 from .model import BETA_KEY, CASE_TABLES, Axis, CampaignError
 from .naming import _is_inf, _kind

@@ -92,7 +92,7 @@ def plot_loops(dataset, path: str | Path) -> Path | None:
     needed = ("tangential_force_x_history", "tangential_shift_x_history", "step_cycle_history")
     if plt is None or not all(name in dataset for name in needed):
         return None
-    if "position_x_history" in dataset:  # a moving path: no Q - Delta loop (solver.cycles)
+    if "position_x_history" in dataset:  # a moving path: no Q - Delta loop (solver.result)
         return None
     cases = _cases(dataset)[: figures.MAX_PANELS]
     if not cases:

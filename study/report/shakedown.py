@@ -13,7 +13,7 @@ cycle.  This section writes
   with first yield under a sliding point contact (Hamilton's field,
   :func:`solver.theory.shakedown.sliding_first_yield`), the line mu p_0 = k (above it the sliding
   shear at Hertz's peak exceeds what a perfectly plastic surface can carry:
-  :attr:`solver.bodies.materials.Hardening.shear_limit`) and each converged case's Melan bound drawn
+  :attr:`solver.plasticity.hardening.Hardening.shear_limit`) and each converged case's Melan bound drawn
   over it.
 """
 
@@ -138,7 +138,7 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
         mu, ratio = first_yield_curve(mu_max, nu)
         ax.plot(mu, ratio, "k-", lw=1, label=f"first yield (Hamilton 1983, nu = {nu:g})")
     # mu p_0 = k: past it the sliding shear at Hertz's peak exceeds the shear a perfectly
-    # plastic surface can carry (solver.bodies.materials.Hardening.shear_limit)
+    # plastic surface can carry (solver.plasticity.hardening.Hardening.shear_limit)
     top = ax.get_ylim()[1]
     if mu_max > 1.0 / top:
         mu = np.linspace(1.0 / top, mu_max, 41)

@@ -37,9 +37,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 import solver
-from solver.cycles import cycle_variables
 from solver.drive.loops import axis_value
-from solver.result import HISTORY_META, STATUS_FLAGS, length_scale
+from solver.result import HISTORY_META, STATUS_FLAGS, cycle_variables, length_scale
 from solver.theory.shakedown import shakedown_variable
 from solver.variables import CYCLE_QUANTITIES, HISTORIES, reduced_scalars
 
@@ -135,7 +134,7 @@ _ATTRS = (
 
 
 def _case_steps(spec: dict) -> int:
-    return solver.spec.case.path_steps(spec["load"]["path"])
+    return solver.spec.path.path_steps(spec["load"]["path"])
 
 
 def _grid_cells(spec: dict) -> int:
@@ -262,7 +261,7 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     scalars = {name: np.full(shape, np.nan) for name in SCALARS}
     histories: dict[str, np.ndarray] = {}
     cycle_count = max(
-        solver.spec.case.path_cycles(case.spec["load"]["path"]) for case in campaign.cases
+        solver.spec.path.path_cycles(case.spec["load"]["path"]) for case in campaign.cases
     )
     per_cycle: dict[str, np.ndarray] = {}
     regimes = None  # shakedown flags, when a case has them

@@ -1,0 +1,277 @@
+"""Every note a case carries, and the plastic regimes it refuses: one module for all of them.
+
+A note (:attr:`solver.Case.warnings`) says what a case is built with but should be read with
+care: Johnson's plastic index past contained plasticity, a window narrower than the plastic
+zone, perfectly plastic layers too thick, a sliding shear past what the body can carry, a
+moving case solved on the whole track.  :func:`check_plastic_scene` and the regime checks
+refuse what the small-strain model cannot honour.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from ..bodies.materials import Body, Pair
+from ..keys import MAX_AUTO_HALF_WIDTH, PLASTIC_WIDTH_MARGIN
+from .grid import GridSpec
+from .reading import fail
+from .sizing import slope_index
+
+#: Equivalent plastic strain up to which the small-strain theory is trusted (the reference
+#: paper stops at 2 %); also the strain of the reference flow stress of :func:`plastic_index`.
+SMALL_STRAIN_LIMIT = 0.02
+
+
+#: Johnson's index E* a / (R sigma_Y) of a fully plastic indentation (Johnson 1985, §6.4:
+#: ~30 for a sphere; the mean pressure has reached ~3 sigma_Y): refused, small strain is void.
+FULLY_PLASTIC_INDEX = 30.0
+
+
+#: Johnson's index past which the case gets a note: measured here, a perfectly plastic body
+#: (16^3, 10 steps) converged at every step at 9.4 (p_H = 6 sigma_Y, e_p 2 %) and no longer at
+#: 12.6 (8 sigma_Y, e_p 6 %); the plastic zone outgrows the 1.5 a_H window there as well.
+UNCONTAINED_PLASTIC_INDEX = 10.0
+
+
+#: Thickest layer (dz / dx) under a perfectly plastic body without a note
+#: (:meth:`Case._layer_note`).
+MAX_PERFECT_LAYER = 0.62
+
+
+def check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> None:
+    """Refuse the elastic-plastic scenes this release cannot solve (no silent elastic answer).
+
+    Solved: one elastic-plastic body against a rigid or elastic one (frictionless: the
+    plasticity loop around the normal step; with friction or a tangential load: the four
+    loops; an elastic-plastic body 1 is solved with the bodies relabelled, :meth:`Case.swapped`),
+    two different elastic-plastic bodies (a plastic strain field in each), and the symmetric
+    pair (eq. 2) under normal load with any friction.
+    """
+    plastic1 = body1.behaviour == "elastic-plastic"
+    plastic2 = body2.behaviour == "elastic-plastic"
+    symmetric = plastic1 and body1 == body2
+    if not (plastic1 or plastic2):
+        return
+    profiled = body1.profile is not None or body2.profile is not None
+    if profiled and (plastic1 or not plastic2):
+        fail(
+            "body1.behaviour",
+            "with a profile, only body 2 may be elastic-plastic in this release (its box is "
+            "sized from the computed elastic yield region in body 2); make body 1 rigid or "
+            "elastic",
+        )
+    if profiled and any(b.surface or b.roughness for b in (body1, body2)):
+        fail(
+            "body2.behaviour",
+            "an elastic-plastic case with a profile takes no height map or roughness yet: its "
+            "box is sized from the profile's elastic stress; drop one of them",
+        )
+    if (
+        plastic1
+        and not plastic2
+        and (body1.surface or body1.roughness or body2.surface or body2.roughness)
+    ):
+        fail(
+            "body1.behaviour",
+            "an elastic-plastic body 1 against an elastic or rigid body 2 is solved with the "
+            "bodies relabelled, which mirrors point heights: not built yet; make the "
+            "elastic-plastic body body 2",
+        )
+    if Pair(body1, body2).geometry.reference_kind is None:
+        fail(
+            "body1.radius",
+            "an elastic-plastic case needs a radius (a quadric shape under the heights): the "
+            "volume depth and the plastic box are sized from the Hertz stress of the smooth "
+            "shape",
+        )
+    if symmetric and any(
+        any(stage.tangential_force) or any(stage.travel) or stage.creepage is not None
+        for stage in stages
+    ):
+        fail(
+            "load.tangential_force",
+            "a tangential load breaks the symmetry of the elastic-plastic pair (eq. 2); make "
+            "one body elastic or rigid to run the four loops, or remove tangential_force",
+        )
+    if not grid.nz:
+        fail(
+            "grid.n",
+            "an elastic-plastic body needs a volume grid: give grid.n = [nx, ny, nz] "
+            "(e.g. [64, 64, 64])",
+        )
+
+
+def plastic_index(body: Body, max_pressure: float) -> float:
+    """Johnson's index E* a / (R sigma_Y) of an elastic-plastic body at a Hertz pressure.
+
+    Hertz's a / R = pi p_0 / (2 E*) makes it ``pi p_0 / (2 sigma_Y)``; sigma_Y is the flow
+    stress at :data:`SMALL_STRAIN_LIMIT` (the hardening the small-strain range can use).
+    Johnson (1985, §6.4): first yield at ~2.5 (p_0 = 1.6 sigma_Y), a fully plastic
+    indentation at ~30.
+    """
+    sigma = float(body.hardening.flow_stress(SMALL_STRAIN_LIMIT))
+    return math.pi * max_pressure / (2.0 * sigma)
+
+
+def profile_regime(body: Body, pair: Pair, radius: float, path: str, name: str) -> str | None:
+    """:func:`plastic_regime` for a profile: Johnson's index from the slope at the contact edge."""
+    sigma = float(body.hardening.flow_stress(SMALL_STRAIN_LIMIT))
+    index = slope_index(pair, radius, sigma)
+    told = (
+        f"Johnson's index E* f'(a)/sigma_Y = {index:.3g} for {name} (the gap's slope f'(a) at "
+        f"Sneddon's contact radius a = {radius:.4g} m, sigma_Y = {sigma:.4g} Pa at e_p = "
+        f"{SMALL_STRAIN_LIMIT:g})"
+    )
+    return _regime_note(index, told, path, "lower the load or blunt the profile")
+
+
+def plastic_regime(body: Body, max_pressure: float, path: str, name: str) -> str | None:
+    """Refuse a fully plastic indentation; a note (returned) past the contained regime."""
+    index = plastic_index(body, max_pressure)
+    sigma = float(body.hardening.flow_stress(SMALL_STRAIN_LIMIT))
+    told = (
+        f"Johnson's index E* a/(R sigma_Y) = pi p_H/(2 sigma_Y) = {index:.3g} for {name} "
+        f"(p_H = {max_pressure:.4g} Pa, sigma_Y = {sigma:.4g} Pa at e_p = "
+        f"{SMALL_STRAIN_LIMIT:g})"
+    )
+    lower = f"lower the load to p_H < {FULLY_PLASTIC_INDEX * 2 * sigma / math.pi:.4g} Pa"
+    return _regime_note(index, told, path, lower)
+
+
+def _regime_note(index: float, told: str, path: str, lower: str) -> str | None:
+    """Refuse a fully plastic index; a note past the contained regime; None below."""
+    if index >= FULLY_PLASTIC_INDEX:
+        fail(
+            path,
+            f"{told} reaches {FULLY_PLASTIC_INDEX:g}, a fully plastic indentation (Johnson 1985, "
+            f"§6.4): plastic strains of tens of %, beyond the small-strain theory; {lower}",
+        )
+    if index > UNCONTAINED_PLASTIC_INDEX:
+        return (
+            f"{told} is past {UNCONTAINED_PLASTIC_INDEX:g}: the plastic zone is no longer "
+            "contained (mean pressure near 3 sigma_Y), plastic strains reach several %, the "
+            "edge of the small-strain theory; the plasticity loop may not converge at every "
+            "step (told per step) and the zone may outgrow the box (told)"
+        )
+    return None
+
+
+def layer_note(case) -> str | None:
+    """A note for a perfectly plastic body on layers thicker than :data:`MAX_PERFECT_LAYER`.
+
+    The cell-centre residual stress of a cell-wise eigenstrain is not negative definite:
+    checkerboard patterns have a negative Rayleigh quotient (-0.20 for xx - zz alternating
+    in x and z on cubic cells, +0.24 with layers half a cell thick; -0.20 for xx - yy
+    alternating in x and y at any thickness), which nothing but hardening holds back.  On
+    cubic cells a perfectly plastic pass stalled and strayed (ep_max 0.0088 against 0.0045
+    at 16 cells across, 2026-11-26); layers of 0.62 cell and thinner gave 0.0045 every time.
+    """
+    body = case.plastic_body
+    if body is None or case.volume_grid is None:
+        return None
+    hardening = body.hardening
+    if hardening.law != "perfect" or hardening.kinematic:
+        return None
+    ratio = case.volume_grid.dz / min(case.surface_grid.dx, case.surface_grid.dy)
+    if ratio <= MAX_PERFECT_LAYER:
+        return None
+    nz = math.ceil(case.grid.nz * ratio / MAX_PERFECT_LAYER)
+    return (
+        f"layers {ratio:.2g} of a cell thick (dz / dx) under a perfectly plastic body: on "
+        f"such cells its plasticity loop can stall and its plastic strain stray (a cell-wise "
+        f"eigenstrain's checkerboard patterns can release elastic energy there); give "
+        f"grid.n = [nx, ny, nz] with nz >= {nz} (layers <= {MAX_PERFECT_LAYER:g} cell)"
+    )
+
+
+def surface_shear_note(case) -> str | None:
+    """A note when a slide's shear mu p_0 exceeds what the plastic body can carry.
+
+    A body whose flow stress is bounded (:attr:`Hardening.shear_limit`) cannot carry a
+    surface shear traction above that limit: no stress field in equilibrium with it stays
+    inside the yield surface, so the top layer's plastic strain is set by the layers (it
+    grows as they thin) and the plasticity loop may not converge.  Said at Hertz's peak
+    pressure of the largest load (plastic flow flattens the pressure, which may bring the
+    shear back under the limit).
+    """
+    body, reference = case.plastic_body, case.reference
+    mu = case.friction_coefficient
+    if body is None or reference is None or not mu:
+        return None
+    if not any(stage.motion == "slide" for stage in case.stages):
+        return None
+    limit = body.hardening.shear_limit
+    ratio = mu * reference.max_pressure / limit
+    if ratio <= 1.0 + 1e-9:  # at the limit to rounding (mu = 0.5, p_0 = 2 k) is not past it
+        return None
+    return (
+        f"the sliding shear mu p_0 = {ratio:.3g} x {limit / 1e6:.4g} MPa, the largest "
+        f"shear stress the elastic-plastic body can carry (sigma_Y / sqrt 3 without "
+        f"hardening): where the pressure stays that high no stress field in equilibrium "
+        f"with the surface shear stays within yield, the top layer's plastic strain is set "
+        f"by grid.nz and the plasticity loop may not converge; lower the load or "
+        f"friction.coefficient below p_0 = {limit / mu / 1e6:.4g} MPa, or give the body "
+        f"hardening"
+    )
+
+
+def window_unbuilt(case) -> list[str]:
+    """What keeps a moving case off the window that follows the contact (none: it fits)."""
+    bodies = (case.body1, case.body2)
+    return [
+        reason
+        for reason, applies in (
+            ("a given grid.size", case.grid.size is not None),
+            (
+                "a height map or roughness",
+                any(b.surface is not None or b.roughness is not None for b in bodies),
+            ),
+            ("two elastic-plastic bodies", case.plastic_bodies not in ((), (2,))),
+        )
+        if applies
+    ]
+
+
+def window_note(case) -> str | None:
+    """A note when a moving case asks for the window but is solved on the whole track."""
+    if not case.moving or not case.grid.follow_contact:
+        return None
+    reasons = window_unbuilt(case)
+    if not reasons:
+        return None
+    return (
+        "every increment is solved on the whole track, not on a window that follows the "
+        f"contact ({', '.join(reasons)}: the window is not built for them): the same "
+        "answer, slower"
+    )
+
+
+def narrow_window_note(grid: Any, zone: float, sized: bool) -> str:
+    """The note of a surface window narrower than the plastic box the yield region asks for.
+
+    ``zone`` (units of a_H): :data:`PLASTIC_WIDTH_MARGIN` x the elastic yield region's half
+    width at the largest load, at most :data:`MAX_AUTO_HALF_WIDTH`; ``sized``: the window was
+    sized from it (no ``grid.half_width`` given).  The same words whether the window was given
+    or held back by the cells (a case rebuilt from its spec gives it), with the cells that keep
+    today's cell size over the wider window.
+    """
+    need = f"{PLASTIC_WIDTH_MARGIN:g} x the elastic yield region's half width at the largest load"
+    if sized and zone >= MAX_AUTO_HALF_WIDTH:
+        return (
+            f"grid.half_width: the plastic zone predicted ({need}) reaches the widest window "
+            f"sized for it ({MAX_AUTO_HALF_WIDTH:g} a_H): the case may end truncated; give "
+            "half_width larger (and n in proportion)"
+        )
+    if grid.size is not None:
+        return (
+            f"grid.size: the domain is narrower than the plastic box the yield region asks for "
+            f"({zone:.4g} a_H: {need}), so the case may end truncated; enlarge grid.size"
+        )
+    cells = math.ceil(max(grid.nx, grid.ny) * zone / grid.half_width - 1e-9)
+    return (
+        f"grid.half_width: the window ({grid.half_width:g} a_H) is narrower than the plastic box "
+        f"the yield region asks for ({zone:.4g} a_H: {need}), so the case may end truncated; "
+        f"give n >= {cells} and leave half_width out (the window then holds the zone), or "
+        f"half_width >= {zone:.4g} with n >= {cells}"
+    )
