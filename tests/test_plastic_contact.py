@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import solver
-from solver.drive.loops import axis_value
+from solver.drive.record import axis_value
 from solver.theory.hertz import first_yield_pressure
 
 SWIFT = {"law": "swift", "B": 945e6, "C": 20, "n": 0.121}

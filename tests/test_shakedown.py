@@ -16,7 +16,7 @@ import pytest
 
 import solver
 from solver import Case
-from solver.drive.loops import axis_value
+from solver.drive.record import axis_value
 from solver.theory.hertz import first_yield_pressure
 from solver.theory.shakedown import (
     CLOSED_CYCLE_FRACTION,
@@ -273,7 +273,7 @@ def test_a_sliding_shear_past_k_is_told_and_its_surface_strain_follows_the_layer
 
 def test_many_failed_increments_are_told_in_one_note():
     """A case past what its body can carry fails every increment: one note names them all."""
-    from solver.drive.loops import MAX_FAILURE_NOTES, _failure_notes
+    from solver.drive.record import MAX_FAILURE_NOTES, _failure_notes
 
     few = [(3, "plasticity loop not converged"), (4, "(sub-step to W = 1 N): normal")]
     assert _failure_notes(few) == [

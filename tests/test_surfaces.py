@@ -396,7 +396,7 @@ def test_two_bumps_make_two_spots_and_two_stick_zones():
     assert loads == pytest.approx([half, half], rel=1e-9)  # the mirror symmetry
     assert result.pressure.max() == pytest.approx(single.max_pressure, rel=0.02)
     stick = result.contact_state == solver.result.STICK
-    assert solver.drive.loops.contact_spots(stick) == 2
+    assert solver.drive.record.contact_spots(stick) == 2
     expected = single.radius * cattaneo_stick_ratio(ratio * mu * half, mu, half)
     for side_ in (left, ~left):
         measured = math.sqrt(np.count_nonzero(stick & side_[:, None]) * area / math.pi)

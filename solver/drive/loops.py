@@ -31,49 +31,41 @@ import numpy as np
 
 from ..keys import MIN_CELLS_ACROSS
 from ..numerics.grid import IndexBox, VolumeGrid
-from ..numerics.tensor import Y_REFLECTION, equivalent_strain, von_mises
+from ..numerics.tensor import equivalent_strain, von_mises
 from ..result import SEPARATED, SLIP, STICK, Result
 from ..spec.case import Case
 from ..spec.notes import SMALL_STRAIN_LIMIT
-from ..theory.half_space import hamilton_stress
-from ..theory.shakedown import melan_factor
-from ..variables import (
-    BODY1_SUFFIX,
-    CYCLE_PLASTIC_HISTORIES,
-    CYCLE_PROFILES,
-    FIELDS,
-    HISTORIES,
-    PLASTIC_BODY_HISTORIES,
-    PLASTIC_ZONE_THRESHOLD,
-)
+from ..variables import BODY1_SUFFIX, CYCLE_PLASTIC_HISTORIES, HISTORIES, PLASTIC_BODY_HISTORIES
 from .operators import CaseOperators
 from .plastic_loop import PlasticState, PlasticStepResult, mirror, plastic_step
+from .record import (
+    _CONTACT_HISTORY,
+    _FRICTION_HISTORY,
+    _PLASTIC_HISTORY,
+    ITERATION_HISTORY,
+    box_faces_reached,
+    count_iterations,
+    cycle_end,
+    failure_notes,
+    melan,
+    on_common_axes,
+    path_dependence_notes,
+    plastic_fields,
+    record,
+    record_plastic,
+    shear_excess,
+    touches_edge,
+)
 from .steps import ContactState, StepResult, normal_step, position_of, sliding_step, slip_stick_step
 from .window import Follower, shifted
 
 #: Halvings of an increment whose plasticity loop does not converge (down to 1/8 of it).
 MAX_SPLITS = 3
-#: Fewest increments per normal-loading stage for which the stick zone of a coupled
-#: (beta != 0) scene is trusted; fewer give a path-dependence note.
-MIN_COUPLED_STEPS = 20
 #: First sub-step of a coupled scene loaded from zero, as a fraction of the first target.
 FIRST_SUBSTEP_FRACTION = 1.0 / 64.0
 #: Smallest Hertz contact radius (cells) of a sub-step: a contact one cell wide is not a
 #: contact problem the grid can solve (the normal solve stalls on it).
 MIN_SUBSTEP_RADIUS_CELLS = 2.0
-
-_CONTACT_HISTORY = (
-    "normal_force", "approach", "max_pressure", "contact_area", "contact_spots",
-    "normal_iterations",
-)  # fmt: skip
-_FRICTION_HISTORY = (
-    "tangential_force_x", "tangential_force_y", "tangential_shift_x", "tangential_shift_y",
-    "stick_area", "slip_iterations", "coupling_iterations", "friction_work",
-)  # fmt: skip
-_PLASTIC_HISTORY = (
-    "plastic_iterations", "max_plastic_strain", "max_plastic_strain_depth",
-    "plastic_zone_depth", "residual_depth",
-)  # fmt: skip
 
 
 def needs_slip_stick(case: Case) -> bool:
@@ -151,25 +143,6 @@ def load_substeps(
             (float(w), *(p + f * (t - p) for p, t in zip(previous[1:], target[1:], strict=True)))
         )
     return out
-
-
-# -- plastic-zone measures -----------------------------------------------------------------------
-def contact_spots(in_contact: np.ndarray) -> int:
-    """Number of contact spots: groups of contact cells joined through their edges.
-
-    Cells that touch at a corner only are separate spots (4-connectivity,
-    ``scipy.ndimage.label``).
-    """
-    from scipy import ndimage
-
-    return int(ndimage.label(in_contact)[1])
-
-
-def _touches_edge(pressure: np.ndarray) -> bool:
-    """True when any cell of the surface grid's outer ring carries pressure."""
-    return bool(
-        pressure[0].any() or pressure[-1].any() or pressure[:, 0].any() or pressure[:, -1].any()
-    )
 
 
 def _halving_plastic_step(
@@ -270,80 +243,13 @@ def _moved(increment: np.ndarray, cells_x: float, cells_y: float) -> np.ndarray:
     return out
 
 
-def axis_value(values: np.ndarray) -> np.ndarray:
-    """Values on the contact axis x = y = 0 of an ``(nx, ny, ...)`` cell field.
-
-    The mean of the 1, 2 or 4 cells whose centres are nearest the axis (bilinear interpolation
-    at the grid's centre: the origin, or the middle of a sliding track).
-    """
-    nx, ny = values.shape[:2]
-    ix = slice((nx - 1) // 2, nx // 2 + 1)
-    iy = slice((ny - 1) // 2, ny // 2 + 1)
-    return values[ix, iy].mean(axis=(0, 1))
-
-
-def zone_depth(profile: np.ndarray, depth: np.ndarray, threshold: float) -> float:
-    """Deepest depth (m) where ``profile`` crosses ``threshold``, interpolated between layers.
-
-    0 when no layer exceeds it; the last layer's centre when the deepest layer does.
-    """
-    above = np.flatnonzero(profile > threshold)
-    if above.size == 0:
-        return 0.0
-    k = above[-1]
-    if k == len(profile) - 1:
-        return float(depth[k])
-    f = (profile[k] - threshold) / (profile[k] - profile[k + 1])
-    return float(depth[k] + f * (depth[k + 1] - depth[k]))
-
-
-def peak_depth(values: np.ndarray, depth: np.ndarray) -> float:
-    """Depth (m) of the maximum of a cell field, refined by a parabola through its column."""
-    i, j, k = np.unravel_index(int(np.argmax(values)), values.shape)
-    if 0 < k < values.shape[2] - 1:
-        lo, mid, hi = values[i, j, k - 1 : k + 2]
-        curvature = lo - 2 * mid + hi
-        if curvature < 0:
-            shift = 0.5 * (lo - hi) / curvature
-            return float(depth[k] + shift * (depth[1] - depth[0]))
-    return float(depth[k])
-
-
-def _box_faces_reached(equivalent: np.ndarray, sides: str) -> list[str]:
-    """Faces of the plastic box where the equivalent plastic strain exceeds the zone threshold.
-
-    ``sides`` names the key that sets the box's sides.
-    """
-    faces = {
-        "bottom (grid.depth)": equivalent[:, :, -1],
-        f"side x ({sides})": equivalent[[0, -1], :, :],
-        f"side y ({sides})": equivalent[:, [0, -1], :],
-    }
-    return [name for name, cells in faces.items() if cells.max() > PLASTIC_ZONE_THRESHOLD]
-
-
-def _on_common_axes(name: str, values: np.ndarray) -> np.ndarray:
-    """Field ``name`` of body 1's frame (x, -y, -z) on the common x, y axes, or back.
-
-    Mirrored in y, times the declared ``swap_sign``; tensor fields also flip their y-odd
-    components.  Depths stay into the body.
-    """
-    declared = FIELDS[name]
-    out = values * declared.swap_sign
-    if "y" in declared.dims:
-        out = mirror(out, axis=declared.dims.index("y"))
-    if "component" in declared.dims:
-        out = out * Y_REFLECTION.reshape((6,) + (1,) * (out.ndim - 1))
-    return out
-
-
 def _relabelled(result: Result, case: Case) -> Result:
     """The result of ``case.swapped()`` told for ``case``, the bodies relabelled.
 
-    Every field goes on the common axes (:func:`_on_common_axes`), every history takes its
+    Every field goes on the common axes (:func:`on_common_axes`), every history takes its
     ``swap_sign``.
     """
-    mirrored = _on_common_axes
+    mirrored = on_common_axes
     history = {name: values * HISTORIES[name].swap_sign for name, values in result.history.items()}
     return Result(
         case,
@@ -440,7 +346,7 @@ def solve(case: Case) -> Result:
     before = None  # (state, load increment) of the step before the last (elastic predictor)
     for k, (target, stage) in enumerate(zip(targets, case.increment_stages(), strict=True)):
         work = 0.0  # friction work of the step, its sub-steps included
-        sub_iterations = dict.fromkeys((*_ITERATION_HISTORY.values(), "plastic_iterations"), 0)
+        sub_iterations = dict.fromkeys((*ITERATION_HISTORY.values(), "plastic_iterations"), 0)
         if plastic and cycles[k] and (k == 0 or cycles[k] != cycles[k - 1]):
             cycle_start = [(p.equivalent.copy(), p.strain.copy()) for p in plastic_state]
         if plastic:
@@ -468,7 +374,7 @@ def solve(case: Case) -> Result:
                     plastic_state = _left(follower, plastic_state, step.plastic)
                     guess, previous = step.increment, None  # no extrapolation across sub-steps
                     work += step.contact.friction_work
-                    _count(sub_iterations, step.contact.iterations, step.iterations)
+                    count_iterations(sub_iterations, step.contact.iterations, step.iterations)
                     if not step.converged:
                         converged = False
                         failures.append(
@@ -478,7 +384,7 @@ def solve(case: Case) -> Result:
                     sub_outcome = contact_step(placed, state, sub)
                     state = sub_outcome.state
                     work += sub_outcome.friction_work
-                    _count(sub_iterations, sub_outcome.iterations)
+                    count_iterations(sub_iterations, sub_outcome.iterations)
         messages = []
         placed, state, window_plastic, (di, dj) = _placed(
             follower, operators, state, plastic_state, previous_target, target
@@ -505,7 +411,7 @@ def solve(case: Case) -> Result:
             residual = max(outcome.residual, step.residual)
             if step.message:
                 messages.append(step.message)
-            shear_peak = max(shear_peak, (_shear_excess(case, outcome.state), k + 1))
+            shear_peak = max(shear_peak, (shear_excess(case, outcome.state), k + 1))
         else:
             initial = None
             if not coupled and step_of is slip_stick_step:
@@ -517,7 +423,7 @@ def solve(case: Case) -> Result:
                 messages.append(outcome.message)
         state = outcome.state
         previous_target = target
-        _record(history, k, outcome, area)
+        record(history, k, outcome, area)
         if "friction_work" in history:
             history["friction_work"][k] = work + outcome.friction_work
         if cycle_start is not None and cycles[k]:
@@ -530,13 +436,13 @@ def solve(case: Case) -> Result:
                 for p, (_, start) in zip(plastic_state, cycle_start, strict=True)
             )
             if k + 1 == total or cycles[k + 1] != cycles[k]:  # the cycle's last step
-                largest, profiles = _cycle_end(operators, plastic_state)
+                largest, profiles = cycle_end(operators, plastic_state)
                 history["cycle_residual_stress"][cycles == cycles[k]] = largest
                 for name, values in profiles.items():
                     cycle_profiles.setdefault(name, []).append(values)
         history["residual"][k] = residual
         history["step_converged"][k] = float(step_ok)
-        if not edge_noted and _touches_edge(state.pressure):
+        if not edge_noted and touches_edge(state.pressure):
             edge_noted = True
             notes.append(
                 f"step {k + 1}: the contact reaches the domain's edge (pressure on its outer "
@@ -544,10 +450,10 @@ def solve(case: Case) -> Result:
                 "grid.size)"
             )
         if plastic:
-            _record_plastic(history, k, step.iterations, plastic_state, case)
+            record_plastic(history, k, step.iterations, plastic_state, case)
             sides = "grid.plastic_half_width" if case.plastic_box else "grid.half_width"
             reached = sorted(
-                {f for p in plastic_state for f in _box_faces_reached(p.equivalent, sides)}
+                {f for p in plastic_state for f in box_faces_reached(p.equivalent, sides)}
             )
             if follower is not None:
                 cut = follower.sides_reached(window_plastic[0], step.plastic[0])
@@ -565,8 +471,8 @@ def solve(case: Case) -> Result:
         if not step_ok:
             converged = False
             failures.extend((k + 1, m) for m in dict.fromkeys(messages))
-    notes.extend(_failure_notes(failures))
-    notes.extend(_path_dependence_notes(case) if coupled else [])
+    notes.extend(failure_notes(failures))
+    notes.extend(path_dependence_notes(case) if coupled else [])
     if case.reference is None:  # heights only: the mesh check the case could not make before
         across = 2.0 * math.sqrt(history["contact_area"].max() / math.pi) / max(grid.dx, grid.dy)
         if across < MIN_CELLS_ACROSS:
@@ -641,10 +547,10 @@ def solve(case: Case) -> Result:
             "the load or the friction, or give the body hardening"
         )
     if plastic:
-        _plastic_fields(result, operators, plastic_state)
+        plastic_fields(result, operators, plastic_state)
         result.fields.update({name: np.array(rows) for name, rows in cycle_profiles.items()})
         if loaded_positions:
-            result.melan_factor = _melan(case, operators, plastic_state, loaded_positions)
+            result.melan_factor = melan(case, operators, plastic_state, loaded_positions)
     geometry = case.pair.geometry
     if geometry.profiles or geometry.surfaces:  # a quadric's gap is told by its radii
         result.fields["initial_gap"] = operators.gap
@@ -669,209 +575,3 @@ def _extrapolated(
         shear_x=2.0 * state.shear_x - older.shear_x,
         shear_y=2.0 * state.shear_y - older.shear_y,
     )
-
-
-#: Iteration counts of a contact step (:attr:`StepResult.iterations`) and their histories.
-_ITERATION_HISTORY = {
-    "normal": "normal_iterations", "slip": "slip_iterations", "coupling": "coupling_iterations",
-}  # fmt: skip
-
-
-def _count(totals: dict, contact: dict, plastic: int = 0) -> None:
-    """Add a sub-step's contact and plasticity iteration counts to ``totals`` (by history)."""
-    for key, name in _ITERATION_HISTORY.items():
-        totals[name] += contact.get(key, 0)
-    totals["plastic_iterations"] += plastic
-
-
-def _record(history: dict, k: int, outcome: StepResult, area: float) -> None:
-    state = outcome.state
-    history["normal_force"][k] = state.pressure.sum() * area
-    history["approach"][k] = outcome.approach
-    history["max_pressure"][k] = state.pressure.max()
-    history["contact_area"][k] = np.count_nonzero(state.pressure) * area
-    history["contact_spots"][k] = contact_spots(state.pressure > 0)
-    if "position_x" in history:
-        history["position_x"][k], history["position_y"][k] = state.position
-    for key, name in _ITERATION_HISTORY.items():
-        if name in history:
-            history[name][k] = outcome.iterations.get(key, 0)
-    if "stick_area" in history:
-        history["tangential_force_x"][k] = state.shear_x.sum() * area
-        history["tangential_force_y"][k] = state.shear_y.sum() * area
-        history["tangential_shift_x"][k], history["tangential_shift_y"][k] = state.shift
-        history["stick_area"][k] = np.count_nonzero(outcome.stick) * area
-
-
-def _record_plastic(
-    history: dict, k: int, iterations: int, states: tuple[PlasticState, ...], case: Case
-) -> None:
-    history["plastic_iterations"][k] = iterations
-    for body, plastic in zip(case.plastic_bodies, states, strict=True):
-        suffix = BODY1_SUFFIX if body == 1 else ""
-        volume = case.volume_grid_of(body)
-        equivalent = plastic.equivalent
-        history["max_plastic_strain" + suffix][k] = equivalent.max()
-        history["max_plastic_strain_depth" + suffix][k] = (
-            peak_depth(equivalent, volume.z) if equivalent.max() > 0 else 0.0
-        )
-        history["plastic_zone_depth" + suffix][k] = zone_depth(
-            axis_value(equivalent), volume.z, PLASTIC_ZONE_THRESHOLD
-        )
-        history["residual_depth" + suffix][k] = float(axis_value(plastic.displacement[2]))
-
-
-def _shear_excess(case: Case, state) -> float:
-    """The largest surface shear traction over the plastic bodies' shear limit (0: none).
-
-    :attr:`solver.plasticity.hardening.Hardening.shear_limit`: above 1 no stress field in equilibrium
-    with the tractions stays within yield.
-    """
-    limit = min((case.body2 if b == 2 else case.body1).hardening.shear_limit
-                for b in case.plastic_bodies)  # fmt: skip
-    if not math.isfinite(limit):
-        return 0.0
-    return float(np.hypot(state.shear_x, state.shear_y).max()) / limit
-
-
-def _melan(
-    case: Case, operators: CaseOperators, states: tuple[PlasticState, ...], positions: set
-) -> float | None:
-    """Melan's factor of the final residual stress under the sliding Hertz load, or None.
-
-    The elastic loads are Hamilton's (1983) field of the largest Hertz pressure with the shear
-    ``mu p`` along the motion, at every loaded position of the path (sliding along x only);
-    the yield stress is each cell's current flow stress.  None where that field is not the
-    load's: a non-circular or non-Hertzian contact, sliding along y, kinematic hardening,
-    two plastic bodies, a rolling contact with friction (its positions are not collected).
-    """
-    reference, body = case.reference, case.body2
-    circular = case.pair.geometry.hertzian and math.isclose(
-        reference.semi_axis_x, reference.semi_axis_y, rel_tol=1e-9
-    )
-    along_x = all(sy == 0.0 for _, _, _, sy in positions)
-    if not circular or not along_x or case.plastic_bodies != (2,) or body.hardening.kinematic:
-        return None
-    (plastic,) = states
-    residual = (
-        operators.volume(2)[1].stress(plastic.strain)
-        if plastic.strain.any()
-        else np.zeros_like(plastic.strain)
-    )
-    grid = case.surface_grid
-    x = grid.x[:, None, None]
-    y = grid.y[None, :, None]
-    z = case.volume_grid.z[None, None, :]
-    mu = case.friction_coefficient
-    loads = (
-        hamilton_stress(
-            x - px, y - py, z, reference.radius, reference.max_pressure, body.nu, sx * mu
-        )
-        for px, py, sx, _ in sorted(positions)
-    )
-    return melan_factor(residual, loads, body.hardening.flow_stress(plastic.equivalent))
-
-
-def _cycle_end(
-    operators: CaseOperators, states: tuple[PlasticState, ...]
-) -> tuple[float, dict[str, np.ndarray]]:
-    """The largest residual stress and the first plastic body's profiles at a cycle's end.
-
-    The largest von Mises stress of the plastic strain alone (Pa, over the plastic bodies); the
-    profiles (:data:`CYCLE_PROFILES`): the residual normal stresses on the contact axis against
-    depth, the residual dent along y through it.
-    """
-    largest, profiles = 0.0, {}
-    for body, plastic in zip(operators.case.plastic_bodies, states, strict=True):
-        stress = (
-            operators.volume(body)[1].stress(plastic.strain)
-            if plastic.strain.any()
-            else np.zeros_like(plastic.strain)
-        )
-        largest = max(largest, float(von_mises(stress).max()))
-        if not profiles:
-            for i, name in enumerate(CYCLE_PROFILES[:3]):
-                profiles[name] = axis_value(stress[i])
-            dent = plastic.displacement[2]
-            nx = dent.shape[0]
-            profiles["cycle_rut_profile"] = dent[(nx - 1) // 2 : nx // 2 + 1].mean(axis=0)
-    return largest, profiles
-
-
-def _plastic_fields(
-    result: Result, operators: CaseOperators, states: tuple[PlasticState, ...]
-) -> None:
-    """Final plastic fields of each plastic body (body 1's on the common x, y axes).
-
-    Displacements and residual stress are those of the final plastic strain.  Volume fields
-    span the surface window: a plastic box narrower than it (``grid.plastic_half_width``) has
-    no plastic strain outside by construction (zeros there), and its residual stress is not
-    computed outside (NaN there).
-    """
-    for body, plastic in zip(result.case.plastic_bodies, states, strict=True):
-        eigenstrain = operators.volume(body)[1]
-        if plastic.strain.any():
-            residual_stress, displacement = eigenstrain.evaluate(plastic.strain)
-        else:
-            residual_stress, displacement = np.zeros_like(plastic.strain), plastic.displacement
-        window = eigenstrain.on_window
-        fields = {"plastic_strain": window(plastic.equivalent)}
-        fields.update(
-            {
-                f"residual_displacement_{axis}": u
-                for axis, u in zip("xyz", displacement, strict=True)
-            }
-        )
-        if "plastic_strain_tensor" in result.case.fields:
-            fields["plastic_strain_tensor"] = window(plastic.strain)
-        if "residual_stress" in result.case.fields:
-            fields["residual_stress"] = window(residual_stress, np.nan)
-        for name, values in fields.items():
-            if body == 1:
-                result.fields[name + BODY1_SUFFIX] = _on_common_axes(name, values)
-            else:
-                result.fields[name] = values
-
-
-#: Failed increments told one by one; more are told in one note (first, last, the steps).
-MAX_FAILURE_NOTES = 3
-
-
-def _failure_notes(failures: list[tuple[int, str]]) -> list[str]:
-    """Notes of the increments that did not converge: each, or one for many.
-
-    A case whose every pass fails (a load past what the body can carry) would otherwise
-    carry a note per increment and sub-step; beyond :data:`MAX_FAILURE_NOTES` one note names
-    the steps and tells the first and the last failure in full.
-    """
-    told = [f"step {k}{'' if m.startswith('(') else ':'} {m}" for k, m in failures]
-    if len(told) <= MAX_FAILURE_NOTES:
-        return told
-    steps = sorted({k for k, _ in failures})
-    runs, start = [], steps[0]
-    for a, b in zip(steps, [*steps[1:], None], strict=True):
-        if b != a + 1:
-            runs.append(f"{start}" if start == a else f"{start}-{a}")
-            start = b
-    return [
-        f"{len(failures)} increments did not converge, in steps {', '.join(runs)}; the first: "
-        f"{told[0]}; the last: {told[-1]}"
-    ]
-
-
-def _path_dependence_notes(case: Case) -> list[str]:
-    """One note naming every stage that raises the normal force in too few steps."""
-    few, previous_force = [], 0.0
-    for i, stage in enumerate(case.stages):
-        if stage.normal_force > previous_force and stage.steps < MIN_COUPLED_STEPS:
-            few.append(f"{i + 1} ({stage.steps} step{'s' if stage.steps > 1 else ''})")
-        previous_force = stage.normal_force
-    if not few:
-        return []
-    stages = (
-        f"load stage {few[0]} raises" if len(few) == 1 else (f"load stages {', '.join(few)} raise")
-    )
-    return [
-        f"path dependence: {stages} the normal force in fewer than {MIN_COUPLED_STEPS} steps; "
-        f"the stick zone of a dissimilar pair (beta != 0) depends on the loading path"
-    ]

@@ -7,7 +7,7 @@ a_H/8 to a_H) on a steel half-space, loaded in three steps to the force of p_H =
 Boussinesq operator (``ModelFactory.registerNonPeriodic``, the same problem), one
 ``PolonskyKeerRey`` solve per load.  Per code and mesh: real contact area and peak pressure at
 every load, their difference from the other code at the same mesh, the number of contact spots
-(:func:`solver.drive.loops.contact_spots`), CPU, wall and resident-memory growth; each code in a
+(:func:`solver.drive.record.contact_spots`), CPU, wall and resident-memory growth; each code in a
 child process (:func:`.timing.isolated`), one thread.
 """
 
@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from solver.drive.loops import contact_spots
+from solver.drive.record import contact_spots
 
 from .timing import format_table, isolated, peak_memory
 

@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 import solver
-from solver.drive.loops import axis_value
+from solver.drive.record import axis_value
 from solver.result import HISTORY_META, STATUS_FLAGS, cycle_variables, length_scale
 from solver.theory.shakedown import shakedown_variable
 from solver.variables import CYCLE_QUANTITIES, HISTORIES, reduced_scalars
