@@ -2,8 +2,8 @@
 
 Writes two netCDF height maps the way a profilometer export would be converted (a variable
 ``height(y, x)`` in metres over coordinates ``x``, ``y`` in metres): a flat surface, and the same
-surface with a measured-like roughness (here made by ``solver.bodies.heights.Roughness``, rms 0.2 um).
-Each map is body 2's surface under a rigid sphere (R = 15 mm, 60 N, steel).  The flat map must
+surface with a measured-like roughness (here made by ``solver.bodies.heights.Roughness``, rms 0.2
+um). Each map is body 2's surface under a rigid sphere (R = 15 mm, 60 N, steel).  The flat map must
 give Hertz's peak pressure within 0.5 % (a check of the file's sign and units); the rough one
 shows the contact breaking into spots.  The figure: the rough heights, and the pressure on the
 smooth and the rough map.  Exits with status 1 if the check fails.

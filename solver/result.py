@@ -1,14 +1,14 @@
 """Result of a case: final fields, per-step and per-cycle histories, status, and the xarray view.
 
-Per-cycle quantities (:func:`cycle_summary`).  A load path with a cycle block (``cycles = N``, :class:`solver.spec.path.LoadStage`) records the
-cycle of every step (history ``step_cycle``).  Cycle ``c`` runs over its steps; its loop closes
-on the state before its first step (the last step of the previous cycle, or of the stage before
-the block).  With ``Q`` the tangential force on body 2 and ``Delta`` the rigid shift of body 1
-relative to body 2, the work done on the contact over a cycle is ``oint Q dDelta``: body 1,
-pushed by the external force, passes ``Q`` on to body 2.  Over a closed cycle of an elastic
-contact the stored energy returns, so this loop area is the energy dissipated by friction,
-which is also the friction work summed over the surface and the steps (history
-``friction_work``); both use the trapezoidal rule in time, under which the two agree to the
+Per-cycle quantities (:func:`cycle_summary`).  A load path with a cycle block (``cycles = N``,
+:class:`solver.spec.path.LoadStage`) records the cycle of every step (history ``step_cycle``).
+Cycle ``c`` runs over its steps; its loop closes on the state before its first step (the last step
+of the previous cycle, or of the stage before the block).  With ``Q`` the tangential force on body 2
+and ``Delta`` the rigid shift of body 1 relative to body 2, the work done on the contact over a
+cycle is ``oint Q dDelta``: body 1, pushed by the external force, passes ``Q`` on to body 2.  Over a
+closed cycle of an elastic contact the stored energy returns, so this loop area is the energy
+dissipated by friction, which is also the friction work summed over the surface and the steps
+(history ``friction_work``); both use the trapezoidal rule in time, under which the two agree to the
 solver's tolerance for an uncoupled (beta = 0) elastic contact.  Plastic strain stores and
 dissipates energy too: then they differ by the plastic work.
 """

@@ -115,7 +115,7 @@ def test_plastic_counts_grow_with_load_and_box():
 
 
 def test_coupled_substeps_as_the_solver_adds_them():
-    """A coupled case's load sub-steps are counted as :func:`solver.drive.loops.load_substeps` does."""
+    """A coupled case's load sub-steps are counted as :func:`solver.drive.loops.load_substeps`."""
     coarse, fine = rigid_on_steel(0.3, steps=2), rigid_on_steel(0.3, steps=40)
     assert cost.features(coarse)["substeps"] > cost.features(fine)["substeps"] >= 0
     assert cost.features(rigid_on_steel(0.0))["substeps"] == 0

@@ -1,8 +1,8 @@
 """Bad inputs a first user gives that used to get through (issue 35, items 6 and 9).
 
 Each is refused in one line naming the field (and the file where there is one) with a
-:class:`solver.SpecError` or :class:`solver.bodies.heights.SurfaceError`, never a bare numpy or Python
-exception, and ``python -m study validate`` exits with status 2:
+:class:`solver.SpecError` or :class:`solver.bodies.heights.SurfaceError`, never a bare numpy or
+Python exception, and ``python -m study validate`` exits with status 2:
 
 * surfaces too steep for small-slope theory: a height map whose heights resampled onto the
   case grid have an rms slope above :data:`solver.keys.MAX_SURFACE_SLOPE` (finite differences

@@ -85,8 +85,8 @@ def needs_slip_stick(case: Case) -> bool:
 def scene(case: Case) -> tuple[tuple[str, ...], Callable[..., StepResult]]:
     """The loops a case runs and its contact step.
 
-    A sliding increment runs :func:`~solver.drive.steps.sliding_step` instead (``sliding`` in loops);
-    a rolling one the contact step at the moved position (``rolling``).
+    A sliding increment runs :func:`~solver.drive.steps.sliding_step` instead (``sliding`` in
+    loops); a rolling one the contact step at the moved position (``rolling``).
     """
     loops, step = _scene(case)
     motions = tuple(
@@ -210,8 +210,8 @@ def _placed(
 ) -> tuple[CaseOperators, ContactState, tuple[PlasticState, ...], tuple[int, int]]:
     """What an increment is solved with: the case's operators and states, or the window's.
 
-    With a window that follows the contact (:mod:`solver.drive.window`): its operators placed for the
-    increment, the state moved into it, the plastic state on it, the cells it moved by.
+    With a window that follows the contact (:mod:`solver.drive.window`): its operators placed for
+    the increment, the state moved into it, the plastic state on it, the cells it moved by.
     """
     if follower is None:
         return operators, state, plastic, (0, 0)

@@ -1,8 +1,8 @@
 """One bundle of operators per case: surface, subsurface stress and eigenstrain, built once.
 
 All three are built with the case's FFT planner and threads and share what they can: the
-eigenstrain operator uses the same :class:`~solver.volume.stress.SubsurfaceStressOperator` (its kernels
-serve both the stress of the tractions and the residual surface displacements).  Bundles are
+eigenstrain operator uses the same :class:`~solver.volume.stress.SubsurfaceStressOperator` (its
+kernels serve both the stress of the tractions and the residual surface displacements).  Bundles are
 cached per (grid, materials, FFT settings), so cases of a campaign on the same grid reuse them;
 the volume operators of the last case only (they can take gigabytes).
 :meth:`CaseOperators.memory_bytes` states what a case's bundle and work arrays hold, for the
@@ -31,7 +31,7 @@ def planner_flag(options: SolverOptions) -> str:
 
 
 def initial_gap(case: Case) -> np.ndarray:
-    """Undeformed gap (m) on the case's surface grid (:meth:`solver.bodies.geometry.Geometry.gap`)."""
+    """The undeformed gap (m) on the surface grid (:meth:`~solver.bodies.geometry.Geometry.gap`)."""
     return case.pair.geometry.gap(*case.surface_grid.mesh())
 
 

@@ -15,8 +15,8 @@ different).  One evaluation of the fixed-point map ``d -> G(d)``:
    :func:`body_tractions`), and the trial stress of the increment
    ``sigma + 2 G d`` (the stress had ``d`` been elastic: ``d`` is deviatoric); only deviators
    are computed (all a von Mises return needs, five components instead of six);
-4. radial return (:func:`solver.plasticity.return_mapping.return_mapping`) from the equivalent plastic strain
-   at the start of the increment: ``G(d)`` is its plastic strain increment.
+4. radial return (:func:`solver.plasticity.return_mapping.return_mapping`) from the equivalent
+   plastic strain at the start of the increment: ``G(d)`` is its plastic strain increment.
 
 The loop stops when ``max |G(d) - d| <= plastic_tolerance * sigma_Y0 / E`` in every body (the
 change of the increment relative to its yield strain) and the contact step converged.  The
@@ -60,7 +60,8 @@ class PlasticState:
     Attributes
     ----------
     strain : ndarray
-        ``(6, nx, ny, nz)`` plastic strain tensor (dimensionless), :mod:`solver.numerics.tensor` order.
+        ``(6, nx, ny, nz)`` plastic strain tensor (dimensionless), :mod:`~solver.numerics.tensor`
+        order.
     equivalent : ndarray
         ``(nx, ny, nz)`` accumulated equivalent plastic strain (dimensionless).
     displacement : tuple of ndarray
@@ -69,7 +70,7 @@ class PlasticState:
     back_stress : ndarray or None
         ``(6, nx, ny, nz)`` back stress (Pa) of kinematic hardening; None: zero.
     frozen_stress : ndarray or None
-        On a window of the body's volume (:mod:`solver.drive.window`): the deviatoric residual stress
+        On a window of the body's volume (:mod:`.window`): the deviatoric residual stress
         ``(6, nx, ny, nz)`` (Pa) there of the body's whole plastic strain, inside the window
         and out, with ``displacement`` its residual displacements; the plasticity loop then
         adds those of the increment alone (linear superposition).  None: ``strain`` is all

@@ -187,8 +187,8 @@ def record_plastic(
 def shear_excess(case: Case, state) -> float:
     """The largest surface shear traction over the plastic bodies' shear limit (0: none).
 
-    :attr:`solver.plasticity.hardening.Hardening.shear_limit`: above 1 no stress field in equilibrium
-    with the tractions stays within yield.
+    :attr:`solver.plasticity.hardening.Hardening.shear_limit`: above 1 no stress field in
+    equilibrium with the tractions stays within yield.
     """
     limit = min((case.body2 if b == 2 else case.body1).hardening.shear_limit
                 for b in case.plastic_bodies)  # fmt: skip

@@ -38,8 +38,8 @@ class SolverOptions:
     bit-identical results in any process; ``"measure"`` plans by timing (about 15 % faster
     solves, 0.5 s more set-up per grid) and results then agree only to round-off, which
     path-dependent coupled friction cases can amplify to ~1e-4.  ``"wisdom"`` takes measured
-    plans from the wisdom imported into the process (:mod:`solver.numerics.fftw`), estimate plans where
-    it has none: processes with the same wisdom give bit-identical results.
+    plans from the wisdom imported into the process (:mod:`solver.numerics.fftw`), estimate plans
+    where it has none: processes with the same wisdom give bit-identical results.
     """
 
     normal_tolerance: float = SOLVER_DEFAULTS["normal_tolerance"]

@@ -29,8 +29,8 @@ PROFILE, SURFACE, ROUGHNESS = "bodyN.profile", "bodyN.surface", "bodyN.roughness
 
 
 #: What reads a height-map file: a surface table ({"file": ..., "spacing": ...}) to a
-#: :class:`~solver.bodies.heights.HeightMap` (``study.campaign.surfaces.read_surface``; solver/ reads no
-#: files).
+#: :class:`~solver.bodies.heights.HeightMap` (``study.campaign.surfaces.read_surface``; solver/
+#: reads no files).
 SurfaceReader = Callable[[dict], HeightMap]
 
 

@@ -1,11 +1,11 @@
 """DC-FFT surface operators: non-periodic convolution of cell tractions with the influence kernels.
 
 Discrete convolution–FFT (Liu, Wang & Liu 2000): a field on the (nx, ny) grid is zero-padded to
-(Lx, Ly), the smallest 7-smooth lengths >= (2nx - 1, 2ny - 1) (:func:`solver.numerics.grid.fft_length`),
-the kernel is laid out in wrap-around order on the same padded grid
-(:meth:`solver.numerics.grid.SurfaceGrid.offsets`), and the cyclic convolution of the padded arrays, cut
-back to (nx, ny), equals the linear (aperiodic) sum ``u_i = sum_j K(x_i - x_j) f_j`` exactly up to
-round-off.
+(Lx, Ly), the smallest 7-smooth lengths >= (2nx - 1, 2ny - 1)
+(:func:`solver.numerics.grid.fft_length`), the kernel is laid out in wrap-around order on the same
+padded grid (:meth:`solver.numerics.grid.SurfaceGrid.offsets`), and the cyclic convolution of the
+padded arrays, cut back to (nx, ny), equals the linear (aperiodic) sum ``u_i = sum_j K(x_i - x_j)
+f_j`` exactly up to round-off.
 
 FFT normalisation: the forward real transform is unnormalised; the inverse is FFTW's
 unnormalised backward transform, so the factor 1/(Lx Ly) is folded into the stored kernel
@@ -96,7 +96,7 @@ class SurfaceOperator:
         return self
 
     def kernel_spectrum(self, name: str) -> np.ndarray:
-        """Normalised spectrum of kernel block ``name`` (:data:`solver.surface.influence.COMPONENTS`).
+        """Normalised spectrum of kernel block ``name`` (:data:`.influence.COMPONENTS`).
 
         The offsets no pair of cells has are set to zero, so each kernel keeps its parity in x
         and y over the whole wrap-around layout: the even ``zz``, ``xx``, ``yy`` and the odd-odd

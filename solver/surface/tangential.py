@@ -4,9 +4,9 @@ In load step k the slip increment of body 2 relative to body 1 at a surface cell
 
     s = K_t q + c - Delta                                                    (m)
 
-where ``K_t`` is the tangential 2x2 block of :class:`solver.surface.convolution.SurfaceOperator`, ``q`` the
-shear traction on body 2 (Pa), ``c`` everything the caller knows (minus the previous step's
-``K_t q_{k-1}``, plus the pressure-induced tangential displacement increment, the residual
+where ``K_t`` is the tangential 2x2 block of :class:`solver.surface.convolution.SurfaceOperator`,
+``q`` the shear traction on body 2 (Pa), ``c`` everything the caller knows (minus the previous
+step's ``K_t q_{k-1}``, plus the pressure-induced tangential displacement increment, the residual
 displacement increment, plus the previous shift), and ``Delta`` the rigid tangential shift of
 body 1 relative to body 2 (m), an unknown when the tangential force is prescribed (a rolling
 increment at a given creepage prescribes it instead: the force is then free, ``force=None``,

@@ -1,1 +1,13 @@
-"""theory."""
+"""Closed forms: the references the numerics are checked against, and the rules they use.
+
+- :mod:`.hertz`: Hertz contact (circular, elliptic), its subsurface yield and first yield;
+- :mod:`.friction`: Cattaneo-Mindlin, Mindlin-Deresiewicz, Kalker's linear creep;
+- :mod:`.sneddon`: frictionless axisymmetric profiles (Sneddon 1965);
+- :mod:`.half_space`: half-space stresses of surface loads: Love's rectangle, Boussinesq and
+  Cerruti point forces, Hamilton's sliding Hertz contact;
+- :mod:`.shakedown`: shakedown classification of cyclic results, Melan's bound, first yield in
+  sliding.
+
+Imports: :mod:`solver.numerics` and the declarations.  A new closed form goes here, with a test
+that compares the numerics with it.
+"""

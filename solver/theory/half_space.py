@@ -1,10 +1,10 @@
 r"""Stresses inside an elastic half-space under surface tractions: the closed forms.
 
-Conventions (as :mod:`solver.surface.influence`): ``z`` points down, into body 2, the half-space whose
-stresses are computed.  The tractions acting on its surface are ``(q_x, q_y, p)``: ``p > 0``
+Conventions (as :mod:`solver.surface.influence`): ``z`` points down, into body 2, the half-space
+whose stresses are computed.  The tractions acting on its surface are ``(q_x, q_y, p)``: ``p > 0``
 pushes into the body (+z), ``q_x > 0`` acts in +x.  Stresses are positive in tension and are
-returned in the order :data:`solver.numerics.tensor.COMPONENTS` = (xx, yy, zz, yz, xz, xy).  At the surface the
-stress balances the load: ``sigma_zz = -p``, ``sigma_xz = -q_x``, ``sigma_yz = -q_y``.
+returned in the order :data:`solver.numerics.tensor.COMPONENTS` = (xx, yy, zz, yz, xz, xy).  At the
+surface the stress balances the load: ``sigma_zz = -p``, ``sigma_xz = -q_x``, ``sigma_yz = -q_y``.
 
 Derivation (checked with sympy: Navier's equations, the free surface and the total force).
 With ``Omega = z ln(R + z) - R``, ``R = |x|``, the displacements of a unit point force at the
@@ -62,7 +62,8 @@ import math
 
 import numpy as np
 
-#: Surface traction components, in the order of :meth:`solver.volume.stress.SubsurfaceStressOperator.kernel_spectra`.
+#: Surface traction components, in the order of
+#: :meth:`solver.volume.stress.SubsurfaceStressOperator.kernel_spectra`.
 TRACTIONS = ("pressure", "shear_x", "shear_y")
 
 

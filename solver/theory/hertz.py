@@ -217,11 +217,11 @@ def hertz_yield_half_width(
     """Largest lateral distance x / a or y / a where the elastic von Mises stress yields.
 
     The elastic prediction of the plastic zone's half width: the stress of a Hertz pressure
-    with a sliding shear ``q_x = traction_ratio p`` (:func:`solver.theory.half_space.hamilton_stress`,
-    closed form) is sampled every 0.02 a in the planes ``y = 0`` and ``x = 0`` for ``0 < z <=
-    depth``, ``|x|, |y| <= reach``; the largest ``|x|`` or ``|y|`` where the von Mises stress
-    reaches ``yield_stress`` is returned (0 when nothing yields, ``reach`` when the region
-    reaches the sampled edge).
+    with a sliding shear ``q_x = traction_ratio p``
+    (:func:`solver.theory.half_space.hamilton_stress`, closed form) is sampled every 0.02 a in the
+    planes ``y = 0`` and ``x = 0`` for ``0 < z <= depth``, ``|x|, |y| <= reach``; the largest
+    ``|x|`` or ``|y|`` where the von Mises stress reaches ``yield_stress`` is returned (0 when
+    nothing yields, ``reach`` when the region reaches the sampled edge).
 
     Parameters
     ----------

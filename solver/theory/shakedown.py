@@ -163,8 +163,8 @@ def shakedown_variable(regime: Shakedown | np.ndarray, dims: tuple[str, ...] = (
 def sliding_first_yield(friction_coefficient: float, nu: float) -> tuple[float, float, float]:
     """First yield (von Mises) under a sliding Hertz point contact, from Hamilton's field.
 
-    The largest von Mises stress of :func:`solver.theory.half_space.hamilton_stress` (pressure p_0 and
-    shear ``mu p`` along +x) over the plane y = 0, found on a grid of a/200 (x from -1.5 a to
+    The largest von Mises stress of :func:`solver.theory.half_space.hamilton_stress` (pressure p_0
+    and shear ``mu p`` along +x) over the plane y = 0, found on a grid of a/200 (x from -1.5 a to
     1.5 a, depth from 1e-4 a to 1.2 a) and refined on a grid of a/20000 around the best point.
 
     Parameters

@@ -1,1 +1,9 @@
-"""volume."""
+"""Below the surface: the stress of the tractions and the eigenstrain (plastic strain) operator.
+
+- :mod:`.stress`: the layer kernels and the FFT operator of the tractions' stresses;
+- :mod:`.cuboid`: a uniform eigenstrain in a cuboid (Chiu's closed forms);
+- :mod:`.eigenstrain`: residual stress and surface displacement of a plastic strain field.
+
+Imports: :mod:`solver.surface` (the surface cell integrals), :mod:`solver.theory`,
+:mod:`solver.numerics` and the declarations.
+"""

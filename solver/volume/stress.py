@@ -213,7 +213,7 @@ class SubsurfaceStressOperator:
         return max(1, min(self.grid.nz, 2**22 // (4 * g.nx * g.ny)))
 
     def make_plans(self) -> None:
-        """Make every FFT plan this operator uses (see :mod:`solver.numerics.fftw`), nothing else."""
+        """Make every FFT plan this operator uses (:mod:`solver.numerics.fftw`), nothing else."""
         nz, chunk = self.grid.nz, self._kernel_chunk()
         for nlayers in {nz, chunk, nz % chunk or chunk}:
             self.batched_transforms(nlayers)

@@ -81,7 +81,7 @@ def _solve(table: dict) -> dict:
 
 
 def _full_slip_shift(hertz_radius: float) -> float:
-    """C of :func:`solver.theory.friction.cattaneo_shift` for the two identical steel spheres (m)."""
+    """C of :func:`solver.theory.friction.cattaneo_shift` for the two identical steel spheres, m."""
     shear_modulus = STEEL["E"] / (2 * (1 + STEEL["nu"]))
     return 2 * 3 * PAIR_MU * FORCE * (2 - STEEL["nu"]) / (16 * shear_modulus * hertz_radius)
 

@@ -1,4 +1,4 @@
-"""Height-map files: read them into :class:`solver.bodies.heights.HeightMap` (the solver reads no files).
+"""Height-map files read into :class:`solver.bodies.heights.HeightMap` (the solver reads no files).
 
 Two formats (docs: how-to "Contact shapes"):
 
@@ -8,8 +8,8 @@ Two formats (docs: how-to "Contact shapes"):
 * ``.npy`` with ``spacing = dx`` or ``[dx, dy]`` (m) given in the surface table: rows are y,
   columns x, centred on the origin.
 
-Every problem is a :class:`~solver.bodies.heights.SurfaceError` naming the file, the problem and what
-to change; :meth:`solver.Case.from_dict` turns it into a :class:`~solver.SpecError` naming the
+Every problem is a :class:`~solver.bodies.heights.SurfaceError` naming the file, the problem and
+what to change; :meth:`solver.Case.from_dict` turns it into a :class:`~solver.SpecError` naming the
 field (``bodyN.surface``), and the command line exits with status 2.  Maps are cached per file
 (path, size, modification time), so a campaign's cases read a map once per process.
 """

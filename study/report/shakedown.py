@@ -13,8 +13,8 @@ cycle.  This section writes
   with first yield under a sliding point contact (Hamilton's field,
   :func:`solver.theory.shakedown.sliding_first_yield`), the line mu p_0 = k (above it the sliding
   shear at Hertz's peak exceeds what a perfectly plastic surface can carry:
-  :attr:`solver.plasticity.hardening.Hardening.shear_limit`) and each converged case's Melan bound drawn
-  over it.
+  :attr:`solver.plasticity.hardening.Hardening.shear_limit`) and each converged case's Melan
+  bound drawn over it.
 """
 
 from __future__ import annotations
@@ -164,15 +164,15 @@ def section(dataset, out: Path, name: str, plt, shown: list, nu: float | None) -
     """Markdown lines of the shakedown part of the report (figures appended to ``shown``)."""
     lines = ["## Shakedown", ""]
     lines += [
-        "`regime`: solver.theory.shakedown.classify of the plastic strain gained per cycle (the largest",
-        "over the volume): elastic (never yields), elastic shakedown (the last cycle gains less",
-        "than 1e-3 of the largest), plastic shakedown (a steady gain whose net tensor change is",
-        "below 0.1 of it), ratchetting (a steady net gain), undetermined (not converged, or",
-        "still settling: more cycles). `gain_*`: equivalent plastic strain gained in the first",
-        "and the last cycle; `net_last`: equivalent strain of the plastic strain tensor's change",
-        "over the last cycle. `melan p0/k`: the peak pressure up to which the case's final",
-        "residual stress keeps the sliding Hertz load (Hamilton's field, every loaded position)",
-        "inside the yield surface: Melan's static lower bound from that field.",
+        "`regime`: solver.theory.shakedown.classify of the plastic strain gained per cycle (the",
+        "largest over the volume): elastic (never yields), elastic shakedown (the last cycle",
+        "gains less than 1e-3 of the largest), plastic shakedown (a steady gain whose net tensor",
+        "change is below 0.1 of it), ratchetting (a steady net gain), undetermined (not",
+        "converged, or still settling: more cycles). `gain_*`: equivalent plastic strain gained",
+        "in the first and the last cycle; `net_last`: equivalent strain of the plastic strain",
+        "tensor's change over the last cycle. `melan p0/k`: the peak pressure up to which the",
+        "case's final residual stress keeps the sliding Hertz load (Hamilton's field, every",
+        "loaded position) inside the yield surface: Melan's static lower bound from that field.",
         "",
         figures.markdown_table(shakedown_table(dataset)),
         "",

@@ -1,7 +1,7 @@
 """FFTW wisdom kept per machine, for cases with ``solver.fft_planner = "wisdom"``.
 
-Measured FFT plans (:mod:`solver.numerics.fftw`) are faster than FFTW's estimates, but measuring them
-takes time and depends on timing noise, so two processes measuring alike may round
+Measured FFT plans (:mod:`solver.numerics.fftw`) are faster than FFTW's estimates, but measuring
+them takes time and depends on timing noise, so two processes measuring alike may round
 differently.  Here they are measured once per machine and grid, on rank 0, and saved in a cache
 folder (:func:`wisdom_file`; ``$SLIPSTICK_CACHE``, else ``$XDG_CACHE_HOME/slipstick``, else
 ``~/.cache/slipstick``, created on first use); every rank of a run imports the same wisdom
