@@ -7,7 +7,9 @@ Run by ``docs/conf.py`` before every build (and by the tests), so the pages cann
 - ``dataset.md``: :data:`solver.variables.HISTORIES`, ``FIELDS``, ``CYCLE_QUANTITIES`` and the
   campaign scalars of :data:`study.run.assemble.SCALARS`;
 - ``cli.md``: the argparse parser of ``python -m study`` (:func:`study.cli.build_parser`);
-- ``api.md``: autodoc directives for the public Python API.
+- ``api.md``: autodoc directives for the public Python API;
+- ``layout.md``: the packages' own docstrings, parts in their tested order
+  (:data:`solver.PARTS`, :data:`study.PARTS`).
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ import inspect
 import json
 from pathlib import Path
 
-PAGES = ("case-keys", "campaign-keys", "dataset", "cli", "api")
+PAGES = ("case-keys", "campaign-keys", "dataset", "cli", "api", "layout")
 #: JSON types of the declared kinds (a key whose kind starts so).
 _JSON_TYPES = {
     'number or "inf"': {"anyOf": [{"type": "number"}, {"const": "inf"}]},
@@ -203,6 +205,7 @@ def cli_page() -> str:
 API = (
     ("solver", ["Case", "solve", "Result", "SpecError", "memory_estimate"]),
     ("solver.theory.hertz", None),
+    ("solver.theory.friction", None),
     ("solver.bodies.geometry", None),
     ("solver.theory.sneddon", None),
     ("solver.bodies.dundurs", None),
@@ -233,6 +236,28 @@ def api_page() -> str:
             kind = "autoclass" if inspect.isclass(getattr(imported, name)) else "autofunction"
             options = ["   :members:"] if kind == "autoclass" else []
             lines += ["```{eval-rst}", f".. {kind}:: {module}.{name}", *options, "```", ""]
+    return "\n".join(lines)
+
+
+def layout_page() -> str:
+    """The code's layout: each package's docstring, then each part's, bottom up."""
+    lines = [
+        "# Code layout",
+        "",
+        "What each package and part holds and may import, from their own docstrings (the",
+        "order, each part importing only those before it, is tested by `tests/test_layout.py`).",
+        "",
+    ]
+    on_api_page = {module for module, names in API if names is None}
+    for package in ("solver", "study"):
+        parts = [p for p in importlib.import_module(package).PARTS if p != "__main__"]
+        for name in (package, *(f"{package}.{part}" for part in parts)):
+            lines += [f"{'##' if name == package else '###'} `{name}`", ""]
+            if name in on_api_page:  # its docstring is there, with its labels
+                lines += [f"Its docstring is on the [API page](api.md) (`{name}`).", ""]
+                continue
+            directive = [f".. automodule:: {name}", "   :no-index:"]  # the API page indexes
+            lines += ["```{eval-rst}", *directive, "```", ""]
     return "\n".join(lines)
 
 
@@ -277,6 +302,7 @@ def write_all(folder: Path) -> None:
         "dataset": dataset_page,
         "cli": cli_page,
         "api": api_page,
+        "layout": layout_page,
     }
     texts = {f"{name}.md": builders[name]() + "\n" for name in PAGES}
     texts["case.schema.json"] = json.dumps(case_schema(), indent=1) + "\n"

@@ -22,6 +22,20 @@ The parts, from the bottom up; each imports only those listed before it (tested)
 - :mod:`solver.result`: :class:`Result` (fields, histories, per-cycle quantities, xarray);
 - :mod:`solver.drive`: operators, contact steps, the plasticity loop, the moving window,
   :func:`solve`.
+
+Where a new kind of physics goes:
+
+- a body shape: :mod:`solver.bodies.geometry` (a profile) or :mod:`solver.bodies.heights` (given
+  point by point); its keys in :mod:`solver.keys`, their parsing in :mod:`solver.spec.bodies`;
+- a load stage (a motion, a target): :class:`~solver.spec.path.LoadStage` and its parser in
+  :mod:`solver.spec.path`, what an increment of it does in :mod:`solver.drive.loops`;
+- a step or a loop: :mod:`solver.drive.steps`, or a loop around a step beside
+  :mod:`solver.drive.plastic_loop`; its histories declared in :mod:`solver.variables` and
+  written in :mod:`solver.drive.record`;
+- a surface solver (a periodic operator, steady rolling): :mod:`solver.surface`;
+- a hardening law: :mod:`solver.plasticity.hardening` (and the return mapping if it needs one);
+- a closed form or a theorem (a shakedown bound): :mod:`solver.theory`;
+- a note or a refusal of a case: :mod:`solver.spec.notes`.
 """
 
 from .drive.loops import solve
@@ -30,5 +44,11 @@ from .result import Result
 from .spec.case import Case
 from .spec.reading import SpecError
 
-__all__ = ["Case", "Result", "SpecError", "memory_estimate", "solve"]
+__all__ = ["PARTS", "Case", "Result", "SpecError", "memory_estimate", "solve"]
+#: The parts from the bottom up, as listed above: each imports only those before it (a
+#: sub-package's modules import each other without a cycle); ``tests/test_layout.py`` checks it.
+PARTS = (
+    "variables", "keys", "numerics", "theory", "plasticity", "bodies", "surface", "volume",
+    "spec", "result", "drive",
+)  # fmt: skip
 __version__ = "0.1.0"

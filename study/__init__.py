@@ -13,7 +13,10 @@ Importing the package imports nothing heavy, so that ``python -m study`` can lim
 threads before numpy loads.
 """
 
-__all__ = ["__version__"]
+__all__ = ["PARTS", "__version__"]
+#: The parts from the bottom up, as listed above: each imports only those before it (and
+#: :mod:`solver`); ``tests/test_layout.py`` checks it.
+PARTS = ("campaign", "run", "analysis", "report", "bench", "cli", "__main__")
 
 
 def __getattr__(name: str):

@@ -10,15 +10,11 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
+import solver
+import study
+
 ROOT = Path(__file__).resolve().parents[1]
-#: ``study``'s parts from the bottom up: each may import those before it (and ``solver``).
-STUDY_LAYERS = ("campaign", "run", "analysis", "report", "bench", "cli", "__main__")
-#: ``solver``'s parts from the bottom up (as its docstring lists them): each may import those
-#: before it; a sub-package's modules may import each other (without a cycle).
-SOLVER_LAYERS = (
-    "variables", "keys", "numerics", "theory", "plasticity", "bodies", "surface", "volume",
-    "spec", "result", "drive",
-)  # fmt: skip
+SOLVER_LAYERS, STUDY_LAYERS = solver.PARTS, study.PARTS
 
 
 def _modules(package: str) -> dict[str, Path]:
