@@ -7,7 +7,7 @@ import solver
 from solver.numerics.tensor import von_mises
 from solver.spec.path import path_steps
 from solver.spec.reading import SpecError
-from solver.theory import hertz as reference
+from solver.theory import friction
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
 SWIFTLESS = {
@@ -101,7 +101,7 @@ def test_fretting_cycles_match_mindlin_deresiewicz_and_the_friction_work(validat
         # two identical bodies: twice one body's full-slip shift (Johnson 1985, eq. 7.42)
         shear_modulus = 210e9 / 2.6
         full_slip = 2 * 3 * mu * force * (2 - 0.3) / (16 * shear_modulus * case.hertz.radius)
-        expected = reference.mindlin_deresiewicz_energy(amplitude, mu, force, full_slip)
+        expected = friction.mindlin_deresiewicz_energy(amplitude, mu, force, full_slip)
         energy = ds.loop_energy.values
         errors.append(abs(energy[-1] / expected - 1))
         # the steady loop: every cycle the same

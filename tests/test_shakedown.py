@@ -273,15 +273,15 @@ def test_a_sliding_shear_past_k_is_told_and_its_surface_strain_follows_the_layer
 
 def test_many_failed_increments_are_told_in_one_note():
     """A case past what its body can carry fails every increment: one note names them all."""
-    from solver.drive.record import MAX_FAILURE_NOTES, _failure_notes
+    from solver.drive.record import MAX_FAILURE_NOTES, failure_notes
 
     few = [(3, "plasticity loop not converged"), (4, "(sub-step to W = 1 N): normal")]
-    assert _failure_notes(few) == [
+    assert failure_notes(few) == [
         "step 3: plasticity loop not converged", "step 4 (sub-step to W = 1 N): normal",
     ]  # fmt: skip
     many = [(k, f"failure {k}") for k in (3, 4, 5, 5, 9, 10, 12)]
     assert len(many) > MAX_FAILURE_NOTES
-    (note,) = _failure_notes(many)
+    (note,) = failure_notes(many)
     assert note == (
         "7 increments did not converge, in steps 3-5, 9-10, 12; the first: step 3: failure 3; "
         "the last: step 12: failure 12"

@@ -11,7 +11,7 @@ import solver
 from solver.drive.loops import load_substeps
 from solver.drive.operators import CaseOperators
 from solver.drive.steps import ContactState, slip_stick_step
-from solver.theory import hertz as reference
+from solver.theory import friction
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
 #: Spence (1975), rigid sphere on a nu = 0 half-space (beta = -0.5), mu = 0.2986 (c/a = 0.5):
@@ -301,7 +301,7 @@ def test_mindlin_deresiewicz_energy_is_the_loop_area():
     down = peak - 2 * compliance * psi((amplitude - q) / (2 * mu * force))
     up = -peak + 2 * compliance * psi((q + amplitude) / (2 * mu * force))
     area = np.trapezoid(down - up, q)
-    assert reference.mindlin_deresiewicz_energy(amplitude, mu, force, compliance) == pytest.approx(
+    assert friction.mindlin_deresiewicz_energy(amplitude, mu, force, compliance) == pytest.approx(
         area, rel=1e-7
     )
 
@@ -325,7 +325,7 @@ def test_fretting_loop_energy_matches_mindlin_deresiewicz(validation):
         shear_modulus = 210e9 / 2.6
         # two identical bodies: twice the single-body full-slip shift (Johnson 1985, eq. 7.42)
         full_slip = 2 * 3 * mu * force * (2 - 0.3) / (16 * shear_modulus * result.case.hertz.radius)
-        expected = reference.mindlin_deresiewicz_energy(amplitude, mu, force, full_slip)
+        expected = friction.mindlin_deresiewicz_energy(amplitude, mu, force, full_slip)
         errors.append(abs(area / expected - 1))
     assert errors[1] < errors[0]
     assert errors[1] < 0.01
