@@ -5,6 +5,12 @@ A case is built from a TOML table or a dict (SI units) with :meth:`Case.from_dic
 :class:`SpecError` naming the field and what to change.  :meth:`Case.to_dict` gives the
 normalised table (floats where floats are meant, defaults filled in), whose hash is the case id,
 so ``1`` and ``1.0`` give the same id.
+
+Each table is parsed by the module of :mod:`solver.spec` that holds it (:mod:`.bodies`,
+:mod:`.path`, :mod:`.grid`, :mod:`.options`); here they are put together, the rules that join
+tables are checked, the window and the plastic box are sized (:mod:`.sizing`), the notes are
+gathered (:mod:`.notes`), and :class:`Case` derives the grids, the reference contact and the
+increments from the validated values.
 """
 
 from __future__ import annotations
