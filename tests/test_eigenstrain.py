@@ -410,7 +410,7 @@ def test_depth_transforms_are_the_dct_and_dst_of_the_columns(nz):
     counts."""
     import scipy.fft
 
-    from solver.volume.eigenstrain import _parity3, _rotation
+    from solver.volume.eigenstrain_kernels import parity3, rotation
 
     op = operator(VolumeGrid(SurfaceGrid(4, 3, 1.0, 1.0), nz, 1.0))
     worker = op._workers()[0]
@@ -421,8 +421,8 @@ def test_depth_transforms_are_the_dct_and_dst_of_the_columns(nz):
     shape = (rows, op.shape[1] + 1)
     for component in range(6):  # xx, yy, zz even in z; yz, xz odd; xy, yz, xz turned
         odd, turned = (
-            _parity3(["xx", "yy", "zz", "yz", "xz", "xy"][component])[2],
-            _rotation(component),
+            parity3(["xx", "yy", "zz", "yz", "xz", "xy"][component])[2],
+            rotation(component),
         )
         window = slice(1, m + 1) if odd else slice(0, m)
         layers = rng.normal(size=shape + (nz,)) + 1j * rng.normal(size=shape + (nz,))

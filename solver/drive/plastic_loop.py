@@ -38,7 +38,7 @@ from ..numerics.anderson import Anderson
 from ..numerics.tensor import complete_deviator, deviator
 from ..numerics.threads import by_rows
 from ..plasticity.return_mapping import return_mapping_by_blocks
-from ..volume.eigenstrain import DEVIATORIC
+from ..volume.eigenstrain_kernels import DEVIATORIC
 from .steps import ContactState, ResidualDisplacement, StepResult
 
 if TYPE_CHECKING:

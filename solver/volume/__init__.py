@@ -2,7 +2,11 @@
 
 - :mod:`.stress`: the layer kernels and the FFT operator of the tractions' stresses;
 - :mod:`.cuboid`: a uniform eigenstrain in a cuboid (Chiu's closed forms);
-- :mod:`.eigenstrain`: residual stress and surface displacement of a plastic strain field.
+- :mod:`.eigenstrain`: residual stress and surface displacement of a plastic strain field;
+- :mod:`.eigenstrain_kernels`: its kernel spectra (Chiu's source and image cuboids, the
+  per-layer surface kernels);
+- :mod:`.eigenstrain_convolution`: its FFT convolution (per-layer 2-D transforms, the
+  symmetric depth convolution by row blocks).
 
 Imports: :mod:`solver.surface` (the surface cell integrals), :mod:`solver.theory`,
 :mod:`solver.numerics` and the declarations.

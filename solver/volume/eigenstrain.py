@@ -1,8 +1,8 @@
 r"""Residual stress and surface displacement of an eigenstrain (plastic strain) field.
 
 The half-space ``z > 0`` (z into body 2) holds a piecewise-constant eigenstrain on the cells of
-a :class:`~solver.numerics.grid.VolumeGrid`, components (xx, yy, zz, yz, xz, xy), tensor values.  Chiu's
-(1978) construction, applied with FFTs as Liu & Wang (2005):
+a :class:`~solver.numerics.grid.VolumeGrid`, components (xx, yy, zz, yz, xz, xy), tensor
+values.  Chiu's (1978) construction, applied with FFTs as Liu & Wang (2005):
 
 1. *Source*: every cell is a cuboid of uniform eigenstrain in an infinite body
    (:mod:`solver.volume.cuboid`).
@@ -11,38 +11,22 @@ a :class:`~solver.numerics.grid.VolumeGrid`, components (xx, yy, zz, yz, xz, xy)
    stress ``S_zz(x, y, 0) = 2 sigma_zz^source(x, y, 0)`` remains.
 3. *Boussinesq correction*: the half-space solution of a surface pressure ``p = S_zz`` (its
    values at the surface-cell centres, piecewise constant) cancels it (the pressure kernels of
-   :class:`~solver.volume.stress.SubsurfaceStressOperator` at every layer).  ``S_zz`` is known on the
-   grid only; the part outside is dropped, which changes the stresses by ~1e-5 of their maximum
-   in the tests (an eigenstrain blob at depth 4 in a window 8 depths wide).
+   :class:`~solver.volume.stress.SubsurfaceStressOperator` at every layer).  ``S_zz`` is known
+   on the grid only; the part outside is dropped, which changes the stresses by ~1e-5 of their
+   maximum in the tests (an eigenstrain blob at depth 4 in a window 8 depths wide).
 
-Source and image are one 3-D convolution, symmetric in z.  Source plus image is a column of
-``2 nz`` cells even in z (xx, yy, zz, xy) or odd (yz, xz) about the surface, and every cuboid
-kernel is even or odd in its z offset, so the z direction is a symmetric convolution (Martucci
-1994) of period ``2M`` with ``M >= 2 nz`` (no wrap-around reaches an offset the layers have;
-M even, :func:`depth_length`): the column goes through a DCT-II (even) or DST-II (odd) of
-length M, the kernel's offsets ``0 .. M`` through a DCT-I or DST-I, their product through a
-DCT-III or DST-III back, all real.  The data's DCTs and DSTs are real FFTs of length M of the
-reordered column (Makhoul 1980), both planes (real and imaginary parts) in one call: FFTW's
-own real-to-real transforms of these lengths were 1.7 to 3.8 times slower.
-The data first go through per-layer 2-D transforms of the box zero-padded to ``(2nx, 2ny)``
-(the layer spectra the surface terms use as well), then the z transforms; each kernel is even
-or odd in x and y too, so its spectrum is real up to a power of i: stored real, for ``kx <=
-nx``, ``ky <= ny`` (the mirrored kx by parity), ``(nx + 1, ny + 1, M + 1)``, and multiplied
-with the real and imaginary planes of the inputs apart.  Per output component: 5 (trace-free)
-or 6 real multiply-adds per frequency and plane; the spectrum has ``2nx (ny + 1) (M + 1)``
-frequencies.  The 21 general kernels (``w_ij D_ij,mn`` is symmetric) or the 20 of a trace-free
-eigenstrain (15 of a symmetric 5 x 5 deviatoric operator and 5 of the mean stress) are kept.
-The convolution runs by blocks of kx rows: each block's inputs are transformed in z,
-multiplied and transformed back while they are in cache, and its outputs replace its inputs.
+The 3-D convolution of source and image (symmetric in z, by DCTs and DSTs along z) runs in
+:mod:`solver.volume.eigenstrain_convolution`, with the kernel spectra of
+:mod:`solver.volume.eigenstrain_kernels`.
 
 Surface residual displacements (body-2 frame, z into the body; a uniform layer of thickness h
 with ``e_zz > 0`` gives ``u_z = -h e_zz``), two routes:
 
 * ``"reciprocal"`` (default, DESIGN §3.7): ``u_k = sum_cells sigma^(k)_ij e_ij dV / dA``, with
   ``sigma^(k)`` the stress of a unit traction on one surface cell in direction k (the
-  :class:`~solver.volume.stress.SubsurfaceStressOperator` kernels; a 2-D correlation per layer).  The
-  surface-cell average of u, with the volume integral taken by the midpoint rule in each cell;
-  nothing is truncated (lateral sums of the kernels are exact).
+  :class:`~solver.volume.stress.SubsurfaceStressOperator` kernels; a 2-D correlation per
+  layer).  The surface-cell average of u, with the volume integral taken by the midpoint rule
+  in each cell; nothing is truncated (lateral sums of the kernels are exact).
 * ``"direct"``: ``u_x, u_y = 2 u^source(z = 0)`` plus the Boussinesq displacement of ``p``;
   ``u_z`` = the Boussinesq part only.  Point values at the cell centres.  Because ``p`` is
   known on the grid only and the Boussinesq kernel decays like 1/r, this route misses the
@@ -59,102 +43,37 @@ FFT normalisation as :mod:`solver.surface.convolution`: forward transforms unnor
 from __future__ import annotations
 
 import functools
-import itertools
-import math
-from dataclasses import dataclass
 
 import numpy as np
-import pyfftw
 
-from ..numerics.fftw import fft_size, plan
 from ..numerics.grid import IndexBox, VolumeGrid
-from ..numerics.tensor import WEIGHTS, complete_deviator, deviator
+from ..numerics.tensor import complete_deviator, deviator
 from ..numerics.threads import by_rows, each
-from ..surface.influence import cell_integral
-from .cuboid import (
-    DISPLACEMENT_BASE,
-    STRESS_BASE,
-    corner_functions,
-    displacement_coefficients,
-    stress_coefficients,
+from .eigenstrain_convolution import (
+    CHUNK_BYTES,
+    SLOT,
+    EigenstrainConvolution,
+    depth_length,
 )
-from .stress import STRESS_COMPONENTS, SubsurfaceStressOperator, kernel_parity, wrap_layout
+from .eigenstrain_kernels import (
+    COMPONENT_WEIGHTS,
+    DEVIATORIC,
+    EigenstrainKernels,
+    _is_imaginary,
+    component_name,
+    kernel_plans,
+    parity3,
+)
+from .stress import STRESS_COMPONENTS, SubsurfaceStressOperator, kernel_parity
 
-#: Tensor weights of the six components in ``sigma : e`` (off-diagonal terms count twice).
-COMPONENT_WEIGHTS = WEIGHTS
-#: The five independent components of a deviatoric tensor (zz = -(xx + yy)).
-DEVIATORIC = (0, 1, 3, 4, 5)
 #: Sign of each eigenstrain component in the mirror image (xz and yz flip).
 IMAGE_SIGNS = np.array([1.0, 1.0, 1.0, -1.0, -1.0, 1.0])
 
 #: Names of the output components (the mean stress "mean" has the parity of a normal one).
-_OUTPUT_NAME = dict(enumerate(STRESS_COMPONENTS))
 _TRACTION_OF_DIRECTION = {"x": "shear_x", "y": "shear_y", "z": "pressure"}
 
 
-def _parity(indices: str) -> tuple[int, int]:
-    return indices.count("x") % 2, indices.count("y") % 2
-
-
-def _is_imaginary(indices: str) -> bool:
-    px, py = _parity(indices)
-    return bool((px + py) % 2)
-
-
-def _parity3(indices: str) -> tuple[int, int, int]:
-    """Parity (0 even, 1 odd) in x, y and z of a kernel or field with these tensor indices."""
-    return indices.count("x") % 2, indices.count("y") % 2, indices.count("z") % 2
-
-
-def _name(component) -> str:
-    """Index letters of a stress component (an index, or ``"mean"``: a normal one)."""
-    return "xx" if component == "mean" else STRESS_COMPONENTS[component]
-
-
-def _rotation(component) -> int:
-    """1 when a component's x-y transform carries a factor i (odd in exactly one of x, y)."""
-    px, py, _ = _parity3(_name(component))
-    return (px + py) % 2
-
-
-def _rotation_sign(a, b, parity_xy: tuple[int, int]) -> float:
-    """``(-i)^(px + py) / i^(r_a + r_b)``: +-1, the sign of a stored real kernel spectrum.
-
-    A kernel of x-y parity ``(px, py)`` has the 2-D transform ``(-i)^(px + py) R``;
-    stored is ``K / i^(r_a + r_b)``, so that inputs turned by ``i^r_b`` and outputs by
-    ``i^r_a`` (:meth:`EigenstrainOperator._stress`) see real kernels only.
-    """
-    value = (-1j) ** sum(parity_xy) / 1j ** (_rotation(a) + _rotation(b))
-    if abs(value.imag) > 1e-12:
-        raise AssertionError("kernel parity and component rotations disagree")  # pragma: no cover
-    return value.real
-
-
-def _lattice_corner_sums(cx, cy, cz, names, chunk: int = 16, threads: int = 1) -> dict:
-    """Corner sums of the cuboid corner functions over a lattice of corner coordinates.
-
-    ``cx``, ``cy``, ``cz`` are increasing 1-D corner coordinates ``x - x'_corner``.  Entry
-    ``(i, j, k)`` of each result, shape ``(len(cx) - 1, len(cy) - 1, len(cz) - 1)``, is the
-    alternating sum over the corners ``(cx[i:i+2], cy[j:j+2], cz[k:k+2])``: the field of a
-    cuboid of one lattice cell at the offset of that cell's centre.  Computed in slabs of
-    ``chunk`` x-rows to bound the temporaries, shared by ``threads`` threads.
-    """
-    out = {name: np.empty((len(cx) - 1, len(cy) - 1, len(cz) - 1)) for name in names}
-
-    def slab(i0: int) -> None:
-        i1 = min(len(cx) - 1, i0 + chunk)
-        f = corner_functions(
-            cx[i0 : i1 + 1, None, None], cy[None, :, None], cz[None, None, :], names
-        )
-        for name in names:
-            v = f[name]
-            out[name][i0:i1] = np.diff(np.diff(np.diff(v, axis=0), axis=1), axis=2)
-
-    each(slab, range(0, len(cx) - 1, chunk), threads)
-    return out
-
-
-class EigenstrainOperator:
+class EigenstrainOperator(EigenstrainKernels, EigenstrainConvolution):
     """Residual stress and surface displacement of a cell-wise eigenstrain in a half-space.
 
     Parameters
@@ -181,9 +100,9 @@ class EigenstrainOperator:
     Kernels are built on first use (:meth:`prepare` builds them explicitly): 20 (trace-free)
     or 21 real 3-D spectra ``(nx + 1, ny + 1, M + 1)`` for the stress, float per-layer 2-D
     spectra for the surface traction (6), the
-    :class:`~solver.volume.stress.SubsurfaceStressOperator` kernels (pressure for the correction, both
-    shears as well for the reciprocal displacement) and, only if the direct displacement route
-    is used, its 12 per-layer kernels.
+    :class:`~solver.volume.stress.SubsurfaceStressOperator` kernels (pressure for the
+    correction, both shears as well for the reciprocal displacement) and, only if the direct
+    displacement route is used, its 12 per-layer kernels.
     :meth:`memory_bytes` states the peak; ``python -m study.bench.subsurface`` measures
     setup, stress and displacement times and the peak against it.
     """
@@ -222,7 +141,7 @@ class EigenstrainOperator:
         elif surface_stress.grid != grid or surface_stress.nu != self.nu:
             raise ValueError("surface_stress must be built on the same grid and Poisson's ratio")
         self.surface_stress = surface_stress
-        self._volume: tuple | None = None
+        self._volume: list | None = None
         self._work: list | None = None
         self._stress_spectra: dict | None = None
         self._deviatoric_spectra: dict | None = None
@@ -256,177 +175,6 @@ class EigenstrainOperator:
         if direct:
             self._surface_layer_kernels(displacement=True)
 
-    def _layer_pieces(self) -> list[slice]:
-        """The box's layers cut into :data:`LAYER_PIECES` runs (the 2-D transforms' pieces)."""
-        bounds = np.linspace(0, self.shape[2], LAYER_PIECES + 1).round().astype(int)
-        return [slice(a, b) for a, b in itertools.pairwise(bounds) if b > a]
-
-    def _volume_plans(self) -> list[dict]:
-        """FFT plans and buffers of the per-layer 2-D transforms of the box, one set per thread.
-
-        Each set maps a piece's layer count ``h`` (:meth:`_layer_pieces`) to its plans:
-        ``"data"`` ``(2nx, ny + 1, h)`` complex holds per-layer 2-D spectra of the box: the
-        forward transform of the data rows (``"y"`` on the box's ``nx`` rows of ``"rows"``,
-        then ``"x"``) writes there; on the way back ``"-x"``, ``"-y"`` bring a stress
-        component's spectra back to the box's cells in ``"rows"`` ``(nx, 2ny, h)``.  The
-        depth convolution between them runs by row blocks (:meth:`_workers`).  With several
-        threads each set (single-threaded plans: the same plans as one thread's) transforms
-        its share of the pieces (:meth:`_each_component`).
-        """
-        if self._volume is None:
-            nx, ny, _ = self.shape
-            make = functools.partial(plan, planner=self.planner, threads=1)
-            depths = sorted({zs.stop - zs.start for zs in self._layer_pieces()})
-            self._volume = []
-            for _ in range(max(1, self.threads)):
-                sets = {}
-                for h in depths:
-                    data = pyfftw.empty_aligned((2 * nx, ny + 1, h), dtype=self._complex)
-                    rows = pyfftw.empty_aligned((nx, 2 * ny, h), dtype=self._real)
-                    sets[h] = {
-                        "data": data,
-                        "rows": rows,
-                        "y": make(rows, data[:nx], axes=(1,)),
-                        "x": make(data, data, axes=(0,)),
-                        "-x": make(data, data, axes=(0,), direction="FFTW_BACKWARD"),
-                        "-y": make(
-                            data[:nx],
-                            rows,
-                            axes=(1,),
-                            direction="FFTW_BACKWARD",
-                            extra=("FFTW_DESTROY_INPUT",),
-                        ),
-                    }
-                    data[...] = 0.0
-                    rows[...] = 0.0
-                self._volume.append(sets)
-        return self._volume
-
-    def _each_component(self, components, job) -> None:
-        """``job(component, layers, plans)`` for every component and piece of layers.
-
-        The pieces (each component's :meth:`_layer_pieces`, ``layers`` a slice of them) are
-        dealt to the plan sets of :meth:`_volume_plans` (one thread each; ``plans`` those of
-        the piece's layer count): five components in ten pieces share evenly between two
-        threads.  One thread transforms the same pieces with the same plans, so which set
-        transforms a piece changes no bit.
-        """
-        sets = self._volume_plans()
-        pieces = [(c, zs) for c in components for zs in self._layer_pieces()]
-
-        def share(w: int) -> None:
-            for component, zs in pieces[w :: len(sets)]:
-                job(component, zs, sets[w][zs.stop - zs.start])
-
-        each(share, range(min(len(sets), len(pieces))), len(sets))
-
-    def _forward_layers(self, eigenstrain: np.ndarray, components, out: np.ndarray) -> None:
-        """``out[c]``: the per-layer 2-D spectra of the box's ``eigenstrain[c]`` (zero-padded)."""
-        nx, ny, _ = self.shape
-
-        def job(c, zs: slice, plans: dict) -> None:
-            rows, data = plans["rows"], plans["data"]
-            rows[:, ny:] = 0.0  # the last inverse transform left its output
-            rows[:, :ny] = eigenstrain[c, ..., zs]
-            plans["y"].execute()
-            data[nx:] = 0.0
-            plans["x"].execute()
-            out[c, ..., zs] = data
-
-        self._each_component(components, job)
-
-    def _build_spectra(self, combinations: dict) -> dict:
-        """Real spectra of linear combinations of the cuboid kernels (normalised).
-
-        ``combinations`` maps a key ``(a, b)`` (output and input component names; ``"mean"``
-        counts as a normal component) to the coefficients of the
-        :data:`~solver.volume.cuboid.STRESS_BASE` functions followed by the one of the eigenstress
-        inside the source cell (a delta at offset 0: a flat spectrum).  Each kernel has a
-        parity in x, y and z: its z offsets ``0 .. M`` go through a DCT-I (even) or DST-I
-        (odd), then the x and y offsets through a 2-D FFT, whose value is ``i^(r_a + r_b)``
-        times a real array (``r`` the x-y rotation of a component, :func:`_rotation`): that
-        array is stored, for ``kx <= nx``, ``ky <= ny`` and the ``M + 1`` z frequencies,
-        shape ``(nx + 1, ny + 1, M + 1)``.  Each base function is transformed once and added
-        to every combination that uses it; nothing else is kept.
-        """
-        g = self.grid.surface
-        nx, ny, nz = self.shape
-        m = self.length_z
-        lattice, along_z, spectrum, z_plans, xy_plans = self._kernel_plans()
-        scale = 1.0 / (2 * m * 4 * nx * ny)
-        shape = (nx + 1, ny + 1, m + 1)
-        spectra = {key: np.empty(shape, dtype=self._real) for key in combinations}
-
-        def start(key: tuple) -> None:
-            inside = combinations[key][-1]  # nonzero only where a and b have one parity
-            sign = _rotation_sign(*key, (0, 0)) if inside else 0.0
-            spectra[key][...] = sign * inside * scale
-
-        each(start, list(combinations), self.threads)
-        # offsets 0 .. n - 1 in x and y: the negative ones follow by the kernel's parity
-        cx = (np.arange(-1, nx) + 0.5) * g.dx
-        cy = (np.arange(-1, ny) + 0.5) * g.dy
-        cz = (np.arange(-1, m + 1) + 0.5) * self.grid.dz  # z offsets 0 .. M
-        works = [np.empty(shape) for _ in range(max(1, self.threads))]
-        lattice[nx] = 0.0
-        lattice[:, ny] = 0.0  # offset n: no pair of cells has it
-        for group in _base_groups(STRESS_BASE):
-            sums = _lattice_corner_sums(cx, cy, cz, group, threads=self.threads)
-            for name in group:
-                base = STRESS_BASE.index(name)
-                px, py, pz = _parity3(name[1:])
-                lattice[:nx, :ny] = sums.pop(name)
-                along_z[..., 0] = along_z[..., m] = 0.0  # the DST-I leaves the ends
-                z_plans[pz].execute()
-                # the 2-D DFT (period 2n) of a kernel of parity (px, py) is (-i)^(px + py)
-                # times its DCT-I (even) / DST-I (odd) along x and y: that real array is kept
-                spectrum[...] = 0.0  # a DST-I leaves the frequencies 0 and n
-                xy_plans[px, py].execute()
-                terms = []  # (key, factor) of the combinations this base function enters
-                for (a, b), coefficients in combinations.items():
-                    c = coefficients[base]
-                    if abs(c) <= 1e-14 * np.abs(coefficients[:-1]).max():
-                        continue  # zero, or zero up to the round-off of a combination
-                    if _parity3(_name(a) + _name(b)) != (px, py, pz):
-                        raise AssertionError("cuboid kernel of mixed parity")  # pragma: no cover
-                    terms.append(((a, b), c * scale * _rotation_sign(a, b, (px, py))))
-
-                def add(w: int, terms=terms) -> None:  # each combination on one thread
-                    for key, factor in terms[w :: len(works)]:
-                        np.multiply(spectrum, factor, out=works[w])
-                        spectra[key] += works[w]
-
-                each(add, range(len(works)), len(works))
-        return spectra
-
-    def _kernel_plans(self) -> tuple:
-        """Buffers and plans of the kernel transforms (:meth:`_build_spectra`; freed after).
-
-        ``(lattice, along_z, spectrum, {parity in z: DCT-I or DST-I plan}, {(parity in x,
-        parity in y): DCT-I / DST-I plan along x and y})``, every buffer ``(nx + 1, ny + 1, M +
-        1)`` real: offsets (then frequencies) ``0 .. n`` of the kernels' even or odd halves.
-        """
-        nx, ny, _ = self.shape
-        m = self.length_z
-        lattice, along_z, spectrum = (
-            pyfftw.empty_aligned((nx + 1, ny + 1, m + 1), dtype="float64") for _ in range(3)
-        )
-        make = functools.partial(plan, planner=self.planner, threads=self.threads)
-        z_plans = {
-            0: make(lattice, along_z, axes=(2,), direction="FFTW_REDFT00"),
-            1: make(lattice[..., 1:m], along_z[..., 1:m], axes=(2,), direction="FFTW_RODFT00"),
-        }
-        kinds = {0: (slice(None), "FFTW_REDFT00"), 1: (slice(1, None), "FFTW_RODFT00")}
-        xy_plans = {}
-        for px, py in itertools.product((0, 1), repeat=2):
-            (sx, kx), (sy, ky) = kinds[px], kinds[py]
-            sx = slice(sx.start, nx if px else None)
-            sy = slice(sy.start, ny if py else None)
-            xy_plans[px, py] = make(
-                along_z[sx, sy], spectrum[sx, sy], axes=(0, 1), direction=[kx, ky]
-            )
-        return lattice, along_z, spectrum, z_plans, xy_plans
-
     def make_plans(self) -> None:
         """Make every FFT plan a solve uses, without building kernels.
 
@@ -435,152 +183,8 @@ class EigenstrainOperator:
         """
         self._volume_plans()
         self._workers()
-        self._kernel_plans()
+        kernel_plans(self.shape, self.length_z, self.planner, self.threads)
         self.surface_stress.make_plans()
-
-    def _unit_stress_coefficients(self) -> np.ndarray:
-        """``D[ij, mn]``: stress ij of a unit eigenstrain mn, over the base functions and inside.
-
-        Shape ``(6, 6, len(STRESS_BASE) + 1)``; the last entry is the eigenstress inside the
-        source cell.  Taken from the symmetric weighted form ``w_ij D_ij,mn`` (ij <= mn).
-        """
-        coef, inside = stress_coefficients(self.shear_modulus, self.nu)
-        unit = np.empty((6, 6, len(STRESS_BASE) + 1))
-        for ij, mn in itertools.product(range(6), repeat=2):
-            lo, hi = min(ij, mn), max(ij, mn)
-            ratio = COMPONENT_WEIGHTS[lo] / COMPONENT_WEIGHTS[ij]
-            unit[ij, mn, :-1] = ratio * coef[lo, hi]
-            unit[ij, mn, -1] = -ratio * inside[lo, hi]
-        return unit
-
-    def _stress_kernels(self) -> dict:
-        """Spectra ``S[(ij, mn)] = w_ij D_ij,mn`` (symmetric), ij <= mn: any eigenstrain.
-
-        Built on first use by :meth:`stress` of an eigenstrain with a trace; the plasticity
-        loop's trace-free eigenstrains use :meth:`_deviatoric_kernels` only.
-        """
-        if self._stress_spectra is None:
-            unit = self._unit_stress_coefficients()
-            self._stress_spectra = self._build_spectra(
-                {
-                    (ij, mn): COMPONENT_WEIGHTS[ij] * unit[ij, mn]
-                    for ij in range(6)
-                    for mn in range(ij, 6)
-                }
-            )
-        return self._stress_spectra
-
-    def _deviatoric_kernels(self) -> dict:
-        """Spectra for a trace-free eigenstrain: deviatoric stress and mean stress.
-
-        Inputs are the five independent components :data:`DEVIATORIC` of a deviatoric tensor
-        (``zz = -(xx + yy)``).  Outputs ``u_a = w_a t_a`` with ``t_xx = sigma_xx - sigma_zz``,
-        ``t_yy = sigma_yy - sigma_zz`` and the shear stresses for the others (``w_a`` the
-        tensor weight, 2 for shear): ``u_a = sum_b K[a, b] e_b`` has a symmetric matrix
-        (``sigma : e`` is a symmetric bilinear form, and ``t`` with ``w`` are its components
-        conjugate to the five ``e_b``), so the 15 kernels ``a <= b`` serve all 25 products; the
-        deviator follows as ``s_xx = t_xx - (t_xx + t_yy)/3``, ``s_yy = t_yy - (t_xx + t_yy)/3``,
-        ``s_zz = -(t_xx + t_yy)/3``.  ``K[("mean", b)]`` gives the mean stress ``tr(sigma)/3``,
-        for the full stress.  Each combination keeps the parity of ``a + b`` (xx, yy and zz
-        share theirs), so real spectra suffice.  25 products and 10 volume transforms per
-        deviatoric evaluation instead of 36 and 12; 20 kernels kept instead of 21 + 25.
-        """
-        if self._deviatoric_spectra is None:
-            unit = self._unit_stress_coefficients()
-            # e_zz = -(e_xx + e_yy): a unit e_xx or e_yy comes with e_zz = -1
-            unit_in = unit.copy()
-            unit_in[:, :2] -= unit[:, 2:3]
-            mean = unit_in[:3].mean(axis=0)
-            combinations = {}
-            for i, a in enumerate(DEVIATORIC):
-                combinations["mean", a] = mean[a]
-                t = unit_in[a] - unit_in[2] if a in (0, 1) else unit_in[a]
-                for b in DEVIATORIC[i:]:
-                    combinations[a, b] = COMPONENT_WEIGHTS[a] * t[b]
-            self._deviatoric_spectra = self._build_spectra(combinations)
-        return self._deviatoric_spectra
-
-    def _surface_layer_kernels(self, displacement: bool = False) -> dict:
-        """Per-layer 2-D spectra of the surface fields of source + image (normalised).
-
-        ``"zz"``: ``S_zz = 2 sigma_zz^source(z = 0)`` per unit e_mn, shape
-        ``(6, 2nx, ny + 1, nz)`` (float, parity-typed), always built.  With ``displacement``
-        also ``"x"``, ``"y"``: ``2 u_x``, ``2 u_y`` of the source at z = 0, and ``"bx"``,
-        ``"by"``, ``"bz"``: the Boussinesq surface displacement per unit pressure on a cell
-        (complex ``(2nx, ny + 1)``) - the kernels of the direct route.
-        """
-        kernels = self._surface_kernels if self._surface_kernels is not None else {}
-        if "zz" in kernels and (not displacement or "x" in kernels):
-            return kernels
-        g = self.grid.surface
-        nx, ny, nz = self.grid.shape
-        gmod, nu = self.shear_modulus, self.nu
-        cx = (np.arange(-nx, nx) + 0.5) * g.dx
-        cy = (np.arange(-ny, ny) + 0.5) * g.dy
-        cz = -np.arange(nz, -1, -1) * self.grid.dz  # -nz dz .. 0, increasing
-        coef, inside = stress_coefficients(gmod, nu)
-        ucoef = displacement_coefficients(gmod, nu)
-        zz = STRESS_COMPONENTS.index("zz")
-        forward, _ = self.surface_stress.batched_transforms(nz)
-        scale = 1.0 / (4 * nx * ny)
-
-        def lattice_sums(names: list[str]) -> dict:
-            sums = _lattice_corner_sums(cx, cy, cz, names, threads=self.threads)
-            # z offsets ascending: -(nz - 1/2) dz .. -dz/2, layers nz-1 .. 0: to layer order
-            return {k: v[:, :, ::-1] for k, v in sums.items()}
-
-        def spectrum_of(field: np.ndarray, indices: str) -> np.ndarray:
-            wrap_layout(field, (0, 1), forward.input_array)
-            forward.execute()
-            out = forward.output_array
-            part = out.imag if _is_imaginary(indices) else out.real
-            return part * scale
-
-        if "zz" not in kernels:
-            # S_zz of every component, one base function at a time (each transformed once and
-            # added where it enters: the lattices of all of them are never held at once)
-            field = kernels["zz"] = np.zeros((6, 2 * nx, ny + 1, nz), dtype=self._real)
-            used = [n for n in STRESS_BASE if np.any(coef[zz, :, STRESS_BASE.index(n)] != 0.0)]
-            for group in _base_groups(used):
-                sums = lattice_sums(group)
-                for name in group:
-                    b = STRESS_BASE.index(name)
-                    # its parity is that of S_zz of each component it enters
-                    spectrum = spectrum_of(sums.pop(name), name[1:])
-                    for mn in range(6):
-                        if coef[zz, mn, b] != 0.0:
-                            field[mn] += 2.0 * coef[zz, mn, b] * spectrum
-            for mn, comp in enumerate(STRESS_COMPONENTS):
-                # the field point z = 0+ lies inside the first layer's source cell: a delta at
-                # offset 0 of layer 0, a flat (real) spectrum
-                if inside[zz, mn] != 0.0:
-                    assert not _is_imaginary("zz" + comp)
-                    field[mn, :, :, 0] -= 2.0 * inside[zz, mn] * scale
-        if displacement:
-            sums = lattice_sums(list(DISPLACEMENT_BASE))
-            for i, axis in enumerate("xy"):
-                kernels[axis] = np.empty((6, 2 * nx, ny + 1, nz))
-                for mn, comp in enumerate(STRESS_COMPONENTS):
-                    field = 2.0 * sum(
-                        ucoef[i, mn, b] * sums[n]
-                        for b, n in enumerate(DISPLACEMENT_BASE)
-                        if ucoef[i, mn, b] != 0.0
-                    )
-                    kernels[axis][mn] = spectrum_of(field, axis + comp)
-            # Boussinesq surface displacement of a unit pressure on one cell (single body)
-            ox, oy = g.offsets()
-            b_z = (1.0 - nu * nu) / (math.pi * self.E) * cell_integral("inv_r", ox, oy, g.dx, g.dy)
-            b_t = -(1.0 + nu) * (1.0 - 2.0 * nu) / (2.0 * math.pi * self.E)
-            b_x = b_t * cell_integral("x_r2", ox, oy, g.dx, g.dy)
-            b_y = b_t * cell_integral("y_r2", ox, oy, g.dx, g.dy)
-            for key, field in (("bz", b_z), ("bx", b_x), ("by", b_y)):
-                field = field.copy()
-                field[nx, :] = 0.0
-                field[:, ny] = 0.0
-                kernels[key] = self.surface_stress.surface_spectrum(field) * scale
-        forward.input_array[...] = 0.0
-        self._surface_kernels = kernels
-        return kernels
 
     # -- application -----------------------------------------------------------------------
 
@@ -850,10 +454,10 @@ class EigenstrainOperator:
             outputs = list(range(6))
         terms = {}
         for a in outputs:
-            pa = _parity3(_name(a))
+            pa = parity3(component_name(a))
             terms[a] = []
             for b in components:
-                pb = _parity3(_name(b))
+                pb = parity3(component_name(b))
                 terms[a].append(
                     (
                         kernels[(a, b) if a == "mean" else (min(a, b), max(a, b))],
@@ -872,7 +476,7 @@ class EigenstrainOperator:
         mean = np.empty((nx, ny, nz), dtype=self._real) if "mean" in outputs else None
 
         def inverse(a, zs: slice, plans: dict) -> None:
-            plans["data"][...] = spectral[_SLOT[a], ..., zs]
+            plans["data"][...] = spectral[SLOT[a], ..., zs]
             plans["-x"].execute()
             plans["-y"].execute()
             field = plans["rows"][:, :ny]
@@ -910,12 +514,12 @@ class EigenstrainOperator:
         """Per output component, the traction stresses' terms ``[(kernel, factor)]``.
 
         ``spectra`` are the tractions' surface spectra
-        (:meth:`~solver.volume.stress.SubsurfaceStressOperator.surface_spectrum`); the kernels those of
-        :meth:`~solver.volume.stress.SubsurfaceStressOperator.kernel_spectra`, combined for a
-        trace-free route's outputs: ``sigma_xx - sigma_zz`` and ``sigma_yy - sigma_zz`` for xx
-        and yy, the mean stress for ``"mean"`` (kept once built).  ``kernel[rows] *
-        factor[rows]`` is the layer spectra of the component's output (every output but the
-        mean carries its tensor weight until the end).
+        (:meth:`~solver.volume.stress.SubsurfaceStressOperator.surface_spectrum`); the kernels
+        those of :meth:`~solver.volume.stress.SubsurfaceStressOperator.kernel_spectra`,
+        combined for a trace-free route's outputs: ``sigma_xx - sigma_zz`` and ``sigma_yy -
+        sigma_zz`` for xx and yy, the mean stress for ``"mean"`` (kept once built).
+        ``kernel[rows] * factor[rows]`` is the layer spectra of the component's output (every
+        output but the mean carries its tensor weight until the end).
         """
         terms = {}
         for component in outputs:
@@ -934,204 +538,10 @@ class EigenstrainOperator:
                     kernel = self._surface_combinations[key]
                 else:
                     kernel = kernels[component]
-                px, py = kernel_parity(_name(component), traction)
+                px, py = kernel_parity(component_name(component), traction)
                 factor = ((1j * weight if (px + py) % 2 else weight) * spectrum)[:, :, None]
                 terms[component].append((kernel, factor))
         return terms
-
-    def _convolve(
-        self, spectral: np.ndarray, components, terms: dict, surface: dict, worker: _Worker
-    ) -> None:
-        """The depth convolution of a worker's row blocks, in place in ``spectral``.
-
-        Per block: the DCT-II/DST-II of every input component's real and imaginary parts
-        (turned by ``i^r``, :meth:`_forward_z`), then per output component the products with
-        the real kernels (:meth:`_accumulate`), the DCT-III/DST-III back (:meth:`_backward_z`),
-        the traction stresses' terms (``surface``), into the output's slot of ``spectral``
-        (:data:`_SLOT`).  The same operations in the same order per element whatever the
-        blocks and threads: results do not depend on the number of threads.
-        """
-        for xs, kxs, mirrored in worker.blocks:
-            r = xs.stop - xs.start
-            transforms = worker.plans[r]
-            for b in components:
-                self._forward_z(b, spectral[b, xs], worker, transforms, worker.inputs[b, :, :r])
-            for a, products in terms.items():
-                acc = worker.acc[:, :r]
-                self._accumulate(acc, worker.work[:, :r], products, worker.inputs, r, kxs, mirrored)
-                target = spectral[_SLOT[a], xs]
-                self._backward_z(a, acc, worker, transforms, target)
-                for kernel, factor in surface.get(a, ()):
-                    work = worker.surface[:r]
-                    np.multiply(kernel[xs], factor[xs], out=work)
-                    target += work
-
-    def _forward_z(
-        self, component, layers: np.ndarray, worker: _Worker, transforms: dict, target: np.ndarray
-    ) -> None:
-        """The z transform of a block's per-layer spectra ``layers``, turned by ``i^r``: an input.
-
-        A DCT-II (component even in z: source and image add up to an even column) or DST-II
-        (odd) of length M of the real and of the imaginary part, into ``target`` ``(2, rows,
-        ny + 1, M + 1)``, planes real and imaginary; a component with rotation 1
-        (:func:`_rotation`) is multiplied by i, ``(re, im) -> (-im, re)``.  The z slot the
-        transform does not write (M for even components, 0 for odd) stays zero.
-
-        Both planes at once through one real FFT of length M (Makhoul 1980): the column
-        reordered (even layers, then the odd ones backwards; a DST-II is the DCT-II of the
-        column with its odd layers negated, read backwards), transformed, and turned by
-        ``2 exp(-i pi k / 2M)``: ``Y_k = Re T_k``, ``Y_(M-k) = -Im T_k``.  Only the box's
-        layers are written into the reordered column (the zero padding stays zero).
-        """
-        m = self.length_z
-        half = m // 2
-        odd = _parity3(_name(component))[2]
-        turned = _rotation(component)
-        transform = transforms["rfft"]
-        column, spectrum = transform.input_array, transform.output_array
-        for plane, part in ((turned, layers.real), (1 - turned, layers.imag)):
-            sign = -1.0 if (turned and plane == 0) else 1.0
-            evens, odds = self._reordered(column[plane])
-            np.multiply(part[..., 0::2], sign, out=evens)
-            np.multiply(part[..., 1::2], -sign if odd else sign, out=odds)
-        transform.execute()
-        np.multiply(spectrum, worker.twiddle_forward, out=spectrum)
-        if odd:  # slots 1 .. M hold Y_(M-1), ..., Y_0
-            np.negative(spectrum.imag[..., 1:half], out=target[..., 1:half])
-            target[..., half:] = spectrum.real[..., half::-1]
-        else:  # slots 0 .. M-1 hold Y_0, ..., Y_(M-1)
-            target[..., : half + 1] = spectrum.real
-            np.negative(spectrum.imag[..., half - 1 : 0 : -1], out=target[..., half + 1 : m])
-
-    def _backward_z(
-        self, component, acc: np.ndarray, worker: _Worker, transforms: dict, target: np.ndarray
-    ) -> None:
-        """Inverse z transform of a block's accumulator into its layers ``target``, turned by i^r.
-
-        DCT-III (output even in z) or DST-III (odd) of length M of each plane, the first
-        ``nz`` values (the box's layers); a component with rotation 1 is multiplied by i on
-        the way: ``(A0, A1) -> (-A1, A0)``.  Through one inverse real FFT of length M
-        (Makhoul 1980): the half spectrum ``exp(i pi k / 2M) (X_k - i X_(M-k))`` (``X_M =
-        0``; a DST-III is the DCT-III of the reversed input, its odd outputs negated), whose
-        inverse is the output reordered (even layers, then the odd ones backwards).
-        """
-        m = self.length_z
-        half = m // 2
-        odd = _parity3(_name(component))[2]
-        turned = _rotation(component)
-        transform = transforms["irfft"]
-        spectrum, column = transform.input_array, transform.output_array
-        if odd:  # X_k = acc[M - k]
-            spectrum.real[...] = acc[..., m : half - 1 : -1]
-            np.negative(acc[..., 1 : half + 1], out=spectrum.imag[..., 1:])
-        else:
-            spectrum.real[...] = acc[..., : half + 1]
-            np.negative(acc[..., m - 1 : half - 1 : -1], out=spectrum.imag[..., 1:])
-        spectrum.imag[..., 0] = 0.0
-        np.multiply(spectrum, worker.twiddle_backward, out=spectrum)
-        transform.execute()
-        planes = (target.imag, target.real) if turned else (target.real, target.imag)
-        for plane, part in enumerate(planes):
-            sign = -1.0 if (turned and plane == 1) else 1.0
-            evens, odds = self._reordered(column[plane])
-            np.multiply(evens, sign, out=part[..., 0::2])
-            np.multiply(odds, -sign if odd else sign, out=part[..., 1::2])
-
-    def _reordered(self, column: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Where a reordered column (last axis, length M) holds the box's layers (views).
-
-        Makhoul's order: the even layers 0, 2, 4, ... first, the odd ones 1, 3, 5, ... from the
-        end backwards (slots M - 1, M - 2, ...); the slots between stay the zero padding.
-        """
-        m, nz = self.length_z, self.shape[2]
-        return column[..., : (nz + 1) // 2], column[..., m - 1 : m - 1 - nz // 2 : -1]
-
-    def _workers(self) -> list[_Worker]:
-        """Row blocks of the spectrum dealt to :attr:`threads` workers, with their buffers.
-
-        Each block is ``(rows, kernel_rows, mirrored)``: spectrum rows ``kx`` and the rows of the
-        stored kernel that hold them (``2nx - kx`` for the mirrored half).  Blocks of about
-        :data:`CHUNK_BYTES` of spectrum per plane keep a block's z transforms, products and
-        accumulator in cache; every worker has its own buffers and z plans (one thread each:
-        the workers are the parallelism), made here, before any thread runs.
-        """
-        if self._work is None:
-            nx, ny, _ = self.shape
-            m = self.length_z
-            row = (ny + 1) * (m + 1) * np.dtype(self._real).itemsize
-            size = max(1, min(nx, CHUNK_BYTES // row))
-            blocks = []
-            for start in range(0, nx + 1, size):
-                stop = min(nx + 1, start + size)
-                blocks.append((slice(start, stop), slice(start, stop), False))
-            for start in range(nx + 1, 2 * nx, size):
-                stop = min(2 * nx, start + size)
-                # rows kx in [start, stop) hold kernel rows 2nx - kx, from 2nx - start down
-                blocks.append((slice(start, stop), slice(2 * nx - start, 2 * nx - stop, -1), True))
-            count = max(1, min(self.threads, len(blocks)))
-            self._work = [self._worker(blocks[w::count], size) for w in range(count)]
-        return self._work
-
-    def _worker(self, blocks: list, size: int) -> _Worker:
-        """A worker's buffers and z plans for blocks of at most ``size`` rows."""
-        _, ny, nz = self.shape
-        m = self.length_z
-        half = m // 2
-        empty = functools.partial(pyfftw.empty_aligned, dtype=self._real)
-        padded = empty((2, size, ny + 1, m))  # reordered input columns, zero past the layers
-        column = empty((2, size, ny + 1, m))  # reordered output columns
-        spectrum = pyfftw.empty_aligned((2, size, ny + 1, half + 1), dtype=self._complex)
-        inputs = empty((6, 2, size, ny + 1, m + 1))
-        acc = empty((2, size, ny + 1, m + 1))
-        make = functools.partial(plan, planner=self.planner, threads=1, axes=(3,))
-        plans = {}
-        for r in sorted({xs.stop - xs.start for xs, _, _ in blocks}):
-            plans[r] = {
-                "rfft": make(padded[:, :r], spectrum[:, :r]),
-                "irfft": make(
-                    spectrum[:, :r],
-                    column[:, :r],
-                    direction="FFTW_BACKWARD",
-                    extra=("FFTW_DESTROY_INPUT",),
-                ),
-            }
-        padded[...] = 0.0
-        inputs[...] = 0.0
-        k = np.arange(half + 1)
-        twiddles = (
-            (2.0 * np.exp(-0.5j * np.pi * k / m)).astype(self._complex),
-            np.exp(0.5j * np.pi * k / m).astype(self._complex),
-        )
-        surface = np.empty((size, ny + 1, nz), dtype=complex)
-        return _Worker(blocks, plans, *twiddles, inputs, acc, empty(acc.shape), surface)
-
-    def _accumulate(
-        self,
-        acc: np.ndarray,
-        work: np.ndarray,
-        products: list,
-        inputs: np.ndarray,
-        rows: int,
-        kxs: slice,
-        mirrored: bool,
-    ) -> None:
-        """``acc = sum (+-) kernel * input`` over one block's rows, both planes.
-
-        ``products`` are ``(kernel, component, negative, px)``: a real kernel (broadcast over
-        the real and imaginary planes), the input component (its turned transform in
-        ``inputs``, one slot per component), the sign of the z rule and the kernel's parity
-        in x, which gives its sign in the mirrored rows.
-        """
-        for n, (kernel, b, negative, px) in enumerate(products):
-            values = inputs[b, :, :rows]
-            minus = bool(negative) != bool(px and mirrored)
-            if n == 0:
-                np.multiply(kernel[kxs], values, out=acc)
-                if minus:
-                    np.negative(acc, out=acc)
-            else:
-                np.multiply(kernel[kxs], values, out=work)
-                (np.subtract if minus else np.add)(acc, work, out=acc)
 
     def _direct_displacement(self, layers: np.ndarray, pressure: np.ndarray) -> tuple:
         kernels = self._surface_layer_kernels(displacement=True)
@@ -1212,75 +622,5 @@ class EigenstrainOperator:
         return kept + evaluation
 
 
-def depth_length(nz: int) -> int:
-    """M, the half period of the symmetric depth convolution of ``nz`` layers.
-
-    The smallest even fast FFT length (:func:`~solver.numerics.fftw.fft_size`) of at least ``2 nz``:
-    even for the real FFTs of length M that carry the z transforms (Makhoul 1980).
-    """
-    return 2 * fft_size(nz)
-
-
 #: Real and complex types of the 3-D eigenstrain convolution by ``solver.volume_precision``.
 VOLUME_PRECISIONS = {"double": ("float64", "complex128"), "single": ("float32", "complex64")}
-
-#: Slot of each output component in the per-layer spectra it replaces (the mean stress takes
-#: zz's, which a trace-free route does not transform).
-_SLOT = {0: 0, 1: 1, 2: 2, 3: 3, 4: 4, 5: 5, "mean": 2}
-
-
-@dataclass
-class _Worker:
-    """One worker of the depth convolution: its row blocks, z plans (by rows) and buffers.
-
-    ``plans[rows]``: the real FFTs of length M along z, ``"rfft"`` from the reordered input
-    columns (zero after the box's layers) into a half spectrum, ``"irfft"`` from it into the
-    reordered output columns (columns ``(2, rows, ny + 1, M)`` real, planes real and
-    imaginary; the spectrum ``(2, rows, ny + 1, M/2 + 1)`` complex, shared);
-    ``twiddle_forward``, ``twiddle_backward`` the turns of the spectra ``2 exp(-i pi k /
-    2M)``, ``exp(i pi k / 2M)`` (:meth:`EigenstrainOperator._forward_z`); ``inputs`` ``(6,
-    2, rows, ny + 1, M + 1)``: the turned z transforms of each component, planes real and
-    imaginary; ``acc`` and ``work`` ``(2, rows, ny + 1, M + 1)``; ``surface`` ``(rows, ny +
-    1, nz)`` complex: the traction terms.
-    """
-
-    blocks: list
-    plans: dict
-    twiddle_forward: np.ndarray
-    twiddle_backward: np.ndarray
-    inputs: np.ndarray
-    acc: np.ndarray
-    work: np.ndarray
-    surface: np.ndarray
-
-
-#: Pieces of layers each component's per-layer 2-D transforms are cut into
-#: (:meth:`EigenstrainOperator._each_component`): the five deviatoric components in ten pieces
-#: share evenly between two threads.
-LAYER_PIECES = 2
-
-#: Bytes per plane of a row block of the depth convolution
-#: (:meth:`EigenstrainOperator._workers`).
-CHUNK_BYTES = 2**18
-
-
-def _base_groups(names) -> list[list[str]]:
-    """Group base functions that share a transcendental (one asinh or atan) to evaluate once."""
-    groups: dict[str, list[str]] = {}
-    for name in names:
-        letters = name[1:]
-        counts = {a: letters.count(a) for a in "xyz"}
-        if name[0] == "d" and len(letters) == 2:
-            key = (
-                ("t" + letters[0])
-                if letters[0] == letters[1]
-                else "a" + (set("xyz") - set(letters)).pop()
-            )
-        elif sorted(counts.values()) == [0, 1, 3]:
-            key = "a" + next(a for a in "xyz" if counts[a] == 0)
-        elif max(counts.values()) == 4:
-            key = "t" + next(a for a in "xyz" if counts[a] == 4)
-        else:
-            key = "rational"
-        groups.setdefault(key, []).append(name)
-    return list(groups.values())
