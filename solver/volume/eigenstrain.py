@@ -69,7 +69,7 @@ from .stress import STRESS_COMPONENTS, SubsurfaceStressOperator, kernel_parity
 #: Sign of each eigenstrain component in the mirror image (xz and yz flip).
 IMAGE_SIGNS = np.array([1.0, 1.0, 1.0, -1.0, -1.0, 1.0])
 
-#: Names of the output components (the mean stress "mean" has the parity of a normal one).
+#: The surface traction whose kernels give the displacement along each direction.
 _TRACTION_OF_DIRECTION = {"x": "shear_x", "y": "shear_y", "z": "pressure"}
 
 
