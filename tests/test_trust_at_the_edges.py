@@ -50,7 +50,7 @@ def perfect_case(ratio, law=None, load=None, n=16):
     """A rigid sphere on a 1 GPa steel, loaded to p_H = ratio x 1 GPa.
 
     2n layers (thinner than 0.62 of a cell at these loads): a perfectly plastic body on
-    thicker ones has a note of its own (:meth:`solver.Case._layer_note`).
+    thicker ones has a note of its own (:func:`solver.spec.notes.layer_note`).
     """
     law = law or {"law": "perfect", "yield_stress": 1e9}
     return {

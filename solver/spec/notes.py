@@ -35,7 +35,7 @@ UNCONTAINED_PLASTIC_INDEX = 10.0
 
 
 #: Thickest layer (dz / dx) under a perfectly plastic body without a note
-#: (:meth:`Case._layer_note`).
+#: (:func:`layer_note`).
 MAX_PERFECT_LAYER = 0.62
 
 

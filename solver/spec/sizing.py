@@ -10,9 +10,10 @@ largest |Q|/W times the pressure along x, and the von Mises stress of both in th
 region ends above its floor.  Memoised per input.
 
 Also the window and the box of an elastic-plastic case from that region: its depth
-(:func:`auto_depth`), the box's half side (:func:`auto_plastic_half_width`), the widest window
-the cells resolve (:func:`resolved_half_width`) and the note of a window narrower than the box
-(:func:`narrow_window_note`); ``grid`` arguments are the case's :class:`solver.spec.grid.GridSpec`.
+(:func:`auto_depth`), the box's half side (:func:`auto_plastic_half_width`) and the widest
+window the cells resolve (:func:`resolved_half_width`); ``grid`` arguments are the case's
+:class:`solver.spec.grid.GridSpec`.  The note of a window narrower than the box is
+:func:`solver.spec.notes.narrow_window_note`.
 """
 
 from __future__ import annotations
