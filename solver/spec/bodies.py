@@ -354,7 +354,7 @@ def _map_slope(surface: HeightMap, grid: SurfaceGrid) -> float:
     return grid_rms_slope(surface, grid.x, grid.y)
 
 
-def above(value: float, limit: float = MAX_SURFACE_SLOPE) -> str:
+def _above(value: float, limit: float = MAX_SURFACE_SLOPE) -> str:
     """``value`` (> ``limit``) to 3 significant digits, or as many more as show it above."""
     for digits in range(3, 17):
         text = f"{value:.{digits}g}"
@@ -363,7 +363,7 @@ def above(value: float, limit: float = MAX_SURFACE_SLOPE) -> str:
     return repr(value)
 
 
-def round_down(value: float) -> str:
+def _round_down(value: float) -> str:
     """A positive number rounded down to 3 significant digits, as text (a bound that passes)."""
     if not (math.isfinite(value) and value > 0):
         return f"{value:.3g}"
@@ -432,11 +432,11 @@ def check_surfaces(case) -> None:
             if slope > MAX_SURFACE_SLOPE:
                 fail(
                     where,
-                    f"{file} resampled onto the grid has an rms slope of {above(slope)} "
+                    f"{file} resampled onto the grid has an rms slope of {_above(slope)} "
                     f"(finite differences between cells), more than {MAX_SURFACE_SLOPE:g} "
                     "(small-slope theory; a steeper map gives one-cell spots of unphysical "
                     "pressure): "
-                    f"scale its heights by at most {round_down(MAX_SURFACE_SLOPE / slope)} "
+                    f"scale its heights by at most {_round_down(MAX_SURFACE_SLOPE / slope)} "
                     "or smooth it (are the heights in metres?)",
                 )
         roughness = body.roughness
@@ -472,11 +472,11 @@ def check_surfaces(case) -> None:
                 except SurfaceError as error:
                     fail(where, str(error))
                 if slope > MAX_SURFACE_SLOPE:
-                    largest = round_down(roughness.rms * MAX_SURFACE_SLOPE / slope)
+                    largest = _round_down(roughness.rms * MAX_SURFACE_SLOPE / slope)
                     fail(
                         f"{where}.rms",
                         f"rms = {roughness.rms:.4g} m gives a realisation of rms slope "
-                        f"{above(slope)} (spectral, on its lattice), more than "
+                        f"{_above(slope)} (spectral, on its lattice), more than "
                         f"{MAX_SURFACE_SLOPE:g} (small-slope theory): give rms <= "
                         f"{largest} m, or rms_slope <= {MAX_SURFACE_SLOPE:g} instead of rms",
                     )
