@@ -90,17 +90,23 @@ def _height_map_table(folder: pathlib.Path) -> dict:
     }
 
 
-def scenes(folder: pathlib.Path) -> dict[str, tuple[dict, object]]:
-    """Scene name -> (case table, surface reader)."""
+def scenes(folder: pathlib.Path, only: list[str] | None = None) -> dict[str, tuple[dict, object]]:
+    """Scene name -> (case table, surface reader); only those whose name holds one of ``only``."""
     from study.bench.plastic import scene_table
     from study.campaign.surfaces import read_surface
+
+    def wanted(name: str) -> bool:
+        return not only or any(o in name for o in only)
 
     out = {}
     for name, campaign in _campaigns():
         for which, case in (("first", campaign.cases[0]), ("last", campaign.cases[-1])):
-            out[f"{name}.{which}"] = (_coarser(case.spec, read_surface), read_surface)
-    out["height_map"] = (_height_map_table(folder), read_surface)
-    out["bench_plastic_16"] = (scene_table(16), None)
+            if wanted(f"{name}.{which}"):
+                out[f"{name}.{which}"] = (_coarser(case.spec, read_surface), read_surface)
+    if wanted("height_map"):
+        out["height_map"] = (_height_map_table(folder), read_surface)
+    if wanted("bench_plastic_16"):
+        out["bench_plastic_16"] = (scene_table(16), None)
     return out
 
 
@@ -165,9 +171,7 @@ def run(folder: pathlib.Path, save: bool, only: list[str] | None = None) -> int:
         failures += bool(differ)
     print(f"{'scene':42s} {'status':14s} {'arrays':>6s} {'differ':>6s} {'time (s)':>8s}")
     with tempfile.TemporaryDirectory() as tmp:
-        for name, (table, reader) in scenes(pathlib.Path(tmp)).items():
-            if only and not any(o in name for o in only):
-                continue
+        for name, (table, reader) in scenes(pathlib.Path(tmp), only).items():
             start = time.perf_counter()
             result = solver.solve(solver.Case.from_dict(table, reader))
             arrays, attrs = _arrays(result)

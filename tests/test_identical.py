@@ -1,0 +1,36 @@
+"""The bit-identity check of refactors (``python -m study.bench.identical``) finds differences."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from study.bench import identical
+
+
+def test_compare_passes_on_the_same_code_and_fails_on_one_changed_bit(tmp_path, capsys):
+    only = ["quickstart.last"]
+    assert identical.run(tmp_path, save=True, only=only) == 0
+    assert identical.run(tmp_path, save=False, only=only) == 0
+    assert "differing: none" in capsys.readouterr().out
+
+    path = tmp_path / "quickstart.last.npz"
+    with np.load(path) as saved:
+        arrays = dict(saved)
+    key = "var:pressure"
+    flat = arrays[key].reshape(-1).copy()
+    flat[np.argmax(flat)] = np.nextafter(flat.max(), np.inf)  # one ulp on one cell
+    arrays[key] = flat.reshape(arrays[key].shape)
+    np.savez(path, **arrays)
+    assert identical.run(tmp_path, save=False, only=only) == 1
+    assert key in capsys.readouterr().out
+
+
+def test_compare_fails_on_a_changed_case_id(tmp_path, capsys):
+    assert identical.run(tmp_path, save=True, only=["no scene has this name"]) == 0
+    cases = json.loads((tmp_path / "cases.json").read_text())
+    cases["quickstart"][0]["case_id"] = "0" * 16
+    (tmp_path / "cases.json").write_text(json.dumps(cases))
+    assert identical.run(tmp_path, save=False, only=["no scene has this name"]) == 1
+    assert "quickstart[0].case_id" in capsys.readouterr().out
