@@ -2,6 +2,7 @@
 
 - :mod:`.influence`: the influence coefficients of a pair of half-spaces (uniform cells);
 - :mod:`.convolution`: the DC-FFT surface operators built on them;
+- :mod:`.periodic`: the operators of a surface that is one period (Fourier-space forms);
 - :mod:`.normal`: normal contact, conjugate gradient with an active set (the contact CG loop);
 - :mod:`.tangential`: tangential contact at a given pressure, slip and stick.
 

@@ -50,6 +50,9 @@ class SurfaceOperator:
     body 1 in m (see :mod:`solver.surface.influence`).
     """
 
+    #: False: the grid is the whole surface, the tractions vanish outside it (DC-FFT).
+    periodic = False
+
     def __init__(
         self, grid: SurfaceGrid, pair: Pair, threads: int = 1, planner: str = "FFTW_ESTIMATE"
     ):

@@ -130,7 +130,10 @@ def solve_normal(
         g -= _dot(g, mask) / n_contact
         g_contact = g * mask
         g_norm = float(_dot(g_contact, g_contact))
-        scale = max(float(_dot(u, mask)) / n_contact, tiny)
+        if operator.periodic:  # u has zero mean over the period: its rms sets the scale
+            scale = max(np.sqrt(float(_dot(u, u)) / u.size), tiny)
+        else:
+            scale = max(float(_dot(u, mask)) / n_contact, tiny)
         penetration = max(0.0, -float((g - g_contact).min()))
         residual = max(np.sqrt(g_norm / n_contact), penetration) / scale
         if residual < tolerance and (change < tolerance or g_norm == 0.0):

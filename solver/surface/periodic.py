@@ -1,0 +1,93 @@
+r"""Periodic surface operators: the domain is one period of a nominally flat interface.
+
+A field on the (nx, ny) grid of a domain ``Lx x Ly`` is one period of a doubly periodic field;
+the displacements it causes are the periodic (circular) convolution with the influence of the
+whole lattice of periods.  The kernels are the Fourier-space forms of the half-space solutions,
+evaluated at the grid's discrete wavenumbers ``k = 2 pi (m / Lx, n / Ly)`` (Stanley & Kato
+1997; the form Tamaas and most rough-contact codes use), with ``A`` the pair's compliance
+(:attr:`~solver.bodies.materials.Pair.compliance`, 1/E*) and ``S`` its shear coupling:
+
+* normal (Boussinesq): ``u_z(k) = (2 A / |k|) p(k)``;
+* tangential (Cerruti): ``u_t(k) = (2 / |k|) [(A + S) I - S k k^T / |k|^2] q(k)``; along
+  ``k`` it is Boussinesq's ``2 A / |k|``.  For one body, ``(1 + nu) / E = A + S`` and the
+  bracket is ``(1 / (2 G)) (I - nu k k^T / |k|^2)``, the transform of Cerruti's point-force
+  field (``1/r -> 2 pi / |k|``, ``x^2 / r^3 -> (2 pi / |k|)(1 - k_x^2 / |k|^2)``).
+
+The mean (``k = 0``) displacement of a periodic half-space is not defined (its lattice sum
+diverges): it is set to zero, so the displacements have zero mean over the period and the rigid
+approach of a contact solve takes up their mean.  These symbols are those of point values of the
+continuous solution; the non-periodic operator's cell-integrated coefficients summed over the
+lattice of periods (:mod:`.convolution` on a tiled domain) agree with them to a difference that
+shrinks with the cell size (``tests/test_periodic.py``).
+
+The normal-tangential coupling of a pair with Dundurs' beta != 0 is not built here: a periodic
+operator of such a pair refuses the coupling blocks.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..numerics.grid import SurfaceGrid
+from .convolution import REAL_SPECTRA, SurfaceOperator
+
+
+class PeriodicSurfaceOperator(SurfaceOperator):
+    """Relative surface displacements of a pair of half-spaces from periodic cell tractions.
+
+    The same interface as :class:`~.convolution.SurfaceOperator` (tractions on body 2 in Pa,
+    displacements of body 2 minus body 1 in m), on a grid that is one period: no padding, the
+    FFTs have the grid's own lengths, and every kernel is the Fourier-space form of the module
+    docstring (zero mean).
+    """
+
+    #: True: the grid is one period of the surface.
+    periodic = True
+
+    def kernel_spectrum(self, name: str) -> np.ndarray:
+        """Normalised spectrum of kernel block ``name`` (zz, xx, yy, xy; xp, yp only at beta 0).
+
+        Raises
+        ------
+        NotImplementedError
+            For the coupling blocks ``xp``, ``yp`` of a pair with Dundurs' beta != 0.
+        """
+        if name not in self._kernels:
+            if name in ("xp", "yp"):
+                if self.pair.dundurs_beta != 0.0:
+                    raise NotImplementedError(
+                        "periodic normal-tangential coupling (Dundurs' beta != 0) is not built: "
+                        "give the bodies the same dilatational compliance (beta = 0)"
+                    )
+                self._kernels[name] = np.zeros(self._spectrum.shape, dtype=complex)
+                return self._kernels[name]
+            nx, ny = self.grid.shape
+            kx = 2 * np.pi * np.fft.fftfreq(nx, self.grid.dx)[:, None]
+            ky = 2 * np.pi * np.fft.rfftfreq(ny, self.grid.dy)[None, :]
+            k2 = kx * kx + ky * ky
+            k = np.sqrt(k2)
+            inverse_k = np.divide(1.0, k, out=np.zeros_like(k), where=k > 0)
+            ratio = inverse_k * inverse_k
+            scale = 1.0 / (nx * ny)  # FFTW's backward transform is unnormalised
+            compliance, coupling = self.pair.compliance, self.pair.shear_coupling
+            symbols = {
+                "zz": 2.0 * compliance * inverse_k,
+                "xx": 2.0 * inverse_k * (compliance + coupling - coupling * kx * kx * ratio),
+                "yy": 2.0 * inverse_k * (compliance + coupling - coupling * ky * ky * ratio),
+                "xy": -2.0 * inverse_k * coupling * kx * ky * ratio,
+            }
+            if name not in symbols:
+                raise ValueError(f"unknown kernel block {name!r}; use one of {sorted(symbols)}")
+            spectrum = np.ascontiguousarray(symbols[name] * scale)
+            self._kernels[name] = spectrum if name in REAL_SPECTRA else spectrum.astype(complex)
+        return self._kernels[name]
+
+    @staticmethod
+    def periodic_lengths(grid: SurfaceGrid) -> tuple[int, int]:
+        """FFT lengths of the preconditioners: the period's own (exact inverses)."""
+        return grid.nx, grid.ny
+
+    @staticmethod
+    def padded_lengths(grid: SurfaceGrid) -> tuple[int, int]:
+        """FFT lengths of the convolution: the period's own, no padding."""
+        return grid.nx, grid.ny

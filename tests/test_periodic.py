@@ -1,0 +1,116 @@
+"""Periodic surface operators (issue 37, first step): exact periodic references, lattice sums.
+
+Westergaard's 1-D sinusoid (Johnson 1985, §13.2): the gap ``h = Delta (1 - cos 2 pi x / L)``
+pressed by a mean pressure ``p`` is in full contact from ``p* = pi E* Delta / L``; below it the
+contact half-width ``a`` obeys ``sin^2(pi a / L) = p / p*`` and the pressure is
+``p(x) = (2 p cos(pi x / L) / sin^2(pi a / L)) sqrt(sin^2(pi a / L) - sin^2(pi x / L))``; above
+it ``p(x) = p + p* cos(2 pi x / L)``.  A uniform strip in y (a few cells) is the plane problem.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from solver.bodies.materials import Body, Pair
+from solver.numerics.grid import SurfaceGrid
+from solver.surface.convolution import SurfaceOperator
+from solver.surface.normal import solve_normal
+from solver.surface.periodic import PeriodicSurfaceOperator
+
+STEEL = Body("elastic", E=210e9, nu=0.3)
+PAIR = Pair(Body("rigid"), STEEL)
+PERIOD, AMPLITUDE = 1e-3, 1e-6  # m
+
+
+def westergaard(x: np.ndarray, mean: float, full: float) -> tuple[np.ndarray, float]:
+    """Westergaard's pressure (Pa) at ``x`` (m from the crest) and contact half-width (m)."""
+    if mean >= full:
+        return mean + full * np.cos(2 * np.pi * x / PERIOD), PERIOD / 2
+    s2 = mean / full
+    half = PERIOD / np.pi * math.asin(math.sqrt(s2))
+    inside = np.clip(s2 - np.sin(np.pi * x / PERIOD) ** 2, 0.0, None)
+    return 2 * mean * np.cos(np.pi * x / PERIOD) / s2 * np.sqrt(inside), half
+
+
+def sinusoid_contact(n: int, ratio: float):
+    """Solve the periodic sinusoid on ``n`` cells per period at ``p = ratio p*``."""
+    dx = PERIOD / n
+    grid = SurfaceGrid.centred(n, 4, PERIOD / 2, 2 * dx)
+    operator = PeriodicSurfaceOperator(grid, PAIR)
+    x, _ = grid.mesh()
+    gap = AMPLITUDE * (1 - np.cos(2 * np.pi * x / PERIOD))
+    full = math.pi * PAIR.composite_modulus * AMPLITUDE / PERIOD
+    mean = ratio * full
+    solution = solve_normal(operator, gap, mean * PERIOD * 4 * dx, tolerance=1e-12)
+    assert solution.converged
+    expected, half = westergaard(x, mean, full)
+    return solution, expected, half, full, grid
+
+
+@pytest.mark.parametrize("ratio", [0.1, 0.3, 0.6])
+def test_westergaard_partial_contact_converges(ratio):
+    """Peak pressure within 1e-4 and converging; the contact edge within a cell at every mesh;
+    the pressure within 1 % (L2) from 128 cells a period."""
+    peaks = []
+    for n in (64, 128, 256):
+        solution, expected, half, full, grid = sinusoid_contact(n, ratio)
+        peak = 2 * math.sqrt(ratio) * full  # p(0) = 2 sqrt(p p*)
+        assert westergaard(np.zeros(1), ratio * full, full)[0][0] == pytest.approx(peak)
+        assert np.allclose(solution.pressure, solution.pressure[:, :1])  # uniform in y
+        pressure, exact = solution.pressure[:, 0], expected[:, 0]
+        peaks.append(abs(pressure.max() - exact.max()) / exact.max())
+        in_contact = np.count_nonzero(pressure > 0) * grid.dx / 2
+        assert abs(in_contact - half) <= grid.dx
+        error = np.linalg.norm(pressure - exact) / np.linalg.norm(exact)
+        assert error < (0.02 if n == 64 else 0.01)
+    assert peaks[-1] < peaks[0] and peaks[-1] < 1e-4
+
+
+def test_westergaard_full_contact_is_exact():
+    solution, expected, _, full, _ = sinusoid_contact(64, 1.5)
+    assert np.all(solution.pressure > 0)
+    assert np.abs(solution.pressure - expected).max() < 1e-8 * full
+
+
+def test_the_fourier_kernels_are_the_lattice_sum_of_the_cell_kernels():
+    """A zero-mean periodic load: the Fourier forms against the non-periodic DC-FFT operator on
+    a tiled domain (the cell kernels summed over 5 x 5 periods), the central period compared;
+    their difference shrinks with the cell size."""
+    differences = []
+    for n in (8, 16, 32):
+        side = PERIOD / n
+        grid = SurfaceGrid.centred(n, n, PERIOD / 2, PERIOD / 2)
+        x, y = grid.mesh()
+        load = {
+            "p": np.cos(2 * np.pi * x / PERIOD) * np.cos(4 * np.pi * y / PERIOD),
+            "qx": np.sin(2 * np.pi * (x + 2 * y) / PERIOD),
+            "qy": 0.5 * np.cos(6 * np.pi * x / PERIOD),
+        }
+        periodic = PeriodicSurfaceOperator(grid, Pair(STEEL, STEEL))
+        ux, uy, uz = periodic.displacement(load["qx"], load["qy"], load["p"])
+        tiles = 5
+        big = SurfaceGrid.centred(tiles * n, tiles * n, tiles * PERIOD / 2, tiles * PERIOD / 2)
+        assert big.dx == pytest.approx(side)
+        tiled = SurfaceOperator(big, Pair(STEEL, STEEL))
+        spread = {k: np.tile(v, (tiles, tiles)) for k, v in load.items()}
+        centre = slice(2 * n, 3 * n)
+        wide = tiled.displacement(spread["qx"], spread["qy"], spread["p"])
+        worst = 0.0
+        for ours, theirs in zip((ux, uy, uz), wide, strict=True):
+            theirs = theirs[centre, centre] - theirs[centre, centre].mean()
+            worst = max(worst, np.abs(ours - theirs).max() / np.abs(theirs).max())
+        differences.append(worst)
+    assert differences[-1] < differences[0] / 2
+    assert differences[-1] < 0.05
+
+
+def test_coupling_of_a_dissimilar_pair_is_refused():
+    grid = SurfaceGrid.centred(8, 8, PERIOD / 2, PERIOD / 2)
+    operator = PeriodicSurfaceOperator(grid, Pair(Body("elastic", E=70e9, nu=0.33), STEEL))
+    with pytest.raises(NotImplementedError, match="beta"):
+        operator.normal_from_shear(np.ones(grid.shape), np.ones(grid.shape))
+    same = PeriodicSurfaceOperator(grid, Pair(STEEL, STEEL))
+    assert not same.normal_from_shear(np.ones(grid.shape), np.ones(grid.shape)).any()
