@@ -1,4 +1,4 @@
-"""Periodic surface operators (issue 37, first step): exact periodic references, lattice sums.
+"""Periodic mode (issue 37, first steps): exact periodic references, lattice sums, case files.
 
 Westergaard's 1-D sinusoid (Johnson 1985, §13.2): the gap ``h = Delta (1 - cos 2 pi x / L)``
 pressed by a mean pressure ``p`` is in full contact from ``p* = pi E* Delta / L``; below it the
@@ -10,11 +10,15 @@ it ``p(x) = p + p* cos(2 pi x / L)``.  A uniform strip in y (a few cells) is the
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
 
+import solver
+from solver.bodies.heights import HeightMap
 from solver.bodies.materials import Body, Pair
+from solver.drive.record import contact_spots
 from solver.numerics.grid import SurfaceGrid
 from solver.surface.convolution import SurfaceOperator
 from solver.surface.normal import solve_normal
@@ -114,3 +118,125 @@ def test_coupling_of_a_dissimilar_pair_is_refused():
         operator.normal_from_shear(np.ones(grid.shape), np.ones(grid.shape))
     same = PeriodicSurfaceOperator(grid, Pair(STEEL, STEEL))
     assert not same.normal_from_shear(np.ones(grid.shape), np.ones(grid.shape)).any()
+
+
+# -- grid.periodic: a case file's periodic mode ---------------------------------------------------
+def periodic_case(body2: dict, n=(64, 64), size=(PERIOD, PERIOD), force=5.0, **extra) -> dict:
+    """A rigid flat on an elastic body with periodic heights (a case table)."""
+    table = {
+        "body1": {"behaviour": "rigid", "radius": "inf"},
+        "body2": {"behaviour": "elastic", "E": 210e9, "nu": 0.3, **body2},
+        "load": {"normal_force": force},
+        "grid": {"n": list(n), "size": list(size), "periodic": True},
+    }
+    for key, value in extra.items():
+        table.setdefault(key, {}).update(value)
+    return table
+
+
+def sinusoid_map(n: int, rows: int = 4) -> HeightMap:
+    """Westergaard's gap as a height map of one period: n x rows points at the cell centres."""
+    dx = PERIOD / n
+    x = (np.arange(n) + 0.5) * dx - PERIOD / 2
+    y = (np.arange(rows) + 0.5) * dx - rows * dx / 2
+    height = AMPLITUDE * (1 - np.cos(2 * np.pi * x / PERIOD))[None, :] * np.ones((rows, 1))
+    return HeightMap(x, y, height, "sinusoid")
+
+
+ROUGH = {"hurst": 0.8, "long_cutoff": 2.5e-4, "short_cutoff": 1.25e-4, "rms": 0.5e-6, "seed": 3}
+
+
+def test_a_periodic_case_file_solves_westergaard():
+    """The sinusoid as a periodic height map in a case: the peak 2 sqrt(p p*) to 1e-3."""
+    full = math.pi * PAIR.composite_modulus * AMPLITUDE / PERIOD
+    errors = []
+    for n in (64, 128):
+        dx = PERIOD / n
+        mean = 0.3 * full
+        table = periodic_case(
+            {"surface": sinusoid_map(n)},
+            n=(n, 4),
+            size=(PERIOD, 4 * dx),
+            force=mean * PERIOD * 4 * dx,
+        )
+        result = solver.solve(solver.Case.from_dict(table))
+        assert result.status == "converged", result.notes
+        peak = 2 * math.sqrt(mean * full)
+        errors.append(abs(result.pressure.max() - peak) / peak)
+        assert result.history["contact_spots"][-1] == 1  # one strip across the period
+        assert not result.notes  # no edge or mesh note: the period has no edge
+    assert errors[-1] < errors[0] and errors[-1] < 1e-3
+
+
+def test_a_periodic_roughness_is_one_period_and_its_spots_join_across_the_seams():
+    case = solver.Case.from_dict(periodic_case({"roughness": ROUGH}))
+    assert case.spec["grid"]["periodic"] is True
+    roughness = case.body2.roughness
+    x, y = case.surface_grid.mesh()
+    heights = roughness.sample(x, y, case.grid.size)
+    shifted = roughness.sample(x + PERIOD, y - PERIOD, case.grid.size)
+    assert np.allclose(heights, shifted, atol=1e-12 * np.abs(heights).max())
+    result = solver.solve(case)
+    assert result.status == "converged"
+    force = result.pressure.sum() * case.surface_grid.cell_area
+    assert force == pytest.approx(5.0, rel=1e-9)
+    spots = result.history["contact_spots"][-1]
+    assert 1 <= spots <= contact_spots(result.pressure > 0)
+
+
+def test_contact_spots_join_across_the_period():
+    mask = np.zeros((6, 6), dtype=bool)
+    mask[0, 2] = mask[-1, 2] = True  # one spot split by the x seam
+    mask[3, 0] = mask[3, -1] = True  # and one by the y seam
+    assert contact_spots(mask) == 4
+    assert contact_spots(mask, periodic=True) == 2
+    mask[0, 0] = mask[-1, -1] = True  # corners only: separate (4-connectivity)
+    assert contact_spots(mask, periodic=True) == 4
+
+
+def test_a_periodic_case_has_its_own_id():
+    table = periodic_case({"roughness": ROUGH})
+    periodic = solver.Case.from_dict(table)
+    del table["grid"]["periodic"]
+    assert solver.Case.from_dict(table).case_id != periodic.case_id
+    assert "periodic" not in solver.Case.from_dict(table).spec["grid"]
+
+
+@pytest.mark.parametrize(
+    ("change", "field"),
+    [
+        ({"grid": {"size": None}}, "grid.periodic"),
+        ({"body1": {"radius": 0.01}}, "body1.radius"),
+        ({"body2": {"behaviour": "elastic-plastic", "hardening": {"law": "perfect",
+          "yield_stress": 400e6}}}, "body2.behaviour"),
+        ({"friction": {"coefficient": 0.3}}, "friction.coefficient"),
+        ({"grid": {"n": [64, 64, 16]}}, "grid.n"),
+        ({"body2": {"roughness": {**ROUGH, "long_cutoff": 2e-3}}}, "body2.roughness.long_cutoff"),
+        ({"body2": {"roughness": {**ROUGH, "short_cutoff": 1e-4}}}, "body2.roughness.short_cutoff"),
+        ({"grid": {"n": [64, 32], "size": [PERIOD, PERIOD / 2]}}, "grid.size"),
+    ],
+)  # fmt: skip
+def test_what_periodic_mode_does_not_solve_is_refused(change, field):
+    table = periodic_case({"roughness": ROUGH})
+    for key, values in change.items():
+        for name, value in values.items():
+            if value is None:
+                del table[key][name]
+            else:
+                table.setdefault(key, {})[name] = value
+    with pytest.raises(solver.SpecError, match=f"^{re.escape(field)}"):
+        solver.Case.from_dict(table)
+
+
+def test_a_height_map_that_is_not_one_period_is_refused():
+    n = 64
+    dx = PERIOD / n
+    size = (PERIOD, 4 * dx)
+    whole = sinusoid_map(n)
+    solver.Case.from_dict(periodic_case({"surface": whole}, n=(n, 4), size=size))
+    short = HeightMap(whole.x[:-4], whole.y, whole.height[:, :-4], "short")  # a part of it
+    with pytest.raises(solver.SpecError, match="not the period"):
+        solver.Case.from_dict(periodic_case({"surface": short}, n=(n, 4), size=size))
+    jumped = HeightMap(whole.x, whole.y, whole.height + 1e-7 * np.arange(n)[None, :], "ramp")
+    with pytest.raises(solver.SpecError, match="not periodic along x"):
+        solver.Case.from_dict(periodic_case({"surface": jumped}, n=(n, 4), size=size))

@@ -215,8 +215,13 @@ class Geometry:
         """True when the reference is the exact elastic answer (no point heights)."""
         return not self.surfaces
 
-    def gap(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        """Initial gap h(x, y) (m) at points ``x``, ``y`` (m)."""
+    def gap(
+        self, x: np.ndarray, y: np.ndarray, period: tuple[float, float] | None = None
+    ) -> np.ndarray:
+        """Initial gap h(x, y) (m) at points ``x``, ``y`` (m).
+
+        ``period`` (m): the heights are one period of a periodic surface (``grid.periodic``).
+        """
         kx, ky = self.curvature
         h = 0.5 * (kx * x * x + ky * y * y)
         if self.profiles:
@@ -224,7 +229,7 @@ class Geometry:
             for profile in self.profiles:
                 h = h + profile.height(r)
         for surface in self.surfaces:
-            h = h + surface.sample(x, y)
+            h = h + surface.sample(x, y, period)
         return h
 
     # -- the axisymmetric gap (profiles; the quadric part then circular) ----------------------

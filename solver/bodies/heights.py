@@ -34,6 +34,13 @@ ROUGHNESS_POINTS_PER_CUTOFF = 4
 MAX_ROUGHNESS_LATTICE = 8192
 #: Relative tolerance on the uniformity of a height map's spacing.
 SPACING_RTOL = 1e-6
+#: Relative tolerance of a map's own period (N dx) against the period it is used as.
+PERIOD_RTOL = 1e-6
+#: Largest rms height step across a periodic map's seam, over the rms step between its
+#: neighbouring points inside (a smooth periodic map: about 1; an unwindowed measurement: more).
+MAX_SEAM_STEP = 3.0
+#: Fewest cells on the shortest wavelength of a roughness in periodic mode.
+MIN_PERIODIC_CUTOFF_CELLS = 8
 #: Points resampled at a time by :func:`grid_rms_slope` (bounds its memory, ~100 MB).
 SLOPE_CHUNK_POINTS = 2**22
 
@@ -113,13 +120,29 @@ class HeightMap:
         """(x_min, x_max, y_min, y_max) (m) of the lattice."""
         return (self.x[0], self.x[-1], self.y[0], self.y[-1])
 
-    def sample(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        """Heights (m) at points ``x``, ``y`` (m) by cubic B-spline interpolation."""
+    @property
+    def period(self) -> tuple[float, float]:
+        """(N dx, M dy) (m): the period the map is one of when used periodically."""
+        return self.x.size * self.dx, self.y.size * self.dy
+
+    def sample(
+        self, x: np.ndarray, y: np.ndarray, period: tuple[float, float] | None = None
+    ) -> np.ndarray:
+        """Heights (m) at points ``x``, ``y`` (m) by cubic B-spline interpolation.
+
+        Beyond its points the map holds its edge values; with ``period`` (m), which must be its
+        own (:attr:`period`), it is one period and wraps around.
+        """
         from scipy import ndimage
 
+        if period is not None and not np.allclose(period, self.period, rtol=PERIOD_RTOL):
+            raise ValueError(f"{self.source} spans {self.period} m, not the period {period} m")
         coords = np.stack([(np.asarray(y) - self.y[0]) / self.dy, (x - self.x[0]) / self.dx])
         return ndimage.map_coordinates(
-            self.height, coords.reshape(2, -1), order=MAP_ORDER, mode="nearest"
+            self.height,
+            coords.reshape(2, -1),
+            order=MAP_ORDER,
+            mode="nearest" if period is None else "grid-wrap",
         ).reshape(np.shape(x))
 
 
@@ -204,21 +227,40 @@ class Roughness:
     rms_slope: float | None = None
     seed: int = 0
 
-    def lattice(self, side: float) -> tuple[int, float]:
-        """(points per side, spacing (m)) of the lattice that covers a domain of ``side`` (m)."""
+    def lattice(self, side: float, periodic: bool = False) -> tuple[int, float]:
+        """(points per side, spacing (m)) of the lattice that covers a domain of ``side`` (m).
+
+        ``periodic``: the lattice is the period ``side`` itself, its spacing the largest at most
+        ``short_cutoff`` / :data:`ROUGHNESS_POINTS_PER_CUTOFF` that divides it.
+        """
         spacing = self.short_cutoff / ROUGHNESS_POINTS_PER_CUTOFF
+        if periodic:
+            points = math.ceil(side / spacing - 1e-9)
+            return points, side / points
         length = self.long_cutoff
         while length < side * (1 - 1e-12):
             length *= 2.0
         return math.ceil(length / spacing - 1e-9), spacing
 
-    def sample(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        """Heights (m) at points ``x``, ``y`` (m): the lattice realisation, cubic-interpolated."""
-        side = 2.0 * float(max(np.abs(x).max(), np.abs(y).max())) + 1e-300
-        points, spacing = self.lattice(side)
+    def sample(
+        self, x: np.ndarray, y: np.ndarray, period: tuple[float, float] | None = None
+    ) -> np.ndarray:
+        """Heights (m) at points ``x``, ``y`` (m): the lattice realisation, cubic-interpolated.
+
+        ``period`` (m, a square one): the realisation on the period's own lattice
+        (:meth:`lattice`), periodic in x and y, wrapping around.
+        """
+        if period is None:
+            side = 2.0 * float(max(np.abs(x).max(), np.abs(y).max())) + 1e-300
+            points, spacing = self.lattice(side)
+        else:
+            if not math.isclose(period[0], period[1], rel_tol=PERIOD_RTOL):
+                raise ValueError(f"a roughness has a square period, not {period} m")
+            points, spacing = self.lattice(period[0], periodic=True)
         heights = _roughness_lattice(self, points, spacing)
         coordinate = (np.arange(points) - 0.5 * (points - 1)) * spacing
-        return HeightMap(coordinate, coordinate, heights, "roughness").sample(x, y)
+        surface = HeightMap(coordinate, coordinate, heights, "roughness")
+        return surface.sample(x, y, None if period is None else surface.period)
 
     def slope_bound(self) -> float:
         """An upper bound of the realisation's rms slope (dimensionless), known without it.
@@ -231,7 +273,7 @@ class Roughness:
             return self.rms_slope
         return self.rms * 2.0 * math.pi / self.short_cutoff
 
-    def realised_rms_slope(self, side: float) -> float:
+    def realised_rms_slope(self, side: float, periodic: bool = False) -> float:
         """Rms slope (dimensionless) of the realisation that covers a domain of ``side`` (m).
 
         The slope measure ``rms_slope`` is given in: spectral on the realisation's lattice
@@ -240,7 +282,7 @@ class Roughness:
         """
         if self.rms_slope is not None:
             return self.rms_slope
-        points, spacing = self.lattice(side)
+        points, spacing = self.lattice(side, periodic)
         heights = _roughness_lattice(self, points, spacing)
         q = 2.0 * math.pi * np.fft.fftfreq(points, spacing)
         power = np.abs(np.fft.fft2(heights)) ** 2
@@ -248,7 +290,9 @@ class Roughness:
         return math.sqrt(float(slope2))
 
 
-def grid_rms_slope(surface, x: np.ndarray, y: np.ndarray) -> float:
+def grid_rms_slope(
+    surface, x: np.ndarray, y: np.ndarray, period: tuple[float, float] | None = None
+) -> float:
     """Rms slope (dimensionless) of a surface's heights resampled at cell centres.
 
     Parameters
@@ -257,6 +301,8 @@ def grid_rms_slope(surface, x: np.ndarray, y: np.ndarray) -> float:
         Anything with ``sample(x, y)`` (heights in m).
     x, y : numpy.ndarray
         Cell-centre coordinates (m), 1-D, uniform: the solver's grid (each at least 2 points).
+    period : tuple of float or None
+        The period (m) of a periodic grid: the surface sampled as one period.
 
     Returns
     -------
@@ -272,7 +318,7 @@ def grid_rms_slope(surface, x: np.ndarray, y: np.ndarray) -> float:
     last = None  # the previous chunk's last column: the difference across chunks
     for start in range(0, x.size, columns):
         xx, yy = np.meshgrid(x[start : start + columns], y, indexing="ij")
-        heights = surface.sample(xx, yy)  # (x, y)
+        heights = surface.sample(xx, yy, period)  # (x, y)
         sum_y += float(np.sum(np.diff(heights, axis=1) ** 2))
         if last is not None:
             heights = np.concatenate([last, heights], axis=0)

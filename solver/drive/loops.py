@@ -423,7 +423,7 @@ def solve(case: Case) -> Result:
                 messages.append(outcome.message)
         state = outcome.state
         previous_target = target
-        record(history, k, outcome, area)
+        record(history, k, outcome, area, case.grid.periodic)
         if "friction_work" in history:
             history["friction_work"][k] = work + outcome.friction_work
         if cycle_start is not None and cycles[k]:
@@ -442,7 +442,7 @@ def solve(case: Case) -> Result:
                     cycle_profiles.setdefault(name, []).append(values)
         history["residual"][k] = residual
         history["step_converged"][k] = float(step_ok)
-        if not edge_noted and touches_edge(state.pressure):
+        if not edge_noted and not case.grid.periodic and touches_edge(state.pressure):
             edge_noted = True
             notes.append(
                 f"step {k + 1}: the contact reaches the domain's edge (pressure on its outer "
@@ -473,7 +473,7 @@ def solve(case: Case) -> Result:
             failures.extend((k + 1, m) for m in dict.fromkeys(messages))
     notes.extend(failure_notes(failures))
     notes.extend(path_dependence_notes(case) if coupled else [])
-    if case.reference is None:  # heights only: the mesh check the case could not make before
+    if case.reference is None and not case.grid.periodic:  # heights only: the mesh check
         across = 2.0 * math.sqrt(history["contact_area"].max() / math.pi) / max(grid.dx, grid.dy)
         if across < MIN_CELLS_ACROSS:
             notes.append(

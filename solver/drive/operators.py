@@ -21,6 +21,7 @@ from ..numerics.grid import SurfaceGrid, VolumeGrid
 from ..spec.case import Case
 from ..spec.options import SolverOptions
 from ..surface.convolution import SurfaceOperator, surface_operator
+from ..surface.periodic import periodic_surface_operator
 from ..volume.eigenstrain import VOLUME_PRECISIONS, EigenstrainOperator
 from ..volume.stress import SubsurfaceStressOperator
 
@@ -32,7 +33,8 @@ def planner_flag(options: SolverOptions) -> str:
 
 def initial_gap(case: Case) -> np.ndarray:
     """The undeformed gap (m) on the surface grid (:meth:`~solver.bodies.geometry.Geometry.gap`)."""
-    return case.pair.geometry.gap(*case.surface_grid.mesh())
+    period = case.grid.size if case.grid.periodic else None
+    return case.pair.geometry.gap(*case.surface_grid.mesh(), period)
 
 
 #: Volume operators by (grid, body, FFT threads, planner, with eigenstrain), of the last case
@@ -144,7 +146,8 @@ class CaseOperators:
         """The bundle a case needs (volume operators only with a volume grid in use)."""
         options = case.solver
         planner = planner_flag(options)
-        surface = surface_operator(case.surface_grid, case.pair, options.fft_threads, planner)
+        build_surface = periodic_surface_operator if case.grid.periodic else surface_operator
+        surface = build_surface(case.surface_grid, case.pair, options.fft_threads, planner)
         plastic_case = case.plastic_body is not None
         keys = []
         threads, box, precision = options.fft_threads, case.plastic_box, options.volume_precision

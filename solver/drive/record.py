@@ -47,15 +47,33 @@ _PLASTIC_HISTORY = (
 
 
 # -- plastic-zone measures -----------------------------------------------------------------------
-def contact_spots(in_contact: np.ndarray) -> int:
+def contact_spots(in_contact: np.ndarray, periodic: bool = False) -> int:
     """Number of contact spots: groups of contact cells joined through their edges.
 
     Cells that touch at a corner only are separate spots (4-connectivity,
-    ``scipy.ndimage.label``).
+    ``scipy.ndimage.label``).  ``periodic``: the grid is one period, and a spot that leaves it
+    on one side and comes back on the other is one spot.
     """
     from scipy import ndimage
 
-    return int(ndimage.label(in_contact)[1])
+    labels, count = ndimage.label(in_contact)
+    if not periodic or not count:
+        return int(count)
+    parent = list(range(count + 1))
+
+    def root(label: int) -> int:
+        while parent[label] != label:
+            parent[label] = parent[parent[label]]
+            label = parent[label]
+        return label
+
+    seams = ((labels[0, :], labels[-1, :]), (labels[:, 0], labels[:, -1]))
+    for first, last in seams:  # the cells that face each other across the period's sides
+        for a, b in zip(first.tolist(), last.tolist(), strict=True):
+            if a and b and root(a) != root(b):
+                parent[root(a)] = root(b)
+                count -= 1
+    return int(count)
 
 
 def touches_edge(pressure: np.ndarray) -> bool:
@@ -145,14 +163,17 @@ def count_iterations(totals: dict, contact: dict, plastic: int = 0) -> None:
     totals["plastic_iterations"] += plastic
 
 
-def record(history: dict, k: int, outcome: StepResult, area: float) -> None:
-    """Write increment ``k``'s contact (and friction) histories from its step's outcome."""
+def record(history: dict, k: int, outcome: StepResult, area: float, periodic: bool = False) -> None:
+    """Write increment ``k``'s contact (and friction) histories from its step's outcome.
+
+    ``periodic``: the grid is one period (spots joined across its sides).
+    """
     state = outcome.state
     history["normal_force"][k] = state.pressure.sum() * area
     history["approach"][k] = outcome.approach
     history["max_pressure"][k] = state.pressure.max()
     history["contact_area"][k] = np.count_nonzero(state.pressure) * area
-    history["contact_spots"][k] = contact_spots(state.pressure > 0)
+    history["contact_spots"][k] = contact_spots(state.pressure > 0, periodic)
     if "position_x" in history:
         history["position_x"][k], history["position_y"][k] = state.position
     for key, name in ITERATION_HISTORY.items():

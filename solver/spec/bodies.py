@@ -18,6 +18,9 @@ import numpy as np
 from ..bodies.geometry import PROFILE_KEYS, PROFILES, Profile
 from ..bodies.heights import (
     MAX_ROUGHNESS_LATTICE,
+    MAX_SEAM_STEP,
+    MIN_PERIODIC_CUTOFF_CELLS,
+    PERIOD_RTOL,
     ROUGHNESS_POINTS_PER_CUTOFF,
     HeightMap,
     Roughness,
@@ -346,12 +349,44 @@ def body_spec(body: Body) -> dict:
     return out
 
 
-def _map_slope(surface: HeightMap, grid: SurfaceGrid) -> float:
+def _map_slope(
+    surface: HeightMap, grid: SurfaceGrid, period: tuple[float, float] | None = None
+) -> float:
     """Rms slope of a map resampled onto a grid (:func:`~solver.bodies.heights.grid_rms_slope`).
 
     Memoised: a campaign's cases often share a map and a grid.
     """
-    return grid_rms_slope(surface, grid.x, grid.y)
+    return grid_rms_slope(surface, grid.x, grid.y, period)
+
+
+def _check_periodic_map(surface: HeightMap, period: tuple[float, float], where: str) -> None:
+    """Refuse a map that is not one period of a periodic surface.
+
+    Its span (N dx, M dy) must be the period, and its opposite edges must join: the rms step
+    across a seam at most :data:`MAX_SEAM_STEP` times the rms step between neighbouring points
+    inside.
+    """
+    file = surface.source
+    if not np.allclose(surface.period, period, rtol=PERIOD_RTOL):
+        fail(
+            where,
+            f"{file} spans {surface.period[0]:.6g} m by {surface.period[1]:.6g} m as one period "
+            f"(points x spacing), not the period grid.size = [{period[0]:.6g}, "
+            f"{period[1]:.6g}] m; give grid.size its span",
+        )
+    height = surface.height  # (y, x)
+    for axis, along in ((1, "x"), (0, "y")):
+        inside = np.sqrt(np.mean(np.diff(height, axis=axis) ** 2))
+        first, last = np.take(height, 0, axis=axis), np.take(height, -1, axis=axis)
+        seam = np.sqrt(np.mean((first - last) ** 2))
+        if seam > MAX_SEAM_STEP * inside:
+            fail(
+                where,
+                f"{file} is not periodic along {along}: its opposite edges differ by "
+                f"{seam:.3g} m rms, {seam / max(inside, 1e-300):.3g} times the step between "
+                f"neighbouring points inside (at most {MAX_SEAM_STEP:g}); give a periodic map "
+                "(or window it) for grid.periodic",
+            )
 
 
 def _above(value: float, limit: float = MAX_SURFACE_SLOPE) -> str:
@@ -394,13 +429,16 @@ def check_surfaces(case) -> None:
     grid = case.surface_grid
     hx, hy = 0.5 * grid.nx * grid.dx, 0.5 * grid.ny * grid.dy
     cell = max(grid.dx, grid.dy)
+    period = case.grid.size if case.grid.periodic else None
     for name, body in (("body1", case.body1), ("body2", case.body2)):
         surface = body.surface
         if surface is not None:
             where, file = f"{name}.surface", surface.source
             x0, x1, y0, y1 = surface.extent
             tol = 1e-9 * cell
-            if (
+            if period is not None:
+                _check_periodic_map(surface, period, where)
+            elif (
                 x0 > grid.x[0] + tol
                 or x1 < grid.x[-1] - tol
                 or (y0 > grid.y[0] + tol or y1 < grid.y[-1] - tol)
@@ -442,6 +480,14 @@ def check_surfaces(case) -> None:
         roughness = body.roughness
         if roughness is not None:
             where = f"{name}.roughness"
+            if period is not None and roughness.short_cutoff < MIN_PERIODIC_CUTOFF_CELLS * cell:
+                fail(
+                    f"{where}.short_cutoff",
+                    f"{roughness.short_cutoff:.4g} m spans fewer than "
+                    f"{MIN_PERIODIC_CUTOFF_CELLS} cells ({MIN_PERIODIC_CUTOFF_CELLS * cell:.4g} m) "
+                    "of the period: its asperities would be one or two cells wide; raise "
+                    "short_cutoff or refine the grid",
+                )
             if roughness.short_cutoff < 2 * cell:
                 fail(
                     f"{where}.short_cutoff",
@@ -455,7 +501,23 @@ def check_surfaces(case) -> None:
                     f"{roughness.rms:.4g} m is larger than the domain "
                     f"({2 * max(hx, hy):.4g} m): is it in metres?",
                 )
-            points, _ = roughness.lattice(2 * max(hx, hy))
+            if period is not None:  # the period's own lattice
+                if not math.isclose(period[0], period[1], rel_tol=PERIOD_RTOL):
+                    fail(
+                        "grid.size",
+                        f"a periodic roughness needs a square period, got {list(period)} m: "
+                        "give grid.size = L (and n = [nx, nx])",
+                    )
+                if roughness.long_cutoff > period[0] * (1 + PERIOD_RTOL):
+                    fail(
+                        f"{where}.long_cutoff",
+                        f"{roughness.long_cutoff:.4g} m is longer than the period "
+                        f"({period[0]:.4g} m): no wavelength longer than the period exists on "
+                        "it; lower long_cutoff or enlarge grid.size",
+                    )
+                points, _ = roughness.lattice(period[0], periodic=True)
+            else:
+                points, _ = roughness.lattice(2 * max(hx, hy))
             if points > MAX_ROUGHNESS_LATTICE:
                 fail(
                     f"{where}.short_cutoff",
@@ -468,7 +530,10 @@ def check_surfaces(case) -> None:
                 # the lattice the solver samples (Roughness.sample): over the cell centres
                 side = 2.0 * float(max(np.abs(grid.x).max(), np.abs(grid.y).max())) + 1e-300
                 try:
-                    slope = roughness.realised_rms_slope(side)
+                    if period is None:
+                        slope = roughness.realised_rms_slope(side)
+                    else:
+                        slope = roughness.realised_rms_slope(period[0], periodic=True)
                 except SurfaceError as error:
                     fail(where, str(error))
                 if slope > MAX_SURFACE_SLOPE:

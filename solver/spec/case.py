@@ -48,6 +48,7 @@ from ..theory.sneddon import SneddonContact
 from .bodies import body_spec, check_surfaces, parse_body
 from .grid import GridSpec, check_resolution, check_volume, domain_half_widths, parse_grid
 from .notes import (
+    check_periodic_scene,
     check_plastic_scene,
     layer_note,
     narrow_window_note,
@@ -237,6 +238,7 @@ class Case:
                     "friction.coefficient is 0: a frictionless contact has no creep force; "
                     "remove creepage and spin or give a friction coefficient",
                 )
+        check_periodic_scene(body1, body2, stages, mu, grid)
         check_plastic_scene(body1, body2, stages, grid)
         plastics = [b for b in (body2, body1) if b.behaviour == "elastic-plastic"]
         plastic = plastics[0] if plastics else None
@@ -391,6 +393,7 @@ class Case:
                 **({"depth_body1": grid.depth_body1} if grid.depth_body1 else {}),
                 **({"plastic_half_width": box_key} if box_key is not None else {}),
                 **({"follow_contact": grid.follow_contact} if moving else {}),
+                **({"periodic": True} if grid.periodic else {}),
             },
             # FFT threads and planner are kept (a campaign's cases are solved from this table)
             # but change no result beyond round-off: not in the case id (EXECUTION_KEYS); the

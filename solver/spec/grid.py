@@ -50,6 +50,7 @@ class GridSpec:
     plastic_half_width: float | None = None
     size: tuple[float, float] | None = None
     follow_contact: bool = True
+    periodic: bool = False
 
 
 def parse_grid(table: Any) -> GridSpec:
@@ -118,6 +119,11 @@ def parse_grid(table: Any) -> GridSpec:
     follow = plain(table.get("follow_contact", True))
     if not isinstance(follow, bool):
         fail("grid.follow_contact", f"must be true or false, got {follow!r}")
+    periodic = plain(table.get("periodic", False))
+    if not isinstance(periodic, bool):
+        fail("grid.periodic", f"must be true or false, got {periodic!r}")
+    if periodic and size is None:
+        fail("grid.periodic", "the period is the domain: give its sides, grid.size = [Lx, Ly] (m)")
     return GridSpec(
         sizes[0],
         sizes[1],
@@ -128,6 +134,7 @@ def parse_grid(table: Any) -> GridSpec:
         plastic_half_width,
         size,
         follow,
+        periodic,
     )
 
 

@@ -39,6 +39,43 @@ UNCONTAINED_PLASTIC_INDEX = 10.0
 MAX_PERFECT_LAYER = 0.62
 
 
+def check_periodic_scene(
+    body1: Body, body2: Body, stages, friction_coefficient: float, grid: GridSpec
+) -> None:
+    """Refuse what periodic mode (``grid.periodic``) does not solve in this release.
+
+    Solved: frictionless normal contact of elastic (or rigid) bodies whose shapes are periodic
+    heights (a roughness, a height map used as one period) on flat bodies, loaded by normal
+    force.  Refused, naming the key: a radius or profile (not periodic), an elastic-plastic
+    body or a volume grid, friction, and sliding or rolling stages.
+    """
+    if not grid.periodic:
+        return
+    for name, body in (("body1", body1), ("body2", body2)):
+        if math.isfinite(body.radius_x) or math.isfinite(body.radius_y) or body.profile:
+            fail(
+                f"{name}.radius" if body.profile is None else f"{name}.profile",
+                "a periodic domain is one period of a nominally flat surface: give the body "
+                'radius = "inf" and no profile (a rough sphere: leave grid.periodic out)',
+            )
+        if body.behaviour == "elastic-plastic":
+            fail(
+                f"{name}.behaviour",
+                "plasticity under a periodic surface is not built yet: make the body elastic, "
+                "or leave grid.periodic out",
+            )
+    if grid.nz:
+        fail("grid.n", "a periodic case has no volume grid yet: give grid.n = [nx, ny]")
+    if friction_coefficient:
+        fail(
+            "friction.coefficient",
+            "friction on a periodic surface is not built yet: leave it out (frictionless "
+            "normal contact), or leave grid.periodic out",
+        )
+    if any(stage.motion for stage in stages):
+        fail("load.path", "a periodic case is pressed, not slid or rolled: remove slide and roll")
+
+
 def check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> None:
     """Refuse the elastic-plastic scenes this release cannot solve (no silent elastic answer).
 

@@ -26,8 +26,11 @@ operator of such a pair refuses the coupling blocks.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
+from ..bodies.materials import Pair
 from ..numerics.grid import SurfaceGrid
 from .convolution import REAL_SPECTRA, SurfaceOperator
 
@@ -91,3 +94,11 @@ class PeriodicSurfaceOperator(SurfaceOperator):
     def padded_lengths(grid: SurfaceGrid) -> tuple[int, int]:
         """FFT lengths of the convolution: the period's own, no padding."""
         return grid.nx, grid.ny
+
+
+@functools.lru_cache(maxsize=8)
+def periodic_surface_operator(
+    grid: SurfaceGrid, pair: Pair, threads: int = 1, planner: str = "FFTW_ESTIMATE"
+) -> PeriodicSurfaceOperator:
+    """Cached :class:`PeriodicSurfaceOperator` for a period's grid and a pair."""
+    return PeriodicSurfaceOperator(grid, pair, threads=threads, planner=planner)
