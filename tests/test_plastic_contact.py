@@ -285,9 +285,13 @@ def test_swift_sphere_8gpa_matches_the_finite_element_reference(validation):
     depth = fine["max_plastic_strain_depth_over_a"]
     assert abs(depth - fe["max_plastic_strain_depth_over_a"]) <= 0.03
     assert fine["plastic_zone_depth_over_a"] == pytest.approx(fe["plastic_zone_depth_over_a"], 0.05)
-    # refinement moves the contact radius and zone depth towards the reference
-    for key in ("contact_radius_over_a", "plastic_zone_depth_over_a"):
-        assert abs(rows[1][key] - fe[key]) < abs(rows[0][key] - fe[key]), key
+    # refinement moves the zone depth towards the reference; the contact radius is counted in
+    # cells (on the 1.82 a_H window the plastic zone asks for, a cell is 0.11 and 0.076 a_H):
+    # it moves by a cell's rounding (1.0815, 1.0891), within 1 % of the reference at both
+    key = "plastic_zone_depth_over_a"
+    assert abs(rows[1][key] - fe[key]) < abs(rows[0][key] - fe[key]), key
+    for row in rows:
+        assert row["contact_radius_over_a"] == pytest.approx(fe["contact_radius_over_a"], rel=0.01)
     validation(
         "rigid sphere on Swift steel, p_H = 8 GPa, 8 steps + unloading, 32^3 / 48^3",
         "independent axisymmetric FE (`solver.theory.hertz.FE_SWIFT_8GPA`): "
