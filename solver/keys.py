@@ -408,12 +408,13 @@ CASE_KEYS: tuple[Key, ...] = (
         "Not with a height map, roughness or two elastic-plastic bodies (the whole track then)."),
     Key("grid", "periodic", "boolean", "", "false",
         "true or false; true needs grid.size, flat bodies (no radius or profile), periodic "
-        "heights, elastic bodies and no friction", "rough flat surfaces",
+        "heights, elastic bodies, friction only with beta = 0", "rough flat surfaces",
         "The domain grid.size = [Lx, Ly] is one period of a nominally flat surface in x and y: "
         "periodic influence coefficients (Fourier-space forms, solver.surface.periodic), a "
         "roughness generated on the period, a height map used as one period (its opposite "
         "edges must join), contact spots joined across the period's sides.  This release "
-        "solves frictionless elastic normal contact in periodic mode."),
+        "solves elastic contact in periodic mode: normal loading, and friction with tangential "
+        "loads for elastically similar bodies (Dundurs' beta = 0)."),
     Key("grid", "depth_body1", "number", "a_H", "depth if given, else body 1's yield depth",
         "as grid.depth", "two different elastic-plastic bodies",
         "Depth of body 1's own volume grid."),

@@ -129,7 +129,7 @@ def periodic_case(body2: dict, n=(64, 64), size=(PERIOD, PERIOD), force=5.0, **e
         "load": {"normal_force": force},
         "grid": {"n": list(n), "size": list(size), "periodic": True},
     }
-    for key, value in extra.items():
+    for key, value in extra.items():  # other tables, or keys of these
         table.setdefault(key, {}).update(value)
     return table
 
@@ -240,3 +240,46 @@ def test_a_height_map_that_is_not_one_period_is_refused():
     jumped = HeightMap(whole.x, whole.y, whole.height + 1e-7 * np.arange(n)[None, :], "ramp")
     with pytest.raises(solver.SpecError, match="not periodic along x"):
         solver.Case.from_dict(periodic_case({"surface": jumped}, n=(n, 4), size=size))
+
+
+def test_partial_slip_on_the_periodic_sinusoid_is_ciavarella_jaeger():
+    """Two identical steels (beta = 0), Westergaard's strip at p = 0.3 p*, then Q = mu W / 2.
+
+    Ciavarella's and Jaeger's superposition for plane contacts: q = mu (p - p_c), p_c the
+    normal pressure at the smaller load whose contact half-width is the stick zone's, at the mean
+    pressure p (1 - Q / (mu W)).  The shear within 2.5 % (L2), 1 % from 128 cells a period; the
+    stick zone within a cell; the shear's sum the prescribed force.
+    """
+    steel = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
+    full = math.pi * Pair(STEEL, STEEL).composite_modulus * AMPLITUDE / PERIOD
+    mu = 0.3
+    for n, bound in ((64, 0.025), (128, 0.01)):
+        dx = PERIOD / n
+        mean = 0.3 * full
+        force = mean * PERIOD * 4 * dx
+        shear = 0.5 * mu * force
+        table = periodic_case(
+            {**steel, "surface": sinusoid_map(n)},
+            (n, 4),
+            (PERIOD, 4 * dx),
+            body1={**steel, "radius": "inf"},
+            friction={"coefficient": mu},
+        )
+        table["load"] = {
+            "path": [
+                {"normal_force": force, "steps": 1},
+                {"tangential_force": [shear, 0.0], "steps": 10},
+            ]
+        }
+        case = solver.Case.from_dict(table)
+        result = solver.solve(case)
+        assert result.status == "converged", result.notes
+        x = case.surface_grid.mesh()[0]
+        pressure, _ = westergaard(x, mean, full)
+        smaller, stick_half = westergaard(x, mean * (1 - shear / (mu * force)), full)
+        expected = mu * (pressure - smaller)
+        q = result.shear_x
+        assert np.linalg.norm(q - expected) / np.linalg.norm(expected) < bound
+        stick = np.count_nonzero(result.contact_state[:, 0] == 1) * dx / 2
+        assert abs(stick - stick_half) <= dx
+        assert q.sum() * case.surface_grid.cell_area == pytest.approx(shear, rel=1e-9)

@@ -44,10 +44,11 @@ def check_periodic_scene(
 ) -> None:
     """Refuse what periodic mode (``grid.periodic``) does not solve in this release.
 
-    Solved: frictionless normal contact of elastic (or rigid) bodies whose shapes are periodic
-    heights (a roughness, a height map used as one period) on flat bodies, loaded by normal
-    force.  Refused, naming the key: a radius or profile (not periodic), an elastic-plastic
-    body or a volume grid, friction, and sliding or rolling stages.
+    Solved: elastic (or rigid) flat bodies with periodic heights (a roughness, a height map used
+    as one period) under normal force, and with friction and tangential forces when the bodies
+    are elastically similar (Dundurs' beta = 0: the periodic coupling is not built).  Refused,
+    naming the key: a radius or profile (not periodic), an elastic-plastic body or a volume
+    grid, friction at beta != 0, and sliding or rolling stages.
     """
     if not grid.periodic:
         return
@@ -66,11 +67,12 @@ def check_periodic_scene(
             )
     if grid.nz:
         fail("grid.n", "a periodic case has no volume grid yet: give grid.n = [nx, ny]")
-    if friction_coefficient:
+    if friction_coefficient and Pair(body1, body2).dundurs_beta != 0.0:
         fail(
             "friction.coefficient",
-            "friction on a periodic surface is not built yet: leave it out (frictionless "
-            "normal contact), or leave grid.periodic out",
+            "friction on a periodic surface is built for elastically similar bodies (Dundurs' "
+            f"beta = 0; here {Pair(body1, body2).dundurs_beta:.3g}): give both bodies the same "
+            "E and nu, leave friction out, or leave grid.periodic out",
         )
     if any(stage.motion for stage in stages):
         fail("load.path", "a periodic case is pressed, not slid or rolled: remove slide and roll")
