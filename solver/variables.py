@@ -65,6 +65,12 @@ HISTORIES: dict[str, History] = {
         "m", "rigid tangential shift of body 1 relative to body 2 along y", None
     ),
     "stick_area": History("m2", "stick area"),
+    "contact_fraction": History(
+        "1", "real contact area over the period's nominal area (grid.periodic)", "max"
+    ),
+    "mean_separation": History(
+        "m", "mean gap between the deformed surfaces over the period (grid.periodic)"
+    ),
     "position_x": History(
         "m", "position of body 1's apex over body 2 along x (sliding, rolling)", None
     ),

@@ -283,3 +283,35 @@ def test_partial_slip_on_the_periodic_sinusoid_is_ciavarella_jaeger():
         stick = np.count_nonzero(result.contact_state[:, 0] == 1) * dx / 2
         assert abs(stick - stick_half) <= dx
         assert q.sum() * case.surface_grid.cell_area == pytest.approx(shear, rel=1e-9)
+
+
+def test_a_periodic_case_records_its_contact_fraction_and_mean_separation():
+    """Westergaard's strip loaded to 0.1, 0.3, 0.6 and 1.2 p*: the fraction 2a/L within a cell,
+    1 in full contact, where the deformed surfaces meet everywhere (mean separation 0); the
+    separation falls as the load grows (the load-separation curve)."""
+    n = 128
+    dx = PERIOD / n
+    full = math.pi * PAIR.composite_modulus * AMPLITUDE / PERIOD
+    ratios = (0.1, 0.3, 0.6, 1.2)
+    nominal = PERIOD * 4 * dx
+    path = [{"normal_force": r * full * nominal, "steps": 1} for r in ratios]
+    table = periodic_case({"surface": sinusoid_map(n)}, (n, 4), (PERIOD, 4 * dx))
+    table["load"] = {"path": path}
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "converged", result.notes
+    fraction = result.history["contact_fraction"]
+    separation = result.history["mean_separation"]
+    for ratio, measured in zip(ratios[:-1], fraction, strict=False):
+        half = PERIOD / np.pi * math.asin(math.sqrt(ratio))
+        assert abs(measured - 2 * half / PERIOD) <= dx / PERIOD
+    assert fraction[-1] == 1.0 and abs(separation[-1]) < 1e-9 * AMPLITUDE
+    assert np.all(np.diff(separation) < 0) and separation[0] > 0
+    data = result.to_xarray()
+    assert data["contact_fraction"].attrs["units"] == "1"
+
+
+def test_a_non_periodic_case_has_no_periodic_histories():
+    table = periodic_case({"roughness": ROUGH})
+    del table["grid"]["periodic"]
+    history = solver.solve(solver.Case.from_dict(table)).history
+    assert "contact_fraction" not in history and "mean_separation" not in history

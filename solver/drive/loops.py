@@ -39,10 +39,11 @@ from ..variables import BODY1_SUFFIX, CYCLE_PLASTIC_HISTORIES, HISTORIES, PLASTI
 from .operators import CaseOperators
 from .plastic_loop import PlasticState, PlasticStepResult, mirror, plastic_step
 from .record import (
-    _CONTACT_HISTORY,
-    _FRICTION_HISTORY,
-    _PLASTIC_HISTORY,
+    CONTACT_HISTORY,
+    FRICTION_HISTORY,
     ITERATION_HISTORY,
+    PERIODIC_HISTORY,
+    PLASTIC_HISTORY,
     box_faces_reached,
     count_iterations,
     cycle_end,
@@ -293,13 +294,15 @@ def solve(case: Case) -> Result:
     loops, contact_step = scene(case)
     plastic = case.plastic_body is not None
     targets = case.step_targets()
-    names = _CONTACT_HISTORY
+    names = CONTACT_HISTORY
     if contact_step is slip_stick_step or (case.moving and case.friction_coefficient > 0):
-        names += _FRICTION_HISTORY
+        names += FRICTION_HISTORY
     if case.moving:
         names += ("position_x", "position_y")
+    if case.grid.periodic:
+        names += PERIODIC_HISTORY
     if plastic:
-        names += _PLASTIC_HISTORY
+        names += PLASTIC_HISTORY
         if 1 in case.plastic_bodies:
             names += tuple(name + BODY1_SUFFIX for name in PLASTIC_BODY_HISTORIES)
     names += ("residual", "step_converged")

@@ -28,19 +28,21 @@ from .steps import StepResult
 MIN_COUPLED_STEPS = 20
 
 
-_CONTACT_HISTORY = (
+CONTACT_HISTORY = (
     "normal_force", "approach", "max_pressure", "contact_area", "contact_spots",
     "normal_iterations",
 )  # fmt: skip
 
 
-_FRICTION_HISTORY = (
+FRICTION_HISTORY = (
     "tangential_force_x", "tangential_force_y", "tangential_shift_x", "tangential_shift_y",
     "stick_area", "slip_iterations", "coupling_iterations", "friction_work",
 )  # fmt: skip
 
 
-_PLASTIC_HISTORY = (
+#: What a periodic case records beside the contact histories (the period is the nominal area).
+PERIODIC_HISTORY = ("contact_fraction", "mean_separation")
+PLASTIC_HISTORY = (
     "plastic_iterations", "max_plastic_strain", "max_plastic_strain_depth",
     "plastic_zone_depth", "residual_depth",
 )  # fmt: skip
@@ -174,6 +176,10 @@ def record(history: dict, k: int, outcome: StepResult, area: float, periodic: bo
     history["max_pressure"][k] = state.pressure.max()
     history["contact_area"][k] = np.count_nonzero(state.pressure) * area
     history["contact_spots"][k] = contact_spots(state.pressure > 0, periodic)
+    if "contact_fraction" in history:
+        history["contact_fraction"][k] = np.count_nonzero(state.pressure) / state.pressure.size
+        gap = state.normal.gap if state.normal is not None else np.nan
+        history["mean_separation"][k] = float(np.mean(gap))
     if "position_x" in history:
         history["position_x"][k], history["position_y"][k] = state.position
     for key, name in ITERATION_HISTORY.items():
