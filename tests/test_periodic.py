@@ -346,3 +346,33 @@ def test_a_non_periodic_case_has_no_periodic_histories():
     del table["grid"]["periodic"]
     history = solver.solve(solver.Case.from_dict(table)).history
     assert "contact_fraction" not in history and "mean_separation" not in history
+
+
+@pytest.mark.validation
+def test_the_2d_sinusoid_at_small_load_is_hertz_at_each_crest(validation):
+    """``h = Delta (1 - cos(2 pi x / L) cos(2 pi y / L))`` has two crests a period, (0, 0) and
+    (L/2, L/2), each a sphere of radius ``L^2 / (4 pi^2 Delta)``: at a small load (contact radius
+    0.03 L) each carries W / 2 as Hertz says (the small-load end of Johnson, Greenwood and
+    Higginson's wavy surface).  The peak pressure within 1 % from 256 cells a period."""
+    wave = 2 * math.pi / PERIOD
+    radius = 1 / (AMPLITUDE * wave * wave)
+    modulus = PAIR.composite_modulus
+    contact = 0.03 * PERIOD
+    force = 2 * 4 * modulus * contact**3 / (3 * radius)  # two Hertz contacts
+    peak = 2 * modulus * contact / (math.pi * radius)
+    errors = []
+    for n in (128, 256):
+        grid = SurfaceGrid.centred(n, n, PERIOD / 2, PERIOD / 2)
+        x, y = grid.mesh()
+        gap = AMPLITUDE * (1 - np.cos(wave * x) * np.cos(wave * y))
+        solution = solve_normal(PeriodicSurfaceOperator(grid, PAIR), gap, force, tolerance=1e-10)
+        assert solution.converged
+        errors.append(abs(solution.pressure.max() - peak) / peak)
+        assert contact_spots(solution.pressure > 0, periodic=True) == 2
+    assert errors[1] < errors[0] / 2 and errors[1] < 0.01
+    validation(
+        "periodic mode: 2-D sinusoid, two crests a period, contact radius 0.03 L, 128 / 256 "
+        "cells a period",
+        "Hertz at each crest (R = L^2 / (4 pi^2 Delta), W / 2 each)",
+        f"peak pressure {errors[0]:.1e} / {errors[1]:.1e}",
+    )

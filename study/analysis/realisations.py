@@ -15,7 +15,7 @@ from .dataset import axis_dims, finished_mask, quantities
 REALISATION_KEYS = ("body1.roughness.seed", "body2.roughness.seed")
 #: Per-case results of a rough contact reduced over the realisations, besides
 #: :func:`~study.analysis.dataset.quantities`.
-ROUGH_QUANTITIES = ("contact_area", "contact_spots")
+ROUGH_QUANTITIES = ("contact_area", "contact_spots", "contact_fraction", "mean_separation")
 #: The statistics of :func:`realisation_statistics`, in order.
 STATISTICS = ("mean", "std", "min", "max")
 
@@ -40,8 +40,8 @@ def realisation_statistics(dataset, names: list[str] | None = None):
     dataset : xarray.Dataset
         An assembled campaign dataset with a realisation axis.
     names : list of str, optional
-        Per-case variables to reduce; default the dataset's quantities and
-        :data:`ROUGH_QUANTITIES` it holds.
+        Per-case variables to reduce; default the dataset's quantities and the
+        :data:`ROUGH_QUANTITIES` it holds values of (the periodic ones in periodic cases).
 
     Returns
     -------
@@ -64,7 +64,8 @@ def realisation_statistics(dataset, names: list[str] | None = None):
             "several surfaces of one statistics"
         )
     if names is None:
-        names = quantities(dataset) + [n for n in ROUGH_QUANTITIES if n in dataset]
+        rough = [n for n in ROUGH_QUANTITIES if n in dataset and dataset[n].notnull().any()]
+        names = quantities(dataset) + rough
     finished = finished_mask(dataset)
     out = {}
     for name in names:
