@@ -133,13 +133,44 @@ def test_the_fourier_kernels_are_the_lattice_sum_of_the_cell_kernels(validation)
     )
 
 
-def test_coupling_of_a_dissimilar_pair_is_refused():
-    grid = SurfaceGrid.centred(8, 8, PERIOD / 2, PERIOD / 2)
-    operator = PeriodicSurfaceOperator(grid, Pair(Body("elastic", E=70e9, nu=0.33), STEEL))
-    with pytest.raises(NotImplementedError, match="beta"):
-        operator.normal_from_shear(np.ones(grid.shape), np.ones(grid.shape))
-    same = PeriodicSurfaceOperator(grid, Pair(STEEL, STEEL))
-    assert not same.normal_from_shear(np.ones(grid.shape), np.ones(grid.shape)).any()
+@pytest.mark.validation
+def test_the_periodic_coupling_of_a_dissimilar_pair_is_the_lattice_sum(validation):
+    """Aluminium on steel (beta != 0): the tangential displacements of a pressure and the normal
+    displacement of shears, periodic against the non-periodic kernels on 5 x 5 tiled periods."""
+    pair = Pair(Body("elastic", E=70e9, nu=0.33), STEEL)
+    assert pair.dundurs_beta != 0.0
+    differences = []
+    for n in (16, 32, 64):
+        grid = SurfaceGrid.centred(n, n, PERIOD / 2, PERIOD / 2)
+        x, y = grid.mesh()
+        pressure = np.cos(2 * np.pi * x / PERIOD) * np.cos(4 * np.pi * y / PERIOD)
+        shear = np.sin(2 * np.pi * (2 * x - y) / PERIOD)
+        periodic = PeriodicSurfaceOperator(grid, pair)
+        ours = (
+            *periodic.tangential_from_pressure(pressure),
+            periodic.normal_from_shear(shear, 0 * shear),
+        )
+        tiles = 5
+        big = SurfaceGrid.centred(tiles * n, tiles * n, tiles * PERIOD / 2, tiles * PERIOD / 2)
+        tiled = SurfaceOperator(big, pair)
+        wide_p, wide_q = np.tile(pressure, (tiles, tiles)), np.tile(shear, (tiles, tiles))
+        theirs = (
+            *tiled.tangential_from_pressure(wide_p),
+            tiled.normal_from_shear(wide_q, 0 * wide_q),
+        )
+        centre = slice(2 * n, 3 * n)
+        worst = 0.0
+        for a, b in zip(ours, theirs, strict=True):
+            b = b[centre, centre] - b[centre, centre].mean()
+            worst = max(worst, np.abs(a - b).max() / np.abs(b).max())
+        differences.append(worst)
+    assert differences[-1] < differences[0] / 4 and differences[-1] < 0.01
+    validation(
+        "periodic normal-tangential coupling (beta != 0, aluminium on steel), 16 / 32 / 64 cells "
+        "a period",
+        "the non-periodic coupling kernels summed over 5 x 5 tiled periods (DC-FFT)",
+        " / ".join(f"{d:.1e}" for d in differences) + " (largest of u_x(p), u_y(p), u_z(q))",
+    )
 
 
 # -- grid.periodic: a case file's periodic mode ---------------------------------------------------
@@ -231,7 +262,7 @@ def test_a_periodic_case_has_its_own_id():
         ({"body1": {"radius": 0.01}}, "body1.radius"),
         ({"body2": {"behaviour": "elastic-plastic", "hardening": {"law": "perfect",
           "yield_stress": 400e6}}}, "body2.behaviour"),
-        ({"friction": {"coefficient": 0.3}}, "friction.coefficient"),
+        ({"friction": {"coefficient": 0.3}}, "friction.coefficient"),  # beta != 0
         ({"grid": {"n": [64, 64, 16]}}, "grid.n"),
         ({"body2": {"roughness": {**ROUGH, "long_cutoff": 2e-3}}}, "body2.roughness.long_cutoff"),
         ({"body2": {"roughness": {**ROUGH, "short_cutoff": 1e-4}}}, "body2.roughness.short_cutoff"),
@@ -376,3 +407,30 @@ def test_the_2d_sinusoid_at_small_load_is_hertz_at_each_crest(validation):
         "Hertz at each crest (R = L^2 / (4 pi^2 Delta), W / 2 each)",
         f"peak pressure {errors[0]:.1e} / {errors[1]:.1e}",
     )
+
+
+def test_friction_on_a_rough_periodic_interface_converges_towards_gross_slip():
+    """Two rough-contacting steels (beta = 0), mu = 0.3, Q raised to 0.99 mu W: every increment
+    converges, the stick area falls from the whole contact to a few cells, the shear's sum is Q
+    and never exceeds mu p anywhere."""
+    steel = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
+    table = periodic_case(
+        {**steel, "roughness": ROUGH},
+        body1={**steel, "radius": "inf"},
+        friction={"coefficient": 0.3},
+    )
+    table["load"] = {
+        "path": [
+            {"normal_force": 5.0, "steps": 2},
+            {"tangential_force": [0.99 * 0.3 * 5.0, 0.0], "steps": 6},
+        ]
+    }
+    case = solver.Case.from_dict(table)
+    result = solver.solve(case)
+    assert result.status == "converged", result.notes
+    stick = result.history["stick_area"] / result.history["contact_area"]
+    assert stick[1] == 1.0 and np.all(np.diff(stick[1:]) <= 0) and stick[-1] < 0.1
+    area = case.surface_grid.cell_area
+    assert result.shear_x.sum() * area == pytest.approx(0.99 * 0.3 * 5.0, rel=1e-9)
+    traction = np.hypot(result.shear_x, result.shear_y)
+    assert np.all(traction <= 0.3 * result.pressure * (1 + 1e-9) + 1e-12 * result.pressure.max())

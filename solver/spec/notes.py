@@ -46,7 +46,8 @@ def check_periodic_scene(
 
     Solved: elastic (or rigid) flat bodies with periodic heights (a roughness, a height map used
     as one period) under normal force, and with friction and tangential forces when the bodies
-    are elastically similar (Dundurs' beta = 0: the periodic coupling is not built).  Refused,
+    are elastically similar (Dundurs' beta = 0: with beta != 0 the coupled slip-stick loop does
+    not converge on a periodic surface yet, though the coupling kernels are built).  Refused,
     naming the key: a radius or profile (not periodic), an elastic-plastic body or a volume
     grid, friction at beta != 0, and sliding or rolling stages.
     """
@@ -70,9 +71,10 @@ def check_periodic_scene(
     if friction_coefficient and Pair(body1, body2).dundurs_beta != 0.0:
         fail(
             "friction.coefficient",
-            "friction on a periodic surface is built for elastically similar bodies (Dundurs' "
-            f"beta = 0; here {Pair(body1, body2).dundurs_beta:.3g}): give both bodies the same "
-            "E and nu, leave friction out, or leave grid.periodic out",
+            "friction on a periodic surface is solved for elastically similar bodies (Dundurs' "
+            f"beta = 0; here {Pair(body1, body2).dundurs_beta:.3g}): the coupled slip-stick "
+            "loop does not converge in periodic mode yet; give both bodies the same E and nu, "
+            "leave friction out, or leave grid.periodic out",
         )
     if any(stage.motion for stage in stages):
         fail("load.path", "a periodic case is pressed, not slid or rolled: remove slide and roll")

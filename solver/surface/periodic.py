@@ -11,17 +11,19 @@ evaluated at the grid's discrete wavenumbers ``k = 2 pi (m / Lx, n / Ly)`` (Stan
 * tangential (Cerruti): ``u_t(k) = (2 / |k|) [(A + S) I - S k k^T / |k|^2] q(k)``; along
   ``k`` it is Boussinesq's ``2 A / |k|``.  For one body, ``(1 + nu) / E = A + S`` and the
   bracket is ``(1 / (2 G)) (I - nu k k^T / |k|^2)``, the transform of Cerruti's point-force
-  field (``1/r -> 2 pi / |k|``, ``x^2 / r^3 -> (2 pi / |k|)(1 - k_x^2 / |k|^2)``).
+  field (``1/r -> 2 pi / |k|``, ``x^2 / r^3 -> (2 pi / |k|)(1 - k_x^2 / |k|^2)``);
+* the coupling of a pair with Dundurs' beta != 0: ``u_t(k) = 2 i (D_2 - D_1) k p(k) / |k|^2``
+  with ``D_i = (1 + nu_i)(1 - 2 nu_i) / (2 E_i)`` the dilatational compliances
+  (``A beta = D_1 - D_2``): Boussinesq's radial displacement ``-2 D P / (2 pi r)`` of each
+  body, ``x / r^2 -> -2 pi i k_x / |k|^2``; the normal displacement of the shears is its
+  transpose with the sign of :mod:`.convolution`.
 
 The mean (``k = 0``) displacement of a periodic half-space is not defined (its lattice sum
 diverges): it is set to zero, so the displacements have zero mean over the period and the rigid
 approach of a contact solve takes up their mean.  These symbols are those of point values of the
 continuous solution; the non-periodic operator's cell-integrated coefficients summed over the
 lattice of periods (:mod:`.convolution` on a tiled domain) agree with them to a difference that
-shrinks with the cell size (``tests/test_periodic.py``).
-
-The normal-tangential coupling of a pair with Dundurs' beta != 0 is not built here: a periodic
-operator of such a pair refuses the coupling blocks.
+shrinks with the cell size, the coupling's sign included (``tests/test_periodic.py``).
 """
 
 from __future__ import annotations
@@ -48,22 +50,8 @@ class PeriodicSurfaceOperator(SurfaceOperator):
     periodic = True
 
     def kernel_spectrum(self, name: str) -> np.ndarray:
-        """Normalised spectrum of kernel block ``name`` (zz, xx, yy, xy; xp, yp only at beta 0).
-
-        Raises
-        ------
-        NotImplementedError
-            For the coupling blocks ``xp``, ``yp`` of a pair with Dundurs' beta != 0.
-        """
+        """Normalised spectrum of kernel block ``name``: zz, xx, yy, xy, xp, yp."""
         if name not in self._kernels:
-            if name in ("xp", "yp"):
-                if self.pair.dundurs_beta != 0.0:
-                    raise NotImplementedError(
-                        "periodic normal-tangential coupling (Dundurs' beta != 0) is not built: "
-                        "give the bodies the same dilatational compliance (beta = 0)"
-                    )
-                self._kernels[name] = np.zeros(self._spectrum.shape, dtype=complex)
-                return self._kernels[name]
             nx, ny = self.grid.shape
             kx = 2 * np.pi * np.fft.fftfreq(nx, self.grid.dx)[:, None]
             ky = 2 * np.pi * np.fft.rfftfreq(ny, self.grid.dy)[None, :]
@@ -73,11 +61,15 @@ class PeriodicSurfaceOperator(SurfaceOperator):
             ratio = inverse_k * inverse_k
             scale = 1.0 / (nx * ny)  # FFTW's backward transform is unnormalised
             compliance, coupling = self.pair.compliance, self.pair.shear_coupling
+            bodies = (self.pair.body1, self.pair.body2)
+            dilatation = bodies[1].dilatational_compliance - bodies[0].dilatational_compliance
             symbols = {
                 "zz": 2.0 * compliance * inverse_k,
                 "xx": 2.0 * inverse_k * (compliance + coupling - coupling * kx * kx * ratio),
                 "yy": 2.0 * inverse_k * (compliance + coupling - coupling * ky * ky * ratio),
                 "xy": -2.0 * inverse_k * coupling * kx * ky * ratio,
+                "xp": 2j * dilatation * kx * ratio,
+                "yp": 2j * dilatation * ky * ratio,
             }
             if name not in symbols:
                 raise ValueError(f"unknown kernel block {name!r}; use one of {sorted(symbols)}")
