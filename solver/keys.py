@@ -29,6 +29,8 @@ MAX_CELLS = 8192
 MODULUS_RANGE = (1e3, 1e15)
 #: Finite radii of curvature accepted (m); "inf" (flat) is accepted as well.
 RADIUS_RANGE = (1e-9, 1e6)
+#: Accepted sides of a domain given in metres (grid.size), m: a nanometre to a kilometre.
+SIZE_RANGE = (1e-9, 1e3)
 #: Hertz peak pressure over the composite modulus, p_H / E*, accepted for every non-zero load.
 #: It is the contact's strain scale (a / R = pi/2 p_H / E* for a sphere): below 1e-9 the
 #: contact is a rounding error, above 1 the small-strain theory the solver rests on is void.
@@ -367,7 +369,8 @@ CASE_KEYS: tuple[Key, ...] = (
         "every case", "Cells per side of the surface grid, and nz cells in depth of the volume "
         "grid (required by elastic-plastic bodies and the stress output)."),
     Key("grid", "size", "number or [Lx, Ly]", "m", "optional (half_width)",
-        "square cells (Lx/nx = Ly/ny); the map or roughness within it",
+        f"each in {_range(*SIZE_RANGE)}; square cells (Lx/nx = Ly/ny); the map or roughness "
+        "within it",
         "height maps, roughness", "Side(s) of the surface domain in metres, instead of "
         "half_width; required when no body has a smooth shape (radius or profile)."),
     Key("grid", "nz", "integer", "cells", "optional", f"[4, {MAX_CELLS}]; not with a 3-entry n",

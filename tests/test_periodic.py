@@ -434,3 +434,29 @@ def test_friction_on_a_rough_periodic_interface_converges_towards_gross_slip():
     assert result.shear_x.sum() * area == pytest.approx(0.99 * 0.3 * 5.0, rel=1e-9)
     traction = np.hypot(result.shear_x, result.shear_y)
     assert np.all(traction <= 0.3 * result.pressure * (1 + 1e-9) + 1e-12 * result.pressure.max())
+
+
+def test_a_flat_period_gives_the_uniform_pressure_and_converges():
+    """No heights to speak of (a flat map, a roughness of rms 5e-324 m): u = 0, the pressure is
+    the mean pressure everywhere, and the solve says converged (its residual is scaled by the
+    mean pressure's displacement over a cell when the displacements vanish)."""
+    n = 16
+    x = (np.arange(n) + 0.5) / n * PERIOD - PERIOD / 2
+    tiny = {**ROUGH, "rms": 5e-324}
+    for body2 in ({"surface": HeightMap(x, x, np.zeros((n, n)), "flat")}, {"roughness": tiny}):
+        result = solver.solve(solver.Case.from_dict(periodic_case(body2)))
+        assert result.status == "converged", result.notes
+        mean = 5.0 / PERIOD**2
+        assert np.allclose(result.pressure, mean, rtol=1e-12)
+        assert result.history["contact_fraction"][-1] == 1.0
+
+
+def test_absurd_periodic_domains_are_refused():
+    for size in (5e-324, 1e300, -1.0, 0.0):
+        with pytest.raises(solver.SpecError, match="^grid.size"):
+            solver.Case.from_dict(periodic_case({"roughness": ROUGH}, size=(size, size)))
+    for value in (1, 0, "yes", None):
+        table = periodic_case({"roughness": ROUGH})
+        table["grid"]["periodic"] = value
+        with pytest.raises(solver.SpecError, match="^grid.periodic: must be true or false"):
+            solver.Case.from_dict(table)

@@ -21,6 +21,7 @@ from ..keys import (
     MIN_CELLS_ACROSS,
     MIN_PLASTIC_HALF_WIDTH,
     MIN_YIELD_CELLS,
+    SIZE_RANGE,
     required_keys,
     table_keys,
 )
@@ -85,6 +86,13 @@ def parse_grid(table: Any) -> GridSpec:
         value = entries(table["size"], "grid.size", "L or [Lx, Ly] (m)", (2,), scalar=True)
         items = value if isinstance(value, list) else [value, value]
         size = tuple(number(v, "grid.size", positive=True) for v in items)
+        low, high = SIZE_RANGE
+        if not all(low <= side <= high for side in size):
+            fail(
+                "grid.size",
+                f"sides must be in [{low:g}, {high:g}] m, got {list(size)}: give the domain's "
+                "sides in metres (1 mm is 1e-3)",
+            )
         if not math.isclose(size[0] / sizes[0], size[1] / sizes[1], rel_tol=1e-9):
             fail(
                 "grid.size",

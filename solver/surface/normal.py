@@ -130,8 +130,10 @@ def solve_normal(
         g -= _dot(g, mask) / n_contact
         g_contact = g * mask
         g_norm = float(_dot(g_contact, g_contact))
-        if operator.periodic:  # u has zero mean over the period: its rms sets the scale
-            scale = max(np.sqrt(float(_dot(u, u)) / u.size), tiny)
+        if operator.periodic:  # u has zero mean over the period: its rms sets the scale, or
+            # (a flat period, uniform pressure, u = 0) the mean pressure's over one cell
+            cell = normal_force / (area * u.size) * operator.pair.compliance * operator.grid.dx
+            scale = max(np.sqrt(float(_dot(u, u)) / u.size), cell, tiny)
         else:
             scale = max(float(_dot(u, mask)) / n_contact, tiny)
         penetration = max(0.0, -float((g - g_contact).min()))
