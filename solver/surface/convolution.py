@@ -187,9 +187,7 @@ class SurfaceOperator:
             spectrum, real, axes=axes, direction="FFTW_BACKWARD", planner=self._planner,
             extra=("FFTW_DESTROY_INPUT",),
         )  # fmt: skip
-        kx = 2 * np.pi * np.fft.fftfreq(nx, self.grid.dx)[:, None]
-        ky = 2 * np.pi * np.fft.rfftfreq(ny, self.grid.dy)[None, :]
-        return real, spectrum, forward, backward, kx, ky
+        return real, spectrum, forward, backward, *wavenumbers(self.grid, (nx, ny))
 
     def inverse_tangential(
         self, displacement_x: np.ndarray, displacement_y: np.ndarray
@@ -334,6 +332,13 @@ class SurfaceOperator:
         pair = 4 * real + 4 * spec if tangential else 0  # batched buffers of :meth:`tangential`
         kernels = spec // 2 * (4 if tangential else 1) + (2 * spec if tangential else 0)
         return 2 * real + spec + kernels + pair
+
+
+def wavenumbers(grid: SurfaceGrid, lengths: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """Wavenumbers kx (column) and ky (row, real-FFT half) (rad/m) of FFTs of ``lengths``."""
+    kx = 2 * np.pi * np.fft.fftfreq(lengths[0], grid.dx)[:, None]
+    ky = 2 * np.pi * np.fft.rfftfreq(lengths[1], grid.dy)[None, :]
+    return kx, ky
 
 
 @functools.lru_cache(maxsize=8)

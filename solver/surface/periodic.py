@@ -34,7 +34,7 @@ import numpy as np
 
 from ..bodies.materials import Pair
 from ..numerics.grid import SurfaceGrid
-from .convolution import REAL_SPECTRA, SurfaceOperator
+from .convolution import REAL_SPECTRA, SurfaceOperator, wavenumbers
 
 
 class PeriodicSurfaceOperator(SurfaceOperator):
@@ -50,14 +50,12 @@ class PeriodicSurfaceOperator(SurfaceOperator):
     periodic = True
 
     def kernel_spectrum(self, name: str) -> np.ndarray:
-        """Normalised spectrum of kernel block ``name``: zz, xx, yy, xy, xp, yp."""
-        if name not in self._kernels:
+        """Normalised spectrum of kernel block ``name``: zz, xx, yy, xy, xp, yp (all made once)."""
+        if not self._kernels:
             nx, ny = self.grid.shape
-            kx = 2 * np.pi * np.fft.fftfreq(nx, self.grid.dx)[:, None]
-            ky = 2 * np.pi * np.fft.rfftfreq(ny, self.grid.dy)[None, :]
-            k2 = kx * kx + ky * ky
-            k = np.sqrt(k2)
-            inverse_k = np.divide(1.0, k, out=np.zeros_like(k), where=k > 0)
+            kx, ky = wavenumbers(self.grid, (nx, ny))
+            inverse_k = np.hypot(kx, ky)
+            np.divide(1.0, inverse_k, out=inverse_k, where=inverse_k > 0)
             ratio = inverse_k * inverse_k
             scale = 1.0 / (nx * ny)  # FFTW's backward transform is unnormalised
             compliance, coupling = self.pair.compliance, self.pair.shear_coupling
@@ -71,10 +69,11 @@ class PeriodicSurfaceOperator(SurfaceOperator):
                 "xp": 2j * dilatation * kx * ratio,
                 "yp": 2j * dilatation * ky * ratio,
             }
-            if name not in symbols:
-                raise ValueError(f"unknown kernel block {name!r}; use one of {sorted(symbols)}")
-            spectrum = np.ascontiguousarray(symbols[name] * scale)
-            self._kernels[name] = spectrum if name in REAL_SPECTRA else spectrum.astype(complex)
+            for key, symbol in symbols.items():
+                spectrum = np.ascontiguousarray(symbol * scale)
+                self._kernels[key] = spectrum if key in REAL_SPECTRA else spectrum.astype(complex)
+        if name not in self._kernels:
+            raise ValueError(f"unknown kernel block {name!r}; use one of {sorted(self._kernels)}")
         return self._kernels[name]
 
     @staticmethod
