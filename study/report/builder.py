@@ -214,13 +214,31 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
             note = speed_error_note(speed)
             figures.append(("Speed versus error", png, note))
             lines += [f"![speed versus error]({png.name})", "", f"Shown: {note}.", ""]
-        png = plot_profiles(dataset, out / f"{name}_profiles.png")
+        cases = storage.cases_dir(out)
+        heights_only = _heights_only(dataset, cases)
+        if heights_only:
+            lines += [
+                "## Profiles and stick/slip maps",
+                "",
+                "Not drawn: the cases are heights only (no radius or profile, e.g. a periodic "
+                "rough period), with no contact radius to scale a profile or a map by.  The "
+                "contact area, fraction, spots and separation are in the tables above.",
+                "",
+            ]
+        png = (
+            None
+            if _heights_only(dataset, cases)
+            else plot_profiles(dataset, out / f"{name}_profiles.png")
+        )
         if png:
             note = profile_panels(dataset)[1]
             figures.append(("Traction profiles", png, note))
             lines += ["## Profiles", "", f"![profiles]({png.name})", "", f"Shown: {note}.", ""]
-        cases = storage.cases_dir(out)
-        png = plot_stick_slip(dataset, cases, out / f"{name}_stick_slip.png")
+        png = (
+            None
+            if _heights_only(dataset, cases)
+            else plot_stick_slip(dataset, cases, out / f"{name}_stick_slip.png")
+        )
         if png:
             note = stick_slip_panels(dataset, cases)[1]
             figures.append(("Stick/slip maps", png, note))
@@ -295,3 +313,21 @@ def main(args: argparse.Namespace | list[str] | None = None) -> int:
     report = build_report(args.out, plots=not args.no_plots)
     print(f"report {report}")
     return 0
+
+
+def _heights_only(dataset, cases_dir) -> bool:
+    """True when the campaign's finished cases have no smooth shape to scale profiles by.
+
+    Their files carry ``domain_half_width`` instead of a Hertz or Sneddon radius
+    (:func:`solver.result.reference_attrs`); the first finished case's file is read.
+    """
+    import xarray as xr
+
+    finished = analysis.finished_mask(dataset).values.ravel()
+    ids = dataset["case_id"].values.ravel()
+    for case_id in ids[finished]:
+        path = Path(cases_dir) / f"{case_id}.nc"
+        if path.exists():
+            with xr.open_dataset(path) as case:
+                return "domain_half_width" in case.attrs
+    return False
