@@ -14,7 +14,9 @@ Convergence is judged on the complementarity residual
 
     max( rms over contact of |g|, max over non-contact of max(-g, 0) ) / mean over contact of u_z
 
-i.e. the gap error relative to the elastic displacement scale, and on the relative pressure change
+i.e. the gap error relative to the elastic displacement scale (on a periodic grid, whose
+displacements have zero mean: their rms, or the mean pressure's displacement over a cell if
+larger), and on the relative pressure change
 ``sum |dp| dA / W``; both must fall below ``tolerance``.  A residual below ``tolerance`` with no
 descent direction left (the preconditioned gradient vanished to round-off, as when the starting
 pressure already solves the problem) is converged too; with a larger residual it is a stall.
