@@ -70,6 +70,13 @@ MAX_FRICTION = 100.0
 DEPTH_RANGE = (0.05, 20.0)
 #: Smallest half side of the plastic box (``grid.plastic_half_width``, units of a_H).
 MIN_PLASTIC_HALF_WIDTH = 0.25
+#: Deepest volume grid of a periodic case, as a fraction of the period's shorter side: its
+#: kernels sum the nearest periods (:mod:`solver.numerics.images`), whose truncation grows
+#: with the depth over the period.
+MAX_PERIODIC_DEPTH = 0.5
+#: Volume depth of a periodic elastic-plastic case whose elastic stress nowhere yields, as a
+#: fraction of the period's shorter side.
+DEFAULT_PERIODIC_DEPTH = 0.125
 #: Fewest volume cells across the elastic yield region in depth (``solver.spec.case``).
 MIN_YIELD_CELLS = 2
 #: Thickest volume cell (units of a_H) of an elastic-plastic body (``solver.spec.case``).

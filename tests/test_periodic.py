@@ -197,6 +197,7 @@ def sinusoid_map(n: int, rows: int = 4) -> HeightMap:
 
 
 ROUGH = {"hurst": 0.8, "long_cutoff": 2.5e-4, "short_cutoff": 1.25e-4, "rms": 0.5e-6, "seed": 3}
+PLASTIC = {"behaviour": "elastic-plastic", "hardening": {"law": "perfect", "yield_stress": 1e9}}
 
 
 def test_a_periodic_case_file_solves_westergaard():
@@ -260,8 +261,14 @@ def test_a_periodic_case_has_its_own_id():
     [
         ({"grid": {"size": None}}, "grid.periodic"),
         ({"body1": {"radius": 0.01}}, "body1.radius"),
-        ({"body2": {"behaviour": "elastic-plastic", "hardening": {"law": "perfect",
-          "yield_stress": 400e6}}}, "body2.behaviour"),
+        ({"body1": {"behaviour": "elastic-plastic", "E": 210e9, "nu": 0.3, "hardening": {
+          "law": "perfect", "yield_stress": 400e6}}}, "body1.behaviour"),
+        ({"body2": PLASTIC}, "grid.n"),  # no volume grid
+        ({"body2": PLASTIC, "grid": {"n": [64, 64, 8], "plastic_half_width": 0.5}},
+         "grid.plastic_half_width"),
+        ({"body2": PLASTIC, "grid": {"n": [64, 64, 8], "depth": 0.6 * PERIOD}}, "grid.depth"),
+        ({"body2": PLASTIC, "grid": {"n": [64, 64, 8]}, "load": {"normal_force": 1.8e9 * PERIOD
+          * PERIOD}}, "load.path"),  # the mean pressure alone yields every depth
         ({"friction": {"coefficient": 0.3}}, "friction.coefficient"),  # beta != 0
         ({"grid": {"n": [64, 64, 16]}}, "grid.n"),
         ({"body2": {"roughness": {**ROUGH, "long_cutoff": 2e-3}}}, "body2.roughness.long_cutoff"),

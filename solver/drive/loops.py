@@ -455,6 +455,7 @@ def solve(case: Case) -> Result:
         if plastic:
             record_plastic(history, k, step.iterations, plastic_state, case)
             sides = "grid.plastic_half_width" if case.plastic_box else "grid.half_width"
+            sides = None if case.grid.periodic else sides
             reached = sorted(
                 {f for p in plastic_state for f in box_faces_reached(p.equivalent, sides)}
             )

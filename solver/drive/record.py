@@ -124,16 +124,16 @@ def peak_depth(values: np.ndarray, depth: np.ndarray) -> float:
     return float(depth[k])
 
 
-def box_faces_reached(equivalent: np.ndarray, sides: str) -> list[str]:
+def box_faces_reached(equivalent: np.ndarray, sides: str | None) -> list[str]:
     """Faces of the plastic box where the equivalent plastic strain exceeds the zone threshold.
 
-    ``sides`` names the key that sets the box's sides.
+    ``sides`` names the key that sets the box's sides; None for a box without sides (one
+    period of a periodic body: its bottom only).
     """
-    faces = {
-        "bottom (grid.depth)": equivalent[:, :, -1],
-        f"side x ({sides})": equivalent[[0, -1], :, :],
-        f"side y ({sides})": equivalent[:, [0, -1], :],
-    }
+    faces = {"bottom (grid.depth)": equivalent[:, :, -1]}
+    if sides is not None:
+        faces[f"side x ({sides})"] = equivalent[[0, -1], :, :]
+        faces[f"side y ({sides})"] = equivalent[:, [0, -1], :]
     return [name for name, cells in faces.items() if cells.max() > PLASTIC_ZONE_THRESHOLD]
 
 

@@ -112,11 +112,16 @@ def fft_length(minimum: int) -> int:
 
 @dataclass(frozen=True)
 class VolumeGrid:
-    """Surface grid plus ``nz`` cell-centred layers of thickness ``dz`` (m) below it."""
+    """Surface grid plus ``nz`` cell-centred layers of thickness ``dz`` (m) below it.
+
+    ``periodic``: the surface grid is one period of a laterally periodic body (its kernels are
+    periodised, :mod:`solver.numerics.images`).
+    """
 
     surface: SurfaceGrid
     nz: int
     dz: float
+    periodic: bool = False
 
     @property
     def z(self) -> np.ndarray:

@@ -18,6 +18,7 @@ from ..keys import (
     DEPTH_RANGE,
     MAX_CELL_DEPTH,
     MAX_CELLS,
+    MAX_PERIODIC_DEPTH,
     MIN_CELLS_ACROSS,
     MIN_PLASTIC_HALF_WIDTH,
     MIN_YIELD_CELLS,
@@ -99,12 +100,27 @@ def parse_grid(table: Any) -> GridSpec:
                 f"cells must be square: Lx/nx = {size[0] / sizes[0]:.6g} m but Ly/ny = "
                 f"{size[1] / sizes[1]:.6g} m; make [Lx, Ly] proportional to [nx, ny]",
             )
+    periodic = plain(table.get("periodic", False))
+    if not isinstance(periodic, bool):
+        fail("grid.periodic", f"must be true or false, got {periodic!r}")
+    if periodic and size is None:
+        fail("grid.periodic", "the period is the domain: give its sides, grid.size = [Lx, Ly] (m)")
     depths = {}
     for key in ("depth", "depth_body1"):
         if key in table:
             depths[key] = number(table[key], f"grid.{key}", positive=True)
             low, high = DEPTH_RANGE
-            if not low <= depths[key] <= high:
+            if periodic and key == "depth":  # metres, at most a fraction of the period
+                deepest = MAX_PERIODIC_DEPTH * min(size)
+                if depths[key] > deepest:
+                    fail(
+                        "grid.depth",
+                        f"a periodic case's depth is in metres, at most {MAX_PERIODIC_DEPTH:g} "
+                        f"of the period ({deepest:.4g} m), got {depths[key]:g}: the periodic "
+                        "kernels sum the nearest periods only; use a larger period, or leave "
+                        "the depth out (sized from the elastic yield region)",
+                    )
+            elif not low <= depths[key] <= high:
                 fail(
                     f"grid.{key}",
                     f"must be in [{low:g}, {high:g}] (units of the Hertz radius a_H), got "
@@ -127,11 +143,6 @@ def parse_grid(table: Any) -> GridSpec:
     follow = plain(table.get("follow_contact", True))
     if not isinstance(follow, bool):
         fail("grid.follow_contact", f"must be true or false, got {follow!r}")
-    periodic = plain(table.get("periodic", False))
-    if not isinstance(periodic, bool):
-        fail("grid.periodic", f"must be true or false, got {periodic!r}")
-    if periodic and size is None:
-        fail("grid.periodic", "the period is the domain: give its sides, grid.size = [Lx, Ly] (m)")
     return GridSpec(
         sizes[0],
         sizes[1],

@@ -13,7 +13,7 @@ import math
 from typing import Any
 
 from ..bodies.materials import Body, Pair
-from ..keys import MAX_AUTO_HALF_WIDTH, PLASTIC_WIDTH_MARGIN
+from ..keys import MAX_AUTO_HALF_WIDTH, MAX_PERIODIC_DEPTH, MIN_YIELD_CELLS, PLASTIC_WIDTH_MARGIN
 from .grid import GridSpec
 from .reading import fail
 from .sizing import slope_index
@@ -44,12 +44,14 @@ def check_periodic_scene(
 ) -> None:
     """Refuse what periodic mode (``grid.periodic``) does not solve in this release.
 
-    Solved: elastic (or rigid) flat bodies with periodic heights (a roughness, a height map used
-    as one period) under normal force, and with friction and tangential forces when the bodies
-    are elastically similar (Dundurs' beta = 0: with beta != 0 the coupled slip-stick loop does
-    not converge on a periodic surface yet, though the coupling kernels are built).  Refused,
-    naming the key: a radius or profile (not periodic), an elastic-plastic body or a volume
-    grid, friction at beta != 0, and sliding or rolling stages.
+    Solved: flat bodies with periodic heights (a roughness, a height map used as one period),
+    body 2 elastic or elastic-plastic (its volume grid the whole period, laterally periodic),
+    body 1 rigid or elastic, under normal force, and with friction and tangential forces when
+    the bodies are elastically similar (Dundurs' beta = 0: with beta != 0 the coupled
+    slip-stick loop does not converge on a periodic surface yet, though the coupling kernels
+    are built).  Refused, naming the key: a radius or profile (not periodic), an
+    elastic-plastic body 1, a volume grid without a plastic body, a plastic box narrower than
+    the period, friction at beta != 0, and sliding or rolling stages.
     """
     if not grid.periodic:
         return
@@ -60,14 +62,23 @@ def check_periodic_scene(
                 "a periodic domain is one period of a nominally flat surface: give the body "
                 'radius = "inf" and no profile (a rough sphere: leave grid.periodic out)',
             )
-        if body.behaviour == "elastic-plastic":
-            fail(
-                f"{name}.behaviour",
-                "plasticity under a periodic surface is not built yet: make the body elastic, "
-                "or leave grid.periodic out",
-            )
-    if grid.nz:
-        fail("grid.n", "a periodic case has no volume grid yet: give grid.n = [nx, ny]")
+    if body1.behaviour == "elastic-plastic":
+        fail(
+            "body1.behaviour",
+            "under a periodic surface the elastic-plastic body is body 2 (body 1 rigid or "
+            "elastic): make body 1 elastic and body 2 elastic-plastic",
+        )
+    plastic = body2.behaviour == "elastic-plastic"
+    if grid.nz and not plastic:
+        fail(
+            "grid.n",
+            "a periodic case has a volume grid only under an elastic-plastic body 2: give "
+            "grid.n = [nx, ny]",
+        )
+    if plastic and not grid.nz:
+        fail("grid.n", "an elastic-plastic body needs a volume grid: give grid.n = [nx, ny, nz]")
+    if grid.plastic_half_width is not None:
+        fail("grid.plastic_half_width", "a periodic case's plastic box is the whole period")
     if friction_coefficient and Pair(body1, body2).dundurs_beta != 0.0:
         fail(
             "friction.coefficient",
@@ -78,6 +89,61 @@ def check_periodic_scene(
         )
     if any(stage.motion for stage in stages):
         fail("load.path", "a periodic case is pressed, not slid or rolled: remove slide and roll")
+
+
+def check_periodic_load(body: Body, mean_pressure: float) -> None:
+    """Refuse a mean pressure that yields a periodic elastic-plastic body at every depth.
+
+    The mean pressure's own stress, uniaxial strain (periodic displacements), has the von
+    Mises stress ``p (1 - 2 nu) / (1 - nu)`` at every depth: at the yield stress the whole
+    half-space yields and no box holds the plastic zone.
+    """
+    sigma, nu = body.hardening.initial_yield_stress, body.nu
+    uniform = mean_pressure * (1.0 - 2.0 * nu) / (1.0 - nu)
+    if uniform >= sigma:
+        fail(
+            "load.path",
+            f"the mean pressure {mean_pressure:.4g} Pa yields the whole half-space under a "
+            f"periodic surface (its uniaxial strain has the von Mises stress p (1 - 2 nu) / "
+            f"(1 - nu) = {uniform:.4g} Pa >= sigma_Y0 = {sigma:.4g} Pa, at every depth): lower "
+            f"the load below a mean pressure of {sigma * (1 - nu) / (1 - 2 * nu):.4g} Pa",
+        )
+
+
+def check_periodic_volume(depth: float, nz: int, region, period: float, path: str) -> None:
+    """Refuse a periodic elastic-plastic volume grid that cannot hold or resolve the zone.
+
+    ``depth`` (m) of the volume grid, ``region`` the elastic yield region
+    (:func:`~solver.spec.sizing.periodic_yield_region`, m), ``period`` the shorter side (m).
+    The region must end within :data:`MAX_PERIODIC_DEPTH` of the period, the box reach the
+    depth where yield starts, and its layers resolve the region (:data:`MIN_YIELD_CELLS`
+    across it).
+    """
+    top, bottom = region.top, region.bottom
+    if bottom == 0.0:
+        return
+    told = f"the elastic yield region spans {top:.3g}-{bottom:.3g} m"
+    if depth < top:
+        fail(
+            path,
+            f"the box ends at {depth:.4g} m, above the depth {top:.3g} m where plasticity "
+            f"starts ({told}): give grid.depth >= {bottom:.3g} m, or leave it out",
+        )
+    if bottom > MAX_PERIODIC_DEPTH * period:
+        fail(
+            "load.path",
+            f"{told}, deeper than {MAX_PERIODIC_DEPTH:g} of the period ({period:.4g} m), which "
+            "the periodic kernels cannot hold: lower the load or use a larger period",
+        )
+    cell = depth / nz
+    span = min(bottom, depth) - top
+    if span < MIN_YIELD_CELLS * cell:
+        fail(
+            path,
+            f"layers {cell:.3g} m thick (depth {depth:.4g} m over nz = {nz}) are too coarse for "
+            f"the yield region ({told}: {span / cell:.2g} cells): use nz >= "
+            f"{math.ceil(MIN_YIELD_CELLS * depth / max(span, 1e-300))}",
+        )
 
 
 def check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> None:
@@ -119,7 +185,7 @@ def check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> Non
             "bodies relabelled, which mirrors point heights: not built yet; make the "
             "elastic-plastic body body 2",
         )
-    if Pair(body1, body2).geometry.reference_kind is None:
+    if Pair(body1, body2).geometry.reference_kind is None and not grid.periodic:
         fail(
             "body1.radius",
             "an elastic-plastic case needs a radius (a quadric shape under the heights): the "

@@ -18,6 +18,7 @@ window the cells resolve (:func:`resolved_half_width`); ``grid`` arguments are t
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from dataclasses import dataclass
@@ -28,6 +29,8 @@ import numpy as np
 from ..bodies.materials import Pair
 from ..keys import (
     DEFAULT_DEPTH,
+    DEFAULT_PERIODIC_DEPTH,
+    MAX_PERIODIC_DEPTH,
     MIN_CELLS_ACROSS,
     MIN_PLASTIC_HALF_WIDTH,
     PLASTIC_WIDTH_MARGIN,
@@ -37,6 +40,8 @@ from ..numerics.grid import SurfaceGrid, VolumeGrid
 from ..numerics.tensor import von_mises
 from ..surface.convolution import surface_operator
 from ..surface.normal import solve_normal
+from ..surface.periodic import periodic_surface_operator
+from ..theory.half_space import periodic_traction_stress
 from ..theory.hertz import HertzContact, hertz_yield_depth, hertz_yield_half_width
 from ..volume.stress import SubsurfaceStressOperator
 
@@ -126,6 +131,78 @@ def elastic_yield_region(
     return YieldRegion(
         float(layers[0] * dz), float((layers[-1] + 1) * dz), float(reach), float(pressure.max())
     )
+
+
+#: Layers of the periodic trial stress evaluated at once (:func:`periodic_yield_region`).
+TRIAL_BATCH = 16
+
+
+@functools.lru_cache(maxsize=8)
+def periodic_yield_region(
+    pair: Pair,
+    grid: SurfaceGrid,
+    force: float,
+    traction_ratio: float,
+    yield_stress: float,
+    nu: float,
+) -> YieldRegion:
+    """The elastic yield region in body 2 under a periodic rough contact at ``force`` (N).
+
+    The frictionless normal contact at the largest load on the case's own grid (one period,
+    :func:`~solver.surface.periodic.periodic_surface_operator`: the asperities' contacts are
+    as small as its cells, so no coarser trial), a sliding shear of ``traction_ratio`` times
+    the pressure along x, and their stress from the Fourier series
+    (:func:`~solver.theory.half_space.periodic_pressure_stress`, its shear by the same
+    plane-strain modes turned) on layers one cell thick, scanned down until twice the deepest
+    yielding layer (a tenth of the period when none yields) has passed without yield, at most
+    half the period.  ``half_width`` is 0:
+    the box is the whole period.  The mean pressure's own stress (uniaxial strain) must stay
+    below yield, or every depth would yield: checked by the caller.
+    """
+    period = (grid.nx * grid.dx, grid.ny * grid.dy)
+    operator = periodic_surface_operator(grid, pair)
+    gap = pair.geometry.gap(*grid.mesh(), period)
+    pressure = solve_normal(operator, gap, force, tolerance=1e-8).pressure
+    dz = min(grid.dx, grid.dy)
+    deepest, top, k = None, None, 0
+    while k * dz < 0.5 * min(period):
+        z = (np.arange(k, k + TRIAL_BATCH) + 0.5) * dz
+        shear = traction_ratio * pressure if traction_ratio > 0 else None
+        stress = periodic_traction_stress(period, z, nu, pressure, shear)
+        yielded = np.flatnonzero((von_mises(stress) > yield_stress).any(axis=(0, 1)))
+        if yielded.size:
+            top = k + yielded[0] if top is None else top
+            deepest = k + yielded[-1]
+        k += TRIAL_BATCH
+        passed = k * dz > (0.1 * min(period) if deepest is None else 2.0 * (deepest + 1) * dz)
+        if passed and not yielded.size:
+            break
+    if deepest is None:
+        return YieldRegion(0.0, 0.0, 0.0, float(pressure.max()))
+    return YieldRegion(float(top * dz), float((deepest + 1) * dz), 0.0, float(pressure.max()))
+
+
+def periodic_depth(grid: Any, pair: Pair, force: float, ratio: float, body) -> tuple:
+    """The volume depth (m) of a periodic elastic-plastic case, and its elastic yield region.
+
+    ``grid.depth`` when given; else :data:`~solver.keys.YIELD_DEPTH_MARGIN` times the bottom of
+    the elastic yield region (:func:`periodic_yield_region` at the largest force ``force``, N,
+    with a sliding shear of ``ratio`` times the pressure), or
+    :data:`~solver.keys.DEFAULT_PERIODIC_DEPTH` of the period when nothing yields elastically;
+    at most :data:`~solver.keys.MAX_PERIODIC_DEPTH` of the period.  Returns ``(grid with the
+    depth, region)``.
+    """
+    size = grid.size
+    surface = SurfaceGrid.centred(grid.nx, grid.ny, 0.5 * size[0], 0.5 * size[1])
+    sigma = body.hardening.initial_yield_stress
+    region = periodic_yield_region(pair, surface, force, ratio, sigma, body.nu)
+    if grid.depth is None:
+        if region.bottom > 0.0:
+            depth = YIELD_DEPTH_MARGIN * region.bottom
+        else:
+            depth = DEFAULT_PERIODIC_DEPTH * min(size)
+        grid = dataclasses.replace(grid, depth=min(depth, MAX_PERIODIC_DEPTH * min(size)))
+    return grid, region
 
 
 def slope_index(pair: Pair, radius: float, yield_stress: float) -> float:

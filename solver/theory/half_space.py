@@ -356,3 +356,123 @@ def hamilton_stress(
     if friction_coefficient != 0.0:
         out = out + friction_coefficient * stress_from_potential(w, z, nu, "shear_x")
     return math.pi * max_pressure * out
+
+
+def uniform_traction_stress(traction: str, nu: float) -> np.ndarray:
+    """Stress (per unit traction) of a uniform traction on a laterally periodic half-space.
+
+    A periodic body has periodic displacements, so the mean lateral strains vanish:
+    ``e_xx = e_yy = e_xy = 0``, and the stress is uniform with depth.  A unit pressure gives
+    ``sigma_zz = -1`` and ``sigma_xx = sigma_yy = -nu / (1 - nu)`` (uniaxial strain); a unit
+    shear ``q_x`` gives ``sigma_xz = -1`` only (simple shear), ``q_y`` likewise.  Components in
+    :data:`solver.numerics.tensor.COMPONENTS` order; this is the mean mode of the periodic
+    traction-to-stress kernels.
+    """
+    out = np.zeros(6)
+    if traction == "pressure":
+        out[:3] = (-nu / (1.0 - nu), -nu / (1.0 - nu), -1.0)
+    elif traction in ("shear_x", "shear_y"):
+        out[4 if traction == "shear_x" else 3] = -1.0
+    else:
+        raise ValueError(f"unknown traction {traction!r}; use one of {TRACTIONS}")
+    return out
+
+
+def uniform_layer_stress(E: float, nu: float) -> np.ndarray:
+    """Stress inside a laterally uniform eigenstrain layer of a periodic half-space (Pa).
+
+    ``D[ij, mn]``: stress component ij per unit eigenstrain tensor component mn (shear
+    components are tensor values, ``e_xy = e_yx``), in
+    :data:`solver.numerics.tensor.COMPONENTS` order.  The total strain has no lateral part
+    (periodic displacements), the tractions on horizontal planes vanish (a free surface and
+    equilibrium), so ``sigma_xz = sigma_yz = sigma_zz = 0`` and
+    ``sigma_xx = -E/(1 - nu^2) (e_xx + nu e_yy)``, ``sigma_yy`` likewise,
+    ``sigma_xy = -2 G e_xy``; ``e_zz``, ``e_xz``, ``e_yz`` stress nothing.  Outside the layer
+    the stress is zero: the mean mode of the periodic eigenstrain kernels is local in depth.
+    """
+    plane = E / (1.0 - nu * nu)
+    out = np.zeros((6, 6))
+    out[0, 0] = out[1, 1] = -plane
+    out[0, 1] = out[1, 0] = -plane * nu
+    out[5, 5] = -E / (1.0 + nu)
+    return out
+
+
+def periodic_traction_stress(
+    size: tuple[float, float],
+    z: np.ndarray,
+    nu: float,
+    pressure: np.ndarray,
+    shear_x: np.ndarray | None = None,
+    shear_y: np.ndarray | None = None,
+) -> np.ndarray:
+    """Stress under periodic surface tractions, from their Fourier series (Pa).
+
+    A Fourier mode ``exp(i k.x)`` of the tractions is a two-dimensional problem along
+    ``n = k/|k|`` (``t`` = n turned a quarter, ``K = |k|``, ``E = exp(-K z)``), solved with Airy's
+    function (Johnson 1985, §2.8) and, for the shear along the crests, anti-plane shear:
+
+    * pressure ``p``: ``s_nn = -p (1 - K z) E``, ``s_zz = -p (1 + K z) E``,
+      ``s_nz = i p K z E``;
+    * shear along n, ``q_n``: ``s_nn = i q_n (2 - K z) E``, ``s_zz = i q_n K z E``,
+      ``s_nz = -q_n (1 - K z) E``;
+    * in both, plane strain: ``s_tt = nu (s_nn + s_zz)``;
+    * shear along t, ``q_t``: ``s_tz = -q_t E``, ``s_nt = i q_t E``;
+
+    turned to x and y.  The mean tractions give the uniform stresses of
+    :func:`uniform_traction_stress`.  The tractions are taken as samples of band-limited
+    fields (no cell averaging): a trial stress, and an independent check of the periodised cell
+    kernels of :mod:`solver.volume.stress`.
+
+    Parameters
+    ----------
+    size : (float, float)
+        The period ``(Lx, Ly)`` (m).
+    z : ndarray
+        Depths (m), positive into the body.
+    nu : float
+        Poisson's ratio.
+    pressure : ndarray
+        ``(nx, ny)`` pressure over one period (Pa, positive into the body).
+    shear_x, shear_y : ndarray, optional
+        ``(nx, ny)`` shear tractions on the body (Pa).
+
+    Returns
+    -------
+    ndarray
+        ``(6, nx, ny, len(z))`` stress (Pa), components
+        :data:`solver.numerics.tensor.COMPONENTS`.
+    """
+    nx, ny = pressure.shape
+    zero = np.zeros_like(pressure)
+    fields = [pressure, zero if shear_x is None else shear_x, zero if shear_y is None else shear_y]
+    p, qx, qy = (np.fft.rfft2(f) for f in fields)
+    kx = 2.0 * np.pi * np.fft.fftfreq(nx, size[0] / nx)[:, None]
+    ky = 2.0 * np.pi * np.fft.rfftfreq(ny, size[1] / ny)[None, :]
+    k = np.hypot(kx, ky)
+    safe = np.where(k > 0.0, k, 1.0)
+    n1, n2 = kx / safe, ky / safe
+    qn, qt = n1 * qx + n2 * qy, -n2 * qx + n1 * qy
+    mean = sum(
+        uniform_traction_stress(name, nu) * f.mean()
+        for name, f in zip(TRACTIONS, fields, strict=True)
+    )
+    out = np.empty((6, nx, ny, len(z)))
+    for j, depth in enumerate(np.asarray(z, dtype=float)):
+        e, kz = np.exp(-k * depth), k * depth
+        nn = (-p * (1.0 - kz) + 1j * qn * (2.0 - kz)) * e
+        zz = (-p * (1.0 + kz) + 1j * qn * kz) * e
+        nz = (1j * p * kz - qn * (1.0 - kz)) * e
+        tt, tz, nt = nu * (nn + zz), -qt * e, 1j * qt * e
+        parts = (
+            n1 * n1 * nn - 2.0 * n1 * n2 * nt + n2 * n2 * tt,
+            n2 * n2 * nn + 2.0 * n1 * n2 * nt + n1 * n1 * tt,
+            zz,
+            n2 * nz + n1 * tz,
+            n1 * nz - n2 * tz,
+            n1 * n2 * (nn - tt) + (n1 * n1 - n2 * n2) * nt,
+        )
+        for c, part in enumerate(parts):
+            part[0, 0] = 0.0
+            out[c, :, :, j] = np.fft.irfft2(part, s=(nx, ny)) + mean[c]
+    return out

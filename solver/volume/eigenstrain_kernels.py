@@ -26,15 +26,18 @@ from __future__ import annotations
 import functools
 import itertools
 import math
+import threading
 
 import numpy as np
 import pyfftw
 
 from ..numerics.fftw import plan
 from ..numerics.grid import VolumeGrid
+from ..numerics.images import far_images, fold_nonnegative, image_reach, signed
 from ..numerics.tensor import WEIGHTS
 from ..numerics.threads import each
 from ..surface.influence import cell_integral
+from ..theory.half_space import uniform_layer_stress
 from .cuboid import (
     DISPLACEMENT_BASE,
     STRESS_BASE,
@@ -89,7 +92,9 @@ def _rotation_sign(a, b, parity_xy: tuple[int, int]) -> float:
     return value.real
 
 
-def _lattice_corner_sums(cx, cy, cz, names, chunk: int = 16, threads: int = 1) -> dict:
+def _lattice_corner_sums(
+    cx, cy, cz, names, chunk: int = 16, threads: int = 1, period: tuple | None = None
+) -> dict:
     """Corner sums of the cuboid corner functions over a lattice of corner coordinates.
 
     ``cx``, ``cy``, ``cz`` are increasing 1-D corner coordinates ``x - x'_corner``.  Entry
@@ -97,19 +102,49 @@ def _lattice_corner_sums(cx, cy, cz, names, chunk: int = 16, threads: int = 1) -
     alternating sum over the corners ``(cx[i:i+2], cy[j:j+2], cz[k:k+2])``: the field of a
     cuboid of one lattice cell at the offset of that cell's centre.  Computed in slabs of
     ``chunk`` x-rows to bound the temporaries, shared by ``threads`` threads.
+
+    ``period = (nx, ny)``: the lattice covers the offsets ``0 .. image_reach(n)`` in x and y
+    (the negative ones follow by each function's parity), and each slab is folded over the
+    periodic images as it comes (:func:`~solver.numerics.images.fold_nonnegative`): the results
+    are the periodised kernels at the offsets ``0 .. n - 1``, shape ``(nx, ny, len(cz) - 1)``,
+    with what the images beyond the reach add but their mean
+    (:func:`~solver.numerics.images.far_images`, from the lattice's outermost rows and columns).
     """
-    out = {name: np.empty((len(cx) - 1, len(cy) - 1, len(cz) - 1)) for name in names}
+    rows, columns, depths = len(cx) - 1, len(cy) - 1, len(cz) - 1
+    shape = (rows, columns, depths) if period is None else (period[0], period[1], depths)
+    out = {name: np.zeros(shape) for name in names}
+    # a periodic kernel's three outermost rows and columns (for the far images' terms)
+    edge_x = {name: np.empty((3, columns, depths)) for name in names}
+    edge_y = {name: np.empty((rows, 3, depths)) for name in names}
+    lock = threading.Lock()
 
     def slab(i0: int) -> None:
-        i1 = min(len(cx) - 1, i0 + chunk)
+        i1 = min(rows, i0 + chunk)
         f = corner_functions(
             cx[i0 : i1 + 1, None, None], cy[None, :, None], cz[None, None, :], names
         )
         for name in names:
-            v = f[name]
-            out[name][i0:i1] = np.diff(np.diff(np.diff(v, axis=0), axis=1), axis=2)
+            v = np.diff(np.diff(np.diff(f[name], axis=0), axis=1), axis=2)
+            if period is None:
+                out[name][i0:i1] = v
+                continue
+            edge_y[name][i0:i1] = v[:, -3:]
+            last = np.arange(i0, i1) - (rows - 3)
+            edge_x[name][last[last >= 0]] = v[last >= 0]
+            odd_x, odd_y, _ = parity3(name[1:])
+            v = fold_nonnegative(v, period[1], bool(odd_y), axis=1)
+            with lock:
+                fold_nonnegative(v, period[0], bool(odd_x), 0, start=i0, out=out[name])
 
-    each(slab, range(0, len(cx) - 1, chunk), threads)
+    each(slab, range(0, rows, chunk), threads)
+    if period is not None:  # the images beyond the reach, but their mean
+        for name in names:
+            odd_x, odd_y, _ = parity3(name[1:])
+            edges = {
+                "x": signed(edge_x[name], bool(odd_y), axis=1),
+                "y": signed(np.swapaxes(edge_y[name], 0, 1), bool(odd_x), axis=1),
+            }
+            out[name] += far_images(edges, (odd_x, odd_y), *period)
     return out
 
 
@@ -163,18 +198,22 @@ def kernel_plans(shape: tuple, length_z: int, planner: str, threads: int) -> tup
 
 
 def unit_stress_coefficients(shear_modulus: float, nu: float) -> np.ndarray:
-    """``D[ij, mn]``: stress ij of a unit eigenstrain mn, over the base functions and inside.
+    """``D[ij, mn]``: stress ij of a unit eigenstrain mn, over the base functions and more.
 
-    Shape ``(6, 6, len(STRESS_BASE) + 1)``; the last entry is the eigenstress inside the
-    source cell.  Taken from the symmetric weighted form ``w_ij D_ij,mn`` (ij <= mn).
+    Shape ``(6, 6, len(STRESS_BASE) + 2)``: the coefficients of the base functions, then the
+    eigenstress inside the source cell, then the stress inside a laterally uniform layer of a
+    periodic half-space (:func:`~solver.theory.half_space.uniform_layer_stress`: the mean mode
+    of a periodic kernel, :meth:`EigenstrainKernels._build_spectra`).  Taken from the
+    symmetric weighted form ``w_ij D_ij,mn`` (ij <= mn).
     """
     coef, inside = stress_coefficients(shear_modulus, nu)
-    unit = np.empty((6, 6, len(STRESS_BASE) + 1))
+    unit = np.empty((6, 6, len(STRESS_BASE) + 2))
     for ij, mn in itertools.product(range(6), repeat=2):
         lo, hi = min(ij, mn), max(ij, mn)
         ratio = COMPONENT_WEIGHTS[lo] / COMPONENT_WEIGHTS[ij]
-        unit[ij, mn, :-1] = ratio * coef[lo, hi]
-        unit[ij, mn, -1] = -ratio * inside[lo, hi]
+        unit[ij, mn, :-2] = ratio * coef[lo, hi]
+        unit[ij, mn, -2] = -ratio * inside[lo, hi]
+    unit[..., -1] = uniform_layer_stress(2.0 * shear_modulus * (1.0 + nu), nu)
     return unit
 
 
@@ -226,24 +265,35 @@ class EigenstrainKernels:
         spectra = {key: np.empty(shape, dtype=self._real) for key in combinations}
 
         def start(key: tuple) -> None:
-            inside = combinations[key][-1]  # nonzero only where a and b have one parity
+            inside = combinations[key][-2]  # nonzero only where a and b have one parity
             sign = _rotation_sign(*key, (0, 0)) if inside else 0.0
             spectra[key][...] = sign * inside * scale
 
         each(start, list(combinations), self.threads)
-        # offsets 0 .. n - 1 in x and y: the negative ones follow by the kernel's parity
-        cx = (np.arange(-1, nx) + 0.5) * g.dx
-        cy = (np.arange(-1, ny) + 0.5) * g.dy
+        # offsets 0 .. n - 1 in x and y: the negative ones follow by the kernel's parity; a
+        # periodic grid's kernels are summed over the periodic images (offsets up to the reach)
+        periodic = self.grid.periodic
+        reach = (image_reach(nx), image_reach(ny)) if periodic else (nx - 1, ny - 1)
+        cx = (np.arange(-1, reach[0] + 1) + 0.5) * g.dx
+        cy = (np.arange(-1, reach[1] + 1) + 0.5) * g.dy
         cz = (np.arange(-1, m + 1) + 0.5) * self.grid.dz  # z offsets 0 .. M
         works = [np.empty(shape) for _ in range(max(1, self.threads))]
         lattice[nx] = 0.0
         lattice[:, ny] = 0.0  # offset n: no pair of cells has it
+        # a periodic kernel's sum over one period at each z offset (its mean mode), per key
+        period_sums = {key: np.zeros(m + 1) for key in combinations}
         for group in _base_groups(STRESS_BASE):
-            sums = _lattice_corner_sums(cx, cy, cz, group, threads=self.threads)
+            sums = _lattice_corner_sums(
+                cx, cy, cz, group, threads=self.threads, period=(nx, ny) if periodic else None
+            )
             for name in group:
                 base = STRESS_BASE.index(name)
                 px, py, pz = parity3(name[1:])
                 lattice[:nx, :ny] = sums.pop(name)
+                if periodic and not (px or py):
+                    base_sum = lattice[:nx, :ny].sum(axis=(0, 1))
+                    for key, coefficients in combinations.items():
+                        period_sums[key] += coefficients[base] * base_sum
                 along_z[..., 0] = along_z[..., m] = 0.0  # the DST-I leaves the ends
                 z_plans[pz].execute()
                 # the 2-D DFT (period 2n) of a kernel of parity (px, py) is (-i)^(px + py)
@@ -253,7 +303,7 @@ class EigenstrainKernels:
                 terms = []  # (key, factor) of the combinations this base function enters
                 for (a, b), coefficients in combinations.items():
                     c = coefficients[base]
-                    if abs(c) <= 1e-14 * np.abs(coefficients[:-1]).max():
+                    if abs(c) <= 1e-14 * np.abs(coefficients[:-2]).max():
                         continue  # zero, or zero up to the round-off of a combination
                     if parity3(component_name(a) + component_name(b)) != (px, py, pz):
                         raise AssertionError("cuboid kernel of mixed parity")  # pragma: no cover
@@ -265,7 +315,38 @@ class EigenstrainKernels:
                         spectra[key] += works[w]
 
                 each(add, range(len(works)), len(works))
+        if periodic:
+            self._exact_mean_modes(combinations, period_sums, spectra, scale)
         return spectra
+
+    def _exact_mean_modes(
+        self, combinations: dict, period_sums: dict, spectra: dict, scale: float
+    ) -> None:
+        """Give each periodic kernel the exact sum over one period (its mean mode).
+
+        The images beyond :data:`~solver.numerics.images.IMAGES` periods add a nearly uniform
+        part that the truncated sum misses; the exact sum is the stress of a laterally uniform
+        layer (the last coefficient of a combination, :func:`unit_stress_coefficients`) at the
+        z offset 0 and zero at every other (source or image) offset.  The difference, spread
+        evenly over the period's offsets, is transformed like the kernels and added to the
+        spectra of the even-even combinations (the odd ones sum to zero by parity).
+        """
+        nx, ny, _ = self.shape
+        lattice, along_z, spectrum, z_plans, xy_plans = kernel_plans(
+            self.shape, self.length_z, self.planner, self.threads
+        )
+        for key, coefficients in combinations.items():
+            px, py, _ = parity3(component_name(key[0]) + component_name(key[1]))
+            if px or py:
+                continue
+            target = -period_sums[key]
+            target[0] += coefficients[-1] - coefficients[-2]  # the delta's own share
+            lattice[...] = 0.0
+            lattice[:nx, :ny] = target / (nx * ny)
+            z_plans[0].execute()
+            spectrum[...] = 0.0
+            xy_plans[0, 0].execute()
+            spectra[key] += spectrum * (scale * _rotation_sign(*key, (0, 0)))
 
     def _stress_kernels(self) -> dict:
         """Spectra ``S[(ij, mn)] = w_ij D_ij,mn`` (symmetric), ij <= mn: any eigenstrain.
@@ -329,8 +410,18 @@ class EigenstrainKernels:
         g = self.grid.surface
         nx, ny, nz = self.grid.shape
         gmod, nu = self.shear_modulus, self.nu
-        cx = (np.arange(-nx, nx) + 0.5) * g.dx
-        cy = (np.arange(-ny, ny) + 0.5) * g.dy
+        periodic = self.grid.periodic
+        if periodic and displacement:
+            raise ValueError(
+                "the direct displacement route is not built for a periodic grid: use the "
+                "reciprocal route (method='reciprocal')"
+            )
+        if periodic:  # offsets 0 .. reach, folded over the images by parity
+            cx = (np.arange(-1, image_reach(nx) + 1) + 0.5) * g.dx
+            cy = (np.arange(-1, image_reach(ny) + 1) + 0.5) * g.dy
+        else:
+            cx = (np.arange(-nx, nx) + 0.5) * g.dx
+            cy = (np.arange(-ny, ny) + 0.5) * g.dy
         cz = -np.arange(nz, -1, -1) * self.grid.dz  # -nz dz .. 0, increasing
         coef, inside = stress_coefficients(gmod, nu)
         ucoef = displacement_coefficients(gmod, nu)
@@ -339,7 +430,11 @@ class EigenstrainKernels:
         scale = 1.0 / (4 * nx * ny)
 
         def lattice_sums(names: list[str]) -> dict:
-            sums = _lattice_corner_sums(cx, cy, cz, names, threads=self.threads)
+            period = (nx, ny) if periodic else None
+            sums = _lattice_corner_sums(cx, cy, cz, names, threads=self.threads, period=period)
+            if periodic:  # one period's offsets 0 .. n-1 to the signed -(n-1) .. n-1
+                ix, iy = np.arange(1 - nx, nx) % nx, np.arange(1 - ny, ny) % ny
+                sums = {k: v[ix][:, iy] for k, v in sums.items()}
             # z offsets ascending: -(nz - 1/2) dz .. -dz/2, layers nz-1 .. 0: to layer order
             return {k: v[:, :, ::-1] for k, v in sums.items()}
 
@@ -355,12 +450,16 @@ class EigenstrainKernels:
             # added where it enters: the lattices of all of them are never held at once)
             field = kernels["zz"] = np.zeros((6, 2 * nx, ny + 1, nz), dtype=self._real)
             used = [n for n in STRESS_BASE if np.any(coef[zz, :, STRESS_BASE.index(n)] != 0.0)]
+            period_sums = np.zeros((6, nz))  # of a periodic kernel over one period, per layer
             for group in _base_groups(used):
                 sums = lattice_sums(group)
                 for name in group:
                     b = STRESS_BASE.index(name)
+                    values = sums.pop(name)
+                    if periodic and not any(parity3(name[1:])[:2]):
+                        period_sums += np.outer(2.0 * coef[zz, :, b], values[:nx, :ny].sum((0, 1)))
                     # its parity is that of S_zz of each component it enters
-                    spectrum = spectrum_of(sums.pop(name), name[1:])
+                    spectrum = spectrum_of(values, name[1:])
                     for mn in range(6):
                         if coef[zz, mn, b] != 0.0:
                             field[mn] += 2.0 * coef[zz, mn, b] * spectrum
@@ -370,6 +469,11 @@ class EigenstrainKernels:
                 if inside[zz, mn] != 0.0:
                     assert not _is_imaginary("zz" + comp)
                     field[mn, :, :, 0] -= 2.0 * inside[zz, mn] * scale
+                    period_sums[mn, 0] -= 2.0 * inside[zz, mn]
+            if periodic:  # a uniform layer has no S_zz: each period sums to zero exactly
+                flat = spectrum_of(np.ones((2 * nx - 1, 2 * ny - 1, nz)), "xx")[..., :1]
+                for mn in range(3):  # the even-even ones (the others sum to zero by parity)
+                    field[mn] -= flat * (period_sums[mn] / (nx * ny))
         if displacement:
             sums = lattice_sums(list(DISPLACEMENT_BASE))
             for i, axis in enumerate("xy"):

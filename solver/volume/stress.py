@@ -16,6 +16,7 @@ import pyfftw
 
 from ..numerics.fftw import plan
 from ..numerics.grid import IndexBox, VolumeGrid
+from ..numerics.images import far_images, fold_signed, image_reach
 from ..numerics.tensor import COMPONENTS
 from ..numerics.threads import copy_by_rows, each
 from ..theory.half_space import (
@@ -23,6 +24,7 @@ from ..theory.half_space import (
     TRACTIONS,
     corner_functions,
     stress_from_potential,
+    uniform_traction_stress,
 )
 
 #: Order of the six stress components in every array returned here (:mod:`solver.numerics.tensor`).
@@ -95,8 +97,14 @@ def layer_kernels(
         slot ``(i mod 2nx, j mod 2ny)`` (slots nx, ny zero).
     """
     s = grid.surface
-    cx = _corner_lattice(s.nx, s.dx)[:, None]
-    cy = _corner_lattice(s.ny, s.dy)[None, :]
+    if grid.periodic:  # the offsets the periodic images reach
+        reach = image_reach(s.nx), image_reach(s.ny)
+        cx = (np.arange(-reach[0] - 1, reach[0] + 1) + 0.5) * s.dx
+        cy = (np.arange(-reach[1] - 1, reach[1] + 1) + 0.5) * s.dy
+        cx, cy = cx[:, None], cy[None, :]
+    else:
+        cx = _corner_lattice(s.nx, s.dx)[:, None]
+        cy = _corner_lattice(s.ny, s.dy)[None, :]
     names = POTENTIAL_DERIVATIVES[traction]
     layers = list(layers)
     out = np.empty((6, 2 * s.nx, 2 * s.ny, len(layers)))
@@ -106,10 +114,34 @@ def layer_kernels(
         f = corner_functions(cx, cy, z, names)
         w = {name: np.diff(np.diff(v, axis=0), axis=1) for name, v in f.items()}
         sigma = stress_from_potential(w, z, nu, traction)
+        if grid.periodic:
+            mean = uniform_traction_stress(traction, nu)
+            parities = [kernel_parity(c, traction) for c in STRESS_COMPONENTS]
+            sigma = _periodised(sigma, s.nx, s.ny, mean, parities)
         wrap_layout(sigma, (1, 2), out[..., n])
 
     each(layer, range(len(layers)), threads)
     return out
+
+
+def _periodised(
+    kernels: np.ndarray, nx: int, ny: int, mean: np.ndarray, parities: list
+) -> np.ndarray:
+    """Kernels ``(6, 2Lx + 1, 2Ly + 1)`` at signed offsets made periodic, at ``-(n-1) .. n-1``.
+
+    Folded over the periodic images (:mod:`solver.numerics.images`), the far images' first
+    and second orders added (``parities``: (x, y) per component,
+    :func:`~solver.numerics.images.far_images`), each component's sum over one period set to
+    ``mean`` (the response to a uniform traction: the far images' share of the mean, which the
+    truncated sum misses); laid out as :func:`wrap_layout` reads them.
+    """
+    period = fold_signed(fold_signed(kernels, nx, 1), ny, 2)
+    for c, parity in enumerate(parities):
+        edges = {"x": kernels[c, -3:, :], "y": np.swapaxes(kernels[c, :, -3:], 0, 1)}
+        period[c] += far_images(edges, parity, nx, ny)
+    period += ((mean - period.sum(axis=(1, 2))) / (nx * ny))[:, None, None]
+    ix, iy = np.arange(-(nx - 1), nx) % nx, np.arange(-(ny - 1), ny) % ny
+    return period[:, ix][:, :, iy]
 
 
 class SubsurfaceStressOperator:
