@@ -165,8 +165,9 @@ def periodic_yield_region(
     pressure = solve_normal(operator, gap, force, tolerance=1e-8).pressure
     dz = min(grid.dx, grid.dy)
     deepest, top, k = None, None, 0
-    while k * dz < 0.5 * min(period):
-        z = (np.arange(k, k + TRIAL_BATCH) + 0.5) * dz
+    layers = math.ceil(0.5 * min(period) / dz)
+    while k < layers:
+        z = (np.arange(k, min(k + TRIAL_BATCH, layers)) + 0.5) * dz
         shear = traction_ratio * pressure if traction_ratio > 0 else None
         stress = periodic_traction_stress(period, z, nu, pressure, shear)
         yielded = np.flatnonzero((von_mises(stress) > yield_stress).any(axis=(0, 1)))
