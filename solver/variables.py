@@ -92,6 +92,12 @@ HISTORIES: dict[str, History] = {
     "plastic_iterations": History("1", "plasticity-loop iterations (contact solves)", "sum"),
     "max_plastic_strain": History("1", "maximum equivalent plastic strain", "max"),
     "max_plastic_strain_depth": History("m", "depth of the maximum equivalent plastic strain"),
+    "plastic_volume": History(
+        "m3",
+        "volume of the cells whose equivalent plastic strain exceeds 1e-6 (grid.periodic: over "
+        "the period; over its area, the yielded layer's mean thickness)",
+        "max",
+    ),
     "plastic_zone_depth": History(
         "m", "depth of the plastic zone on the contact axis (equivalent plastic strain > 1e-6)"
     ),
@@ -193,6 +199,12 @@ FIELDS: dict[str, Field] = {
     ),
     "residual_stress": Field(
         ("component", "x", "y", "z"), "Pa", "residual stress of the plastic strain"
+    ),
+    "residual_gap": Field(
+        ("x", "y"),
+        "m",
+        "gap between the unloaded bodies after the path: the initial gap plus the residual "
+        "surface displacements (the plastically deformed topography; grid.periodic)",
     ),
     "residual_displacement_x": Field(
         ("x", "y"), "m", "residual surface displacement of the elastic-plastic body along x"

@@ -416,6 +416,40 @@ def test_the_2d_sinusoid_at_small_load_is_hertz_at_each_crest(validation):
     )
 
 
+@pytest.mark.validation
+def test_the_2d_sinusoid_near_full_contact_has_jgh_holes(validation):
+    """Near full contact (``p* = sqrt(2) pi E* Delta / L``) the gaps left around the two troughs
+    are circles whose radius makes the full-contact tension vanish at their edge, like a penny
+    crack with no stress intensity: ``b^2 = 3 (1 - p/p*) / k^2``, so the area out of contact is
+    ``(3 / 2 pi) (1 - p/p*)`` of the period (Johnson, Greenwood & Higginson 1985's
+    near-complete-contact asymptote).  Within 1 % at 1 - p/p* = 0.05 and 0.025 on 256 and 512
+    cells a period; at 1 - p/p* = 0.1 the next order shows (the asymptote's own error)."""
+    wave = 2 * math.pi / PERIOD
+    full = math.sqrt(2) * math.pi * PAIR.composite_modulus * AMPLITUDE / PERIOD
+    ratios = {}
+    for n in (256, 512):
+        grid = SurfaceGrid.centred(n, n, PERIOD / 2, PERIOD / 2)
+        x, y = grid.mesh()
+        gap = AMPLITUDE * (1 - np.cos(wave * x) * np.cos(wave * y))
+        operator = PeriodicSurfaceOperator(grid, PAIR)
+        for eps in (0.1, 0.05, 0.025) if n == 512 else (0.05, 0.025):
+            solution = solve_normal(operator, gap, (1 - eps) * full * PERIOD**2, tolerance=1e-10)
+            assert solution.converged
+            assert contact_spots(solution.pressure <= 0, periodic=True) == 2  # two holes
+            out_of_contact = np.count_nonzero(solution.pressure <= 0) / n**2
+            ratios[n, eps] = out_of_contact / (3 / (2 * math.pi) * eps)
+    close = [abs(ratios[n, eps] - 1) for n in (256, 512) for eps in (0.05, 0.025)]
+    assert max(close) < 0.01
+    assert ratios[512, 0.1] - 1 > abs(ratios[512, 0.05] - 1)
+    validation(
+        "periodic mode: 2-D sinusoid near full contact, 1 - p/p* = 0.05 and 0.025, 256 / 512 "
+        "cells a period",
+        "Johnson, Greenwood & Higginson (1985): area out of contact (3 / 2 pi)(1 - p/p*)",
+        f"area out of contact within {max(close):.1%} of the asymptote "
+        f"(at 1 - p/p* = 0.1: {ratios[512, 0.1] - 1:+.1%}, the next order)",
+    )
+
+
 def test_friction_on_a_rough_periodic_interface_converges_towards_gross_slip():
     """Two rough-contacting steels (beta = 0), mu = 0.3, Q raised to 0.99 mu W: every increment
     converges, the stick area falls from the whole contact to a few cells, the shear's sum is Q

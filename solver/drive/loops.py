@@ -43,6 +43,7 @@ from .record import (
     FRICTION_HISTORY,
     ITERATION_HISTORY,
     PERIODIC_HISTORY,
+    PERIODIC_PLASTIC_HISTORY,
     PLASTIC_HISTORY,
     box_faces_reached,
     count_iterations,
@@ -302,7 +303,7 @@ def solve(case: Case) -> Result:
     if case.grid.periodic:
         names += PERIODIC_HISTORY
     if plastic:
-        names += PLASTIC_HISTORY
+        names += PLASTIC_HISTORY + (PERIODIC_PLASTIC_HISTORY if case.grid.periodic else ())
         if 1 in case.plastic_bodies:
             names += tuple(name + BODY1_SUFFIX for name in PLASTIC_BODY_HISTORIES)
     names += ("residual", "step_converged")
@@ -558,6 +559,8 @@ def solve(case: Case) -> Result:
     geometry = case.pair.geometry
     if geometry.profiles or geometry.surfaces:  # a quadric's gap is told by its radii
         result.fields["initial_gap"] = operators.gap
+    if plastic and case.grid.periodic:  # the plastically deformed topography
+        result.fields["residual_gap"] = operators.gap + result.fields["residual_displacement_z"]
     result.wall_time = time.perf_counter() - start
     return result
 

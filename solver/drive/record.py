@@ -42,6 +42,8 @@ FRICTION_HISTORY = (
 
 #: What a periodic case records beside the contact histories (the period is the nominal area).
 PERIODIC_HISTORY = ("contact_fraction", "mean_separation")
+#: ... and beside the plastic histories.
+PERIODIC_PLASTIC_HISTORY = ("plastic_volume",)
 PLASTIC_HISTORY = (
     "plastic_iterations", "max_plastic_strain", "max_plastic_strain_depth",
     "plastic_zone_depth", "residual_depth",
@@ -49,33 +51,46 @@ PLASTIC_HISTORY = (
 
 
 # -- plastic-zone measures -----------------------------------------------------------------------
-def contact_spots(in_contact: np.ndarray, periodic: bool = False) -> int:
-    """Number of contact spots: groups of contact cells joined through their edges.
+def spot_labels(in_contact: np.ndarray, periodic: bool = False) -> tuple[np.ndarray, int]:
+    """Contact spots: groups of contact cells joined through their edges, labelled 1 .. count.
 
     Cells that touch at a corner only are separate spots (4-connectivity,
     ``scipy.ndimage.label``).  ``periodic``: the grid is one period, and a spot that leaves it
-    on one side and comes back on the other is one spot.
+    on one side and comes back on the other is one spot.  Returns ``(labels, count)``, 0 off
+    contact.
     """
     from scipy import ndimage
 
     labels, count = ndimage.label(in_contact)
     if not periodic or not count:
-        return int(count)
-    parent = list(range(count + 1))
+        return labels, int(count)
+    parent = np.arange(count + 1)
 
     def root(label: int) -> int:
         while parent[label] != label:
             parent[label] = parent[parent[label]]
             label = parent[label]
-        return label
+        return int(label)
 
     seams = ((labels[0, :], labels[-1, :]), (labels[:, 0], labels[:, -1]))
     for first, last in seams:  # the cells that face each other across the period's sides
         for a, b in zip(first.tolist(), last.tolist(), strict=True):
             if a and b and root(a) != root(b):
                 parent[root(a)] = root(b)
-                count -= 1
-    return int(count)
+    roots = np.array([root(label) for label in range(count + 1)])
+    _, merged = np.unique(roots, return_inverse=True)  # root 0 (no contact) stays 0
+    return merged[labels], int(merged.max())
+
+
+def contact_spots(in_contact: np.ndarray, periodic: bool = False) -> int:
+    """Number of contact spots (:func:`spot_labels`)."""
+    return spot_labels(in_contact, periodic)[1]
+
+
+def spot_areas(in_contact: np.ndarray, cell_area: float, periodic: bool = False) -> np.ndarray:
+    """Areas (m^2) of the contact spots (:func:`spot_labels`), largest first."""
+    labels, count = spot_labels(in_contact, periodic)
+    return np.sort(np.bincount(labels.ravel(), minlength=count + 1)[1:] * cell_area)[::-1]
 
 
 def touches_edge(pressure: np.ndarray) -> bool:
@@ -209,6 +224,9 @@ def record_plastic(
             axis_value(equivalent), volume.z, PLASTIC_ZONE_THRESHOLD
         )
         history["residual_depth" + suffix][k] = float(axis_value(plastic.displacement[2]))
+        if "plastic_volume" in history:
+            cells = np.count_nonzero(equivalent > PLASTIC_ZONE_THRESHOLD)
+            history["plastic_volume"][k] = cells * volume.surface.cell_area * volume.dz
 
 
 def shear_excess(case: Case, state) -> float:
