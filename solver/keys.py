@@ -392,12 +392,15 @@ CASE_KEYS: tuple[Key, ...] = (
         "elastic yield region (the plastic box then fills it); given narrower than that, "
         "validate warns that the case will likely end truncated.  Sliding and rolling cases "
         "keep 1.5 around the contact."),
-    Key("grid", "depth", "number", "a_H", f"1.2 x the Hertz yield depth (a profile: of the "
-        f"computed elastic yield region; >= {DEFAULT_DEPTH:g}; 2 x under a sliding load); "
-        f"{DEFAULT_DEPTH:g} for elastic bodies", f"{_range(*DEPTH_RANGE)}; plastic bodies: cells "
-        f"<= {MAX_CELL_DEPTH:g} a_H, the box reaches where yield starts, >= {MIN_YIELD_CELLS} "
-        "cells across the Hertz yield region", "volume grids",
-        "Depth of the volume grid (the plastic box)."),
+    Key("grid", "depth", "number", "a_H (m with grid.periodic)", f"1.2 x the Hertz yield depth "
+        f"(a profile, a periodic surface: of the computed elastic yield region; >= "
+        f"{DEFAULT_DEPTH:g} a_H; 2 x under a sliding load; periodic with no elastic yield: "
+        f"{DEFAULT_PERIODIC_DEPTH:g} of the period); {DEFAULT_DEPTH:g} for elastic bodies",
+        f"{_range(*DEPTH_RANGE)}, periodic (0, {MAX_PERIODIC_DEPTH:g} of the period]; plastic "
+        f"bodies: cells <= {MAX_CELL_DEPTH:g} a_H, the box reaches where yield starts, >= "
+        f"{MIN_YIELD_CELLS} cells across the yield region", "volume grids",
+        "Depth of the volume grid (the plastic box); in metres for a periodic surface, which "
+        "has no Hertz radius."),
     Key("grid", "plastic_half_width", "number", "a_H",
         f"{PLASTIC_WIDTH_MARGIN:g} x the half width of the elastic yield region at the maximum "
         f"load (>= {MIN_PLASTIC_HALF_WIDTH:g}, <= half_width)",
@@ -418,13 +421,17 @@ CASE_KEYS: tuple[Key, ...] = (
         "Not with a height map, roughness or two elastic-plastic bodies (the whole track then)."),
     Key("grid", "periodic", "boolean", "", "false",
         "true or false; true needs grid.size, flat bodies (no radius or profile), periodic "
-        "heights, elastic bodies, friction only with beta = 0", "rough flat surfaces",
+        "heights, body 1 rigid or elastic, friction only with beta = 0, no slide or roll",
+        "rough flat surfaces",
         "The domain grid.size = [Lx, Ly] is one period of a nominally flat surface in x and y: "
         "periodic influence coefficients (Fourier-space forms, solver.surface.periodic), a "
         "roughness generated on the period, a height map used as one period (its opposite "
-        "edges must join), contact spots joined across the period's sides.  This release "
-        "solves elastic contact in periodic mode: normal loading, and friction with tangential "
-        "loads for elastically similar bodies (Dundurs' beta = 0)."),
+        "edges must join), contact spots joined across the period's sides.  Body 2 may be "
+        "elastic-plastic (grid.n = [nx, ny, nz]): its volume grid is the whole period, "
+        "laterally periodic (solver.numerics.images), grid.depth in metres, sized from the "
+        "period's elastic yield region when not given; a mean pressure whose uniaxial strain "
+        "alone yields the body is refused.  Normal loading, and friction with tangential loads "
+        "for elastically similar bodies (Dundurs' beta = 0)."),
     Key("grid", "depth_body1", "number", "a_H", "depth if given, else body 1's yield depth",
         "as grid.depth", "two different elastic-plastic bodies",
         "Depth of body 1's own volume grid."),

@@ -69,7 +69,9 @@ HISTORIES: dict[str, History] = {
         "1", "real contact area over the period's nominal area (grid.periodic)", "max"
     ),
     "mean_separation": History(
-        "m", "mean gap between the deformed surfaces over the period (grid.periodic)"
+        "m",
+        "mean gap between the deformed surfaces over the period (grid.periodic; unloaded: "
+        "with the bodies just touching)",
     ),
     "position_x": History(
         "m", "position of body 1's apex over body 2 along x (sliding, rolling)", None

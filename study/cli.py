@@ -157,6 +157,12 @@ def build_parser() -> argparse.ArgumentParser:
         "our meshes: use 3 or more sizes) and the CPU each needs for 1 %% error",
     )
     bench.add_argument(
+        "--periodic",
+        action="store_true",
+        help="rough: the periodic rough interface with plasticity (one period of a nominally "
+        "flat surface) instead of the rough sphere",
+    )
+    bench.add_argument(
         "--table",
         metavar="FILE",
         help="also write what the run prints to FILE (Markdown), headed by the command, the "
@@ -223,7 +229,9 @@ def main(argv: list[str] | None = None) -> int:
         from .bench.timing import recorded
 
         with recorded(args.table, ["python -m study", *(argv or sys.argv[1:])]):
-            return run_benchmark(args.scene, args.sizes, args.peers, args.repeat, args.error)
+            return run_benchmark(
+                args.scene, args.sizes, args.peers, args.repeat, args.error, args.periodic
+            )
 
     from .campaign import CampaignError
     from .report import main as report_main

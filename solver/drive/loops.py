@@ -55,6 +55,7 @@ from .record import (
     plastic_fields,
     record,
     record_plastic,
+    record_touching,
     shear_excess,
     touches_edge,
 )
@@ -428,6 +429,8 @@ def solve(case: Case) -> Result:
         state = outcome.state
         previous_target = target
         record(history, k, outcome, area, case.grid.periodic)
+        if case.grid.periodic and state.normal is None:  # unloaded
+            record_touching(history, k, operators.gap, plastic_state)
         if "friction_work" in history:
             history["friction_work"][k] = work + outcome.friction_work
         if cycle_start is not None and cycles[k]:

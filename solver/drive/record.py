@@ -207,6 +207,17 @@ def record(history: dict, k: int, outcome: StepResult, area: float, periodic: bo
         history["stick_area"][k] = np.count_nonzero(outcome.stick) * area
 
 
+def record_touching(history: dict, k: int, gap: np.ndarray, states: tuple) -> None:
+    """The mean separation of an unloaded periodic step: the bodies just touching.
+
+    Without a load the bodies part; the separation recorded is the one at vanishing load, the
+    unloaded gap (the initial gap plus the residual displacements of body 2's plastic strain,
+    ``states``) less its smallest value.
+    """
+    unloaded = gap + sum(plastic.displacement[2] for plastic in states)
+    history["mean_separation"][k] = float(np.mean(unloaded - unloaded.min()))
+
+
 def record_plastic(
     history: dict, k: int, iterations: int, states: tuple[PlasticState, ...], case: Case
 ) -> None:

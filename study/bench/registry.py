@@ -8,14 +8,15 @@ from __future__ import annotations
 
 import importlib
 
-#: Scene -> (module, runner, the options it takes of ``peers``, ``repeat`` and ``error``).
+#: Scene -> (module, runner, the options it takes of ``peers``, ``repeat``, ``error`` and
+#: ``periodic``).
 SCENES = {
     "hertz": ("hertz", "run_hertz", ("peers", "repeat")),
     "cattaneo": ("cattaneo", "run_cattaneo", ("peers", "repeat")),
     "plastic": ("plastic", "run_plastic", ("peers", "error")),
     "slipstick": ("slipstick", "run_slipstick", ()),
     "cycles": ("cycles", "run_cycles", ()),
-    "rough": ("rough", "run_rough", ("peers",)),
+    "rough": ("rough", "run_rough", ("peers", "periodic")),
     "moving": ("moving", "run_moving", ()),
     "rolling": ("rolling", "run_rolling", ("peers",)),
 }
@@ -27,6 +28,7 @@ DEFAULT_SIZES = {
     "slipstick": [64, 128],
     "cycles": [32, 64, 128],
     "rough": [128, 256],
+    "rough --periodic": [32, 64, 128],
     "moving": [16, 32],
     "rolling": [32, 64],
 }
@@ -38,11 +40,15 @@ def run_benchmark(
     peers: bool = False,
     repeat: int = 3,
     error: bool = False,
+    periodic: bool = False,
 ) -> int:
     """Run a benchmark scene, print its table, and return an exit status."""
     module, runner, takes = SCENES[scene]
     if error and "error" not in takes:
         raise ValueError(f"--error: scene {scene!r} has no error table (only plastic)")
+    if periodic and "periodic" not in takes:
+        raise ValueError(f"--periodic: scene {scene!r} has no periodic form (only rough)")
     run = getattr(importlib.import_module(f"{__package__}.{module}"), runner)
-    options = {"peers": peers, "repeat": repeat, "error": error}
-    return run(sizes or DEFAULT_SIZES[scene], **{k: options[k] for k in takes})
+    options = {"peers": peers, "repeat": repeat, "error": error, "periodic": periodic}
+    default = DEFAULT_SIZES[f"{scene} --periodic" if periodic else scene]
+    return run(sizes or default, **{k: options[k] for k in takes})

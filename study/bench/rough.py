@@ -122,8 +122,16 @@ def _tamaas(inputs: dict) -> dict:
     }
 
 
-def run_rough(sizes: list[int], peers: bool = False) -> int:
-    """Run the rough-sphere scene over ``sizes``, print its table, return an exit status."""
+def run_rough(sizes: list[int], peers: bool = False, periodic: bool = False) -> int:
+    """Run the rough-sphere scene over ``sizes``, print its table, return an exit status.
+
+    ``periodic``: the periodic rough interface with plasticity instead
+    (:func:`.rough_periodic.run_rough_periodic`).
+    """
+    if periodic:
+        from .rough_periodic import run_rough_periodic
+
+        return run_rough_periodic(sizes, peers)
     have_tamaas = False
     if peers:
         from .peers import available_peers

@@ -21,7 +21,7 @@ import numpy as np
 from solver.result import STATUS_FLAGS
 
 from .. import analysis
-from . import cycles, plastic, rolling, shakedown
+from . import cycles, plastic, rolling, rough, shakedown
 from .elastic import (
     _convergence_note,
     plot_convergence,
@@ -101,6 +101,7 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
     with xr.open_dataset(path, engine=storage.ENGINE) as raw:
         dataset = analysis.with_derived(raw.load())
     name = str(dataset.attrs.get("campaign", path.stem))
+    heights_only = _heights_only(dataset, storage.cases_dir(out))
     mesh = analysis.mesh_axes(dataset)
     names = analysis.quantities(dataset)
     refs = analysis.closed_forms(dataset)
@@ -215,28 +216,23 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
             figures.append(("Speed versus error", png, note))
             lines += [f"![speed versus error]({png.name})", "", f"Shown: {note}.", ""]
         cases = storage.cases_dir(out)
-        heights_only = _heights_only(dataset, cases)
         if heights_only:
             lines += [
                 "## Profiles and stick/slip maps",
                 "",
                 "Not drawn: the cases are heights only (no radius or profile, e.g. a periodic "
-                "rough period), with no contact radius to scale a profile or a map by.  The "
-                "contact area, fraction, spots and separation are in the tables above.",
+                "rough period), with no contact radius to scale a profile or a map by; the "
+                "rough-interface section below has their curves and maps.",
                 "",
             ]
-        png = (
-            None
-            if _heights_only(dataset, cases)
-            else plot_profiles(dataset, out / f"{name}_profiles.png")
-        )
+        png = None if heights_only else plot_profiles(dataset, out / f"{name}_profiles.png")
         if png:
             note = profile_panels(dataset)[1]
             figures.append(("Traction profiles", png, note))
             lines += ["## Profiles", "", f"![profiles]({png.name})", "", f"Shown: {note}.", ""]
         png = (
             None
-            if _heights_only(dataset, cases)
+            if heights_only
             else plot_stick_slip(dataset, cases, out / f"{name}_stick_slip.png")
         )
         if png:
@@ -244,7 +240,9 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
             figures.append(("Stick/slip maps", png, note))
             lines += ["## Stick and slip", "", f"![stick and slip]({png.name})", ""]
             lines += [f"Shown: {note}.", ""]
-    if analysis.is_plastic(dataset):
+    if heights_only:
+        lines += rough.section(dataset, out, name, plt, figures)
+    if analysis.is_plastic(dataset) and not heights_only:  # (the rough section has its own)
         lines += plastic.section(dataset, out, name, plt, figures)
     if "cycle" in dataset.dims:
         lines += cycles.section(dataset, out, name, plt, figures)

@@ -181,7 +181,8 @@ def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
         lines = {name: dataset[f"{name}_y0"].values for name in ("pressure", "shear_x")}
         radius = length_scale(attrs)
         depth_profile = None
-        if "plastic_strain" in dataset.variables:
+        heights_only = "domain_half_width" in attrs  # no contact radius to scale by
+        if "plastic_strain" in dataset.variables and "hertz_radius" in attrs:
             depth = dataset["z"].values / float(attrs["hertz_radius"])
             on_axis = axis_value(dataset["plastic_strain"].values)
             depth_profile = np.interp(Z_OVER_A, depth, on_axis, left=on_axis[0], right=np.nan)
@@ -192,7 +193,7 @@ def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
             scalars[name] = {"last": values[-1], "max": np.max(values), "sum": np.sum(values)}[
                 reduction
             ]
-    if "contact_area" in histories:
+    if "contact_area" in histories and not heights_only:  # many spots: no one radius
         scalars["contact_radius"] = math.sqrt(scalars["contact_area"] / math.pi)
     if "stick_area" in histories:
         scalars["stick_radius"] = math.sqrt(histories["stick_area"][-1] / math.pi)

@@ -1,0 +1,205 @@
+"""The rough-interface part of a campaign report: one period of a periodic rough surface.
+
+:func:`section` adds to ``report.md`` (campaigns of periodic heights-only cases,
+``grid.periodic``), from the case files:
+
+- a table per finished case: at the largest load the real contact fraction, the mean
+  separation, the contact spots and the largest spot's share of the contact area; for an
+  elastic-plastic body the largest equivalent plastic strain, the yielded layer's mean
+  thickness (the plastic volume over the period's area) and the rms of the gap before and
+  after the path (the residual gap: the plastically deformed topography);
+- ``<name>_load_curves.png``: the real contact fraction and the mean separation against the
+  mean pressure, every case (the load-area and load-separation curves);
+- ``<name>_spot_sizes.png`` (cases whose path ends loaded): the share of spots larger than an
+  area, against the area (log-log), every case;
+- ``<name>_residual_topography.png`` (elastic-plastic): the first case's initial gap, its gap
+  after the path and the difference (the plastic print).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from solver.drive.record import spot_areas
+
+from .. import analysis
+from . import figures
+
+
+def _cases(dataset, cases_dir: Path) -> list[tuple[dict, Path]]:
+    """(labels, case file) of every finished case whose file is there."""
+    usable = analysis.finished_mask(dataset)
+    out = []
+    for labels, isel in analysis.sweep_slices(dataset, []):
+        if bool(usable.isel(isel)):
+            path = Path(cases_dir) / f"{dataset['case_id'].isel(isel).item()}.nc"
+            if path.exists():
+                out.append((labels, path))
+    return out
+
+
+def _read(path: Path) -> dict:
+    """What the section uses of one case file: histories, the period's area, final fields."""
+    import xarray as xr
+
+    with xr.open_dataset(path) as case:
+        x, y = case["x"].values, case["y"].values
+        cell = (x[1] - x[0]) * (y[1] - y[0])
+        data = {"cell_area": float(cell), "period_area": float(cell * x.size * y.size)}
+        for name in ("normal_force", "contact_fraction", "mean_separation", "contact_spots",
+                     "max_plastic_strain", "plastic_volume"):  # fmt: skip
+            if name in case:
+                data[name] = case[name].values.astype(float)
+        for name in ("pressure", "initial_gap", "residual_gap"):
+            if name in case:
+                data[name] = case[name].values.astype(float)
+        data["extent"] = (x[0], x[-1], y[0], y[-1])
+    return data
+
+
+def rough_table(dataset, cases_dir: Path):
+    """Per finished case: contact and (elastic-plastic) plastic measures at the largest load.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per finished case: its labels and the columns of the module docstring.
+    """
+    import pandas as pd
+
+    rows = []
+    for labels, path in _cases(dataset, cases_dir):
+        data = _read(path)
+        peak = int(np.argmax(data["normal_force"]))
+        row = {
+            **labels,
+            "p_mean_MPa": data["normal_force"][peak] / data["period_area"] / 1e6,
+            "contact_%": 100 * data["contact_fraction"][peak],
+            "separation_nm": 1e9 * data["mean_separation"][peak],
+            "spots": int(data["contact_spots"][peak]),
+        }
+        if data["normal_force"][-1] > 0:
+            areas = spot_areas(data["pressure"] > 0, data["cell_area"], periodic=True)
+            row["largest_spot_%"] = 100 * areas[0] / areas.sum() if areas.size else math.nan
+        if "max_plastic_strain" in data:
+            row["ep_max_%"] = 100 * data["max_plastic_strain"].max()
+            row["yielded_nm"] = 1e9 * data["plastic_volume"].max() / data["period_area"]
+            row["gap_rms_nm"] = 1e9 * np.std(data["initial_gap"])
+            row["residual_rms_nm"] = 1e9 * np.std(data["residual_gap"])
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def plot_load_curves(dataset, cases_dir: Path, path: Path) -> Path | None:
+    """Real contact fraction and mean separation against the mean pressure, every case."""
+    cases = _cases(dataset, cases_dir)
+    if not cases:
+        return None
+    plt = figures.pyplot()
+    fig, axes, _ = figures.panel_grid(plt, 2, 3.6, 3.0)
+    for j, (labels, file) in enumerate(cases):
+        data = _read(file)
+        loaded = data["normal_force"] > 0
+        pressure = data["normal_force"][loaded] / data["period_area"] / 1e6
+        style = figures.series_style(j, len(cases))
+        label = figures.labels_text(labels)
+        axes[0].plot(pressure, 100 * data["contact_fraction"][loaded], label=label, **style)
+        axes[1].plot(pressure, 1e9 * data["mean_separation"][loaded], label=label, **style)
+    axes[0].set(xlabel="mean pressure (MPa)", ylabel="real contact area (% of the period)")
+    axes[1].set(xlabel="mean pressure (MPa)", ylabel="mean separation (nm)")
+    axes[0].set_title("load-area", fontsize=9)
+    axes[1].set_title("load-separation", fontsize=9)
+    axes[1].legend(fontsize=7)
+    figures.suptitle(fig, "Periodic rough interface: loaded steps of every case")
+    figures.save(plt, fig, path)
+    return Path(path)
+
+
+def plot_spot_sizes(dataset, cases_dir: Path, path: Path) -> Path | None:
+    """Share of the spots larger than an area (log-log), final state of every loaded case."""
+    cases = [(labels, _read(file)) for labels, file in _cases(dataset, cases_dir)]
+    cases = [(labels, data) for labels, data in cases if data["normal_force"][-1] > 0]
+    if not cases:
+        return None
+    plt = figures.pyplot()
+    fig, (ax,), _ = figures.panel_grid(plt, 1, 4.2, 3.2)
+    for j, (labels, data) in enumerate(cases):
+        areas = spot_areas(data["pressure"] > 0, data["cell_area"], periodic=True)
+        if not areas.size:
+            continue
+        share = np.arange(1, areas.size + 1) / areas.size  # larger-or-equal, largest first
+        style = figures.series_style(j, len(cases))
+        ax.loglog(areas * 1e12, share, label=figures.labels_text(labels), **style)
+    ax.set(xlabel="spot area (um^2)", ylabel="share of spots at least this large (1)")
+    ax.legend(fontsize=7)
+    figures.suptitle(fig, "Contact spot sizes at the last step (spots joined across the period)")
+    figures.save(plt, fig, path)
+    return Path(path)
+
+
+def plot_residual_topography(dataset, cases_dir: Path, path: Path) -> Path | None:
+    """The first elastic-plastic case's gap before and after the path, and their difference."""
+    found = next(
+        ((labels, data) for labels, file in _cases(dataset, cases_dir)
+         if "residual_gap" in (data := _read(file))),
+        None,
+    )  # fmt: skip
+    if found is None:
+        return None
+    labels, data = found
+    plt = figures.pyplot()
+    fig, axes, _ = figures.panel_grid(plt, 3, 3.0, 3.0, below=0.5)
+    extent = [1e6 * v for v in data["extent"]]
+    before, after = data["initial_gap"], data["residual_gap"]
+    panels = (
+        (before - before.mean(), "initial gap"),
+        (after - after.mean(), "gap after the path"),
+        (after - before, "plastic print (after - before)"),
+    )
+    for ax, (values, name) in zip(axes, panels, strict=True):
+        image = ax.imshow(1e9 * values.T, origin="lower", extent=extent, cmap="viridis")
+        ax.set(xlabel="x (um)", ylabel="y (um)")
+        ax.set_title(name, fontsize=9)
+        fig.colorbar(image, ax=ax, location="bottom", label="nm", shrink=0.8)
+    figures.suptitle(
+        fig, "Plastically deformed topography (gap about its mean)", figures.labels_text(labels)
+    )
+    figures.save(plt, fig, path)
+    return Path(path)
+
+
+def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
+    """Markdown lines of the rough-interface part of the report (figures added to ``shown``)."""
+    from ..run import storage
+
+    cases = storage.cases_dir(out)
+    lines = ["## Rough interface", ""]
+    lines += [
+        "Per finished case, at the largest load: `p_mean_MPa` the mean pressure over the",
+        "period, `contact_%` the real contact area over the period, `separation_nm` the mean",
+        "gap, `spots` the contact spots (joined across the period's sides), `largest_spot_%`",
+        "the largest spot's share of the contact (last step, when loaded).  Elastic-plastic:",
+        "`ep_max_%` the largest equivalent plastic strain, `yielded_nm` the plastic volume",
+        "over the period's area (the yielded layer's mean thickness), `gap_rms_nm` and",
+        "`residual_rms_nm` the rms of the gap before and after the path.",
+        "",
+    ]
+    table = rough_table(dataset, cases)
+    lines += [figures.markdown_table(table), ""]
+    if plt is None:
+        return lines
+    drawn = (
+        ("Load-area and load-separation", plot_load_curves, "load_curves", "every case"),
+        ("Contact spot sizes", plot_spot_sizes, "spot_sizes", "every case ending loaded"),
+        ("Residual topography", plot_residual_topography, "residual_topography",
+         "the first elastic-plastic case"),
+    )  # fmt: skip
+    for title, plot, stem, which in drawn:
+        png = plot(dataset, cases, out / f"{name}_{stem}.png")
+        if png:
+            shown.append((title, png, f"{which}, finished"))
+            lines += [f"### {title}", "", f"![{title}]({png.name})", ""]
+    return lines
