@@ -133,6 +133,16 @@ class VolumeGrid:
         """(nx, ny, nz)."""
         return (self.surface.nx, self.surface.ny, self.nz)
 
+    def fft_lengths(self, nx: int | None = None, ny: int | None = None) -> tuple[int, int]:
+        """Lateral FFT lengths of the layer convolutions of ``nx x ny`` cells (default: all).
+
+        Zero-padded to twice the cells (a linear convolution), or the cells themselves on a
+        periodic grid (a circular one: the period's kernels are periodic).
+        """
+        nx = self.surface.nx if nx is None else nx
+        ny = self.surface.ny if ny is None else ny
+        return (nx, ny) if self.periodic else (2 * nx, 2 * ny)
+
 
 @dataclass(frozen=True)
 class IndexBox:

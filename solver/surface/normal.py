@@ -70,6 +70,11 @@ def _dot(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.einsum("ij,ij->", a, b))
 
 
+#: Restarts of the normal solve from a contact set enlarged by its penetrating cells, when the
+#: gradient vanishes on the set while cells outside it penetrate (:func:`solve_normal`).
+MAX_RESTARTS = 50
+
+
 def solve_normal(
     operator: SurfaceOperator,
     gap: np.ndarray,
@@ -119,6 +124,7 @@ def solve_normal(
     converged = False
     iterations = 0
     message = ""
+    restarts = 0
     tiny = np.finfo(float).tiny
     u, u_exact = operator.normal(p), True
     for iterations in range(1, max_iterations + 1):
@@ -166,6 +172,16 @@ def solve_normal(
                 converged = True
                 iterations -= 1
                 break
+            outside = (g < 0.0) & (p == 0.0)  # penetrating cells out of the contact set
+            if outside.any() and restarts < MAX_RESTARTS:
+                # The gradient vanished on the contact set (a few cells of one gap) while
+                # cells outside penetrate: give them the mean contact pressure and restart
+                # (the overlap step needs a CG step to ride on)
+                p = p + outside * (p.sum() / n_contact)
+                p *= normal_force / (area * p.sum())
+                u, u_exact = operator.normal(p), True
+                reset, restarts = True, restarts + 1
+                continue
             message = "stalled: no descent direction"  # and the residual is too large
             break
         t *= 0.0 if reset or g_norm_old <= 0.0 else gz / g_norm_old

@@ -129,6 +129,17 @@ class EigenstrainOperator(EigenstrainKernels, EigenstrainConvolution):
             raise ValueError(f"the plastic box spans every layer, not {self.box.z}")
         #: Cells of the plastic box: where the eigenstrain lives and its stress is evaluated.
         self.shape = self.box.shape
+        if grid.periodic and (
+            self.shape[:2] != grid.shape[:2] or grid.shape[0] % 2 or grid.shape[1] % 2
+        ):
+            raise ValueError(
+                "a periodic grid's plastic box is the whole period, of an even number of cells "
+                f"along x and y: got a box of {self.shape[:2]} on {grid.shape[:2]} cells"
+            )
+        #: Lateral FFT lengths of the box's layer transforms (twice its cells, or the period's)
+        self.lengths = grid.fft_lengths(*self.shape[:2])
+        #: Half of them: the kernel spectra's extents (``(hx + 1, hy + 1, M + 1)``)
+        self.halves = (self.lengths[0] // 2, self.lengths[1] // 2)
         self.E = float(E)
         self.nu = float(nu)
         self.shear_modulus = self.E / (2.0 * (1.0 + self.nu))
@@ -183,7 +194,7 @@ class EigenstrainOperator(EigenstrainKernels, EigenstrainConvolution):
         """
         self._volume_plans()
         self._workers()
-        kernel_plans(self.shape, self.length_z, self.planner, self.threads)
+        kernel_plans(self.halves, self.length_z, self.planner, self.threads)
         self.surface_stress.make_plans()
 
     # -- application -----------------------------------------------------------------------
@@ -210,7 +221,7 @@ class EigenstrainOperator(EigenstrainKernels, EigenstrainConvolution):
         return eigenstrain
 
     def layer_spectra(self, eigenstrain: np.ndarray) -> np.ndarray:
-        """Per-layer 2-D transforms of the zero-padded eigenstrain: ``(6, 2nx, ny + 1, nz)``.
+        """Per-layer 2-D transforms of the (zero-padded) eigenstrain: ``(6, Lx, Ly/2 + 1, nz)``.
 
         Five transforms for a trace-free eigenstrain (zz is -(xx + yy)), else six; complex64
         in single precision.
@@ -225,7 +236,8 @@ class EigenstrainOperator(EigenstrainKernels, EigenstrainConvolution):
         if self.shape == self.grid.shape and self.precision == "double":
             # the box is the window: the volume's own transforms, which skip the zero rows
             # (y on the nx data rows, then x)
-            out = np.empty((6, 2 * nx, ny + 1, self.shape[2]), dtype=self._complex)
+            lx, ly = self.lengths
+            out = np.empty((6, lx, ly // 2 + 1, self.shape[2]), dtype=self._complex)
             self._forward_layers(eigenstrain, components, out)
         else:
             forward, _ = self.surface_stress.batched_transforms(self.grid.nz)
@@ -504,10 +516,10 @@ class EigenstrainOperator(EigenstrainKernels, EigenstrainConvolution):
         return out
 
     def _box_layers(self) -> np.ndarray:
-        """Per-layer spectra ``(6, 2nx, ny + 1, nz)`` of a box narrower than the window (kept)."""
+        """Per-layer spectra ``(6, Lx, Ly/2 + 1, nz)`` of a box narrower than the window (kept)."""
         if self._box_spectra is None:
-            nx, ny, nz = self.shape
-            self._box_spectra = np.zeros((6, 2 * nx, ny + 1, nz), dtype=self._complex)
+            (lx, ly), nz = self.lengths, self.shape[2]
+            self._box_spectra = np.zeros((6, lx, ly // 2 + 1, nz), dtype=self._complex)
         return self._box_spectra
 
     def _surface_terms(self, outputs: list, spectra: dict, trace_free: bool) -> dict:
@@ -589,7 +601,7 @@ class EigenstrainOperator(EigenstrainKernels, EigenstrainConvolution):
         """Approximate peak bytes of an operator in use (kept data plus one stress evaluation).
 
         Kept: the real 3-D kernel spectra of the plastic box (20 for trace-free eigenstrains
-        with ``deviatoric``, else the 21 general ones, ``(nx + 1, ny + 1, M + 1)`` each), the
+        with ``deviatoric``, else the 21 general ones, ``(Lx/2 + 1, Ly/2 + 1, M + 1)`` each), the
         per-layer 2-D transform buffers of the box, a box narrower than the window's own six
         layer spectra, the row-block workers' buffers (about 22 :data:`CHUNK_BYTES` each, one
         per thread), the window's per-layer surface-traction and traction-to-stress kernels
@@ -603,21 +615,22 @@ class EigenstrainOperator(EigenstrainKernels, EigenstrainConvolution):
         """
         nx, ny, nz = grid.shape
         bx, by = box or (nx, ny)
+        (lx, ly), (wx, wy) = grid.fft_lengths(bx, by), grid.fft_lengths()
         m = depth_length(nz)
         word = np.dtype(VOLUME_PRECISIONS[precision][0]).itemsize  # 8 or 4 bytes
-        kernel3 = word * (bx + 1) * (by + 1) * (m + 1)
-        box_layer = word * 2 * 2 * bx * (by + 1) * nz  # one complex per-layer spectrum
+        kernel3 = word * (lx // 2 + 1) * (ly // 2 + 1) * (m + 1)
+        box_layer = word * 2 * lx * (ly // 2 + 1) * nz  # one complex per-layer spectrum
         threads = max(1, threads)  # a 2-D transform set and a row-block worker each
-        buffers = threads * (box_layer + word * bx * 2 * by * nz + 22 * CHUNK_BYTES)
+        buffers = threads * (box_layer + word * bx * ly * nz + 22 * CHUNK_BYTES)
         if (bx, by) != (nx, ny):
             buffers += 6 * box_layer
-        layer = 8 * 2 * nx * (ny + 1) * nz  # one float64 per-layer spectrum of the window
+        layer = 8 * wx * (wy // 2 + 1) * nz  # one float64 per-layer spectrum of the window
         layers = 12 * layer * word // 8  # the six complex layer spectra, volume's precision
         tractions = 3 if displacement else 1
         kept = (20 if deviatoric else 21) * kernel3 + buffers
         # per-layer kernels in the volume's precision: the tractions' (6 each), the surface
         # S_zz's (6), the pressure's deviator in xx and yy (2)
-        kept += (6 * tractions + 6 + 2) * layer * word // 8 + 8 * 4 * nx * ny * nz + 2 * layer
+        kept += (6 * tractions + 6 + 2) * layer * word // 8 + 8 * wx * wy * nz + 2 * layer
         evaluation = layers + 8 * 6 * bx * by * nz
         return kept + evaluation
 

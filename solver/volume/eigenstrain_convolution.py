@@ -121,6 +121,8 @@ class EigenstrainConvolution:
     """
 
     shape: tuple[int, int, int]
+    lengths: tuple[int, int]
+    halves: tuple[int, int]
     length_z: int
     threads: int
     planner: str
@@ -138,24 +140,26 @@ class EigenstrainConvolution:
         """FFT plans and buffers of the per-layer 2-D transforms of the box, one set per thread.
 
         Each set maps a piece's layer count ``h`` (:meth:`_layer_pieces`) to its plans:
-        ``"data"`` ``(2nx, ny + 1, h)`` complex holds per-layer 2-D spectra of the box: the
+        ``"data"`` ``(Lx, Ly/2 + 1, h)`` complex holds per-layer 2-D spectra of the box: the
         forward transform of the data rows (``"y"`` on the box's ``nx`` rows of ``"rows"``,
         then ``"x"``) writes there; on the way back ``"-x"``, ``"-y"`` bring a stress
-        component's spectra back to the box's cells in ``"rows"`` ``(nx, 2ny, h)``.  The
+        component's spectra back to the box's cells in ``"rows"`` ``(nx, Ly, h)`` (``Lx, Ly``
+        the lateral FFT lengths: twice the box's cells, or the period's own).  The
         depth convolution between them runs by row blocks (:meth:`_workers`).  With several
         threads each set (single-threaded plans: the same plans as one thread's) transforms
         its share of the pieces (:meth:`_each_component`).
         """
         if self._volume is None:
-            nx, ny, _ = self.shape
+            nx = self.shape[0]
+            lx, ly = self.lengths
             make = functools.partial(plan, planner=self.planner, threads=1)
             depths = sorted({zs.stop - zs.start for zs in self._layer_pieces()})
             self._volume = []
             for _ in range(max(1, self.threads)):
                 sets = {}
                 for h in depths:
-                    data = pyfftw.empty_aligned((2 * nx, ny + 1, h), dtype=self._complex)
-                    rows = pyfftw.empty_aligned((nx, 2 * ny, h), dtype=self._real)
+                    data = pyfftw.empty_aligned((lx, ly // 2 + 1, h), dtype=self._complex)
+                    rows = pyfftw.empty_aligned((nx, ly, h), dtype=self._real)
                     sets[h] = {
                         "data": data,
                         "rows": rows,
@@ -319,39 +323,40 @@ class EigenstrainConvolution:
         """Row blocks of the spectrum dealt to :attr:`threads` workers, with their buffers.
 
         Each block is ``(rows, kernel_rows, mirrored)``: spectrum rows ``kx`` and the rows of the
-        stored kernel that hold them (``2nx - kx`` for the mirrored half).  Blocks of about
+        stored kernel that hold them (``Lx - kx`` for the mirrored half above ``Lx/2``).  Blocks
+        of about
         :data:`CHUNK_BYTES` of spectrum per plane keep a block's z transforms, products and
         accumulator in cache; every worker has its own buffers and z plans (one thread each:
         the workers are the parallelism), made here, before any thread runs.
         """
         if self._work is None:
-            nx, ny, _ = self.shape
+            (lx, _), (hx, hy) = self.lengths, self.halves
             m = self.length_z
-            row = (ny + 1) * (m + 1) * np.dtype(self._real).itemsize
-            size = max(1, min(nx, CHUNK_BYTES // row))
+            row = (hy + 1) * (m + 1) * np.dtype(self._real).itemsize
+            size = max(1, min(hx, CHUNK_BYTES // row))
             blocks = []
-            for start in range(0, nx + 1, size):
-                stop = min(nx + 1, start + size)
+            for start in range(0, hx + 1, size):
+                stop = min(hx + 1, start + size)
                 blocks.append((slice(start, stop), slice(start, stop), False))
-            for start in range(nx + 1, 2 * nx, size):
-                stop = min(2 * nx, start + size)
-                # rows kx in [start, stop) hold kernel rows 2nx - kx, from 2nx - start down
-                blocks.append((slice(start, stop), slice(2 * nx - start, 2 * nx - stop, -1), True))
+            for start in range(hx + 1, lx, size):
+                stop = min(lx, start + size)
+                # rows kx in [start, stop) hold kernel rows Lx - kx, from Lx - start down
+                blocks.append((slice(start, stop), slice(lx - start, lx - stop, -1), True))
             count = max(1, min(self.threads, len(blocks)))
             self._work = [self._worker(blocks[w::count], size) for w in range(count)]
         return self._work
 
     def _worker(self, blocks: list, size: int) -> _Worker:
         """A worker's buffers and z plans for blocks of at most ``size`` rows."""
-        _, ny, nz = self.shape
+        nz, ky = self.shape[2], self.halves[1] + 1  # the y frequencies
         m = self.length_z
         half = m // 2
         empty = functools.partial(pyfftw.empty_aligned, dtype=self._real)
-        padded = empty((2, size, ny + 1, m))  # reordered input columns, zero past the layers
-        column = empty((2, size, ny + 1, m))  # reordered output columns
-        spectrum = pyfftw.empty_aligned((2, size, ny + 1, half + 1), dtype=self._complex)
-        inputs = empty((6, 2, size, ny + 1, m + 1))
-        acc = empty((2, size, ny + 1, m + 1))
+        padded = empty((2, size, ky, m))  # reordered input columns, zero past the layers
+        column = empty((2, size, ky, m))  # reordered output columns
+        spectrum = pyfftw.empty_aligned((2, size, ky, half + 1), dtype=self._complex)
+        inputs = empty((6, 2, size, ky, m + 1))
+        acc = empty((2, size, ky, m + 1))
         make = functools.partial(plan, planner=self.planner, threads=1, axes=(3,))
         plans = {}
         for r in sorted({xs.stop - xs.start for xs, _, _ in blocks}):
@@ -371,5 +376,5 @@ class EigenstrainConvolution:
             (2.0 * np.exp(-0.5j * np.pi * k / m)).astype(self._complex),
             np.exp(0.5j * np.pi * k / m).astype(self._complex),
         )
-        surface = np.empty((size, ny + 1, nz), dtype=complex)
+        surface = np.empty((size, ky, nz), dtype=complex)
         return _Worker(blocks, plans, *twiddles, inputs, acc, empty(acc.shape), surface)

@@ -170,14 +170,15 @@ def _base_groups(names) -> list[list[str]]:
     return list(groups.values())
 
 
-def kernel_plans(shape: tuple, length_z: int, planner: str, threads: int) -> tuple:
+def kernel_plans(halves: tuple, length_z: int, planner: str, threads: int) -> tuple:
     """Buffers and plans of the kernel transforms (:meth:`EigenstrainKernels._build_spectra`).
 
     ``(lattice, along_z, spectrum, {parity in z: DCT-I or DST-I plan}, {(parity in x,
-    parity in y): DCT-I / DST-I plan along x and y})``, every buffer ``(nx + 1, ny + 1, M +
-    1)`` real: offsets (then frequencies) ``0 .. n`` of the kernels' even or odd halves.
+    parity in y): DCT-I / DST-I plan along x and y})``, every buffer ``(hx + 1, hy + 1, M +
+    1)`` real: offsets (then frequencies) ``0 .. h`` of the kernels' even or odd halves,
+    ``halves = (hx, hy)`` half the lateral FFT lengths (the box's cells, or half the period's).
     """
-    nx, ny, _ = shape
+    nx, ny = halves
     m = length_z
     lattice, along_z, spectrum = (
         pyfftw.empty_aligned((nx + 1, ny + 1, m + 1), dtype="float64") for _ in range(3)
@@ -221,13 +222,16 @@ class EigenstrainKernels:
     """The kernel spectra of the eigenstrain operator, built on first use.
 
     A base class of :class:`~solver.volume.eigenstrain.EigenstrainOperator`: its methods read
-    the operator's grid, plastic box (``shape``), elastic constants, threads, FFT planner,
+    the operator's grid, plastic box (``shape``), its lateral FFT lengths and their halves
+    (``lengths``, ``halves``), elastic constants, threads, FFT planner,
     depth length M (``length_z``), real type and traction-to-stress operator (the attributes
     below), and keep the spectra in its caches (``None`` until built).
     """
 
     grid: VolumeGrid
     shape: tuple[int, int, int]
+    lengths: tuple[int, int]
+    halves: tuple[int, int]
     E: float
     nu: float
     shear_modulus: float
@@ -250,18 +254,21 @@ class EigenstrainKernels:
         parity in x, y and z: its z offsets ``0 .. M`` go through a DCT-I (even) or DST-I
         (odd), then the x and y offsets through a 2-D FFT, whose value is ``i^(r_a + r_b)``
         times a real array (``r`` the x-y rotation of a component, :func:`rotation`): that
-        array is stored, for ``kx <= nx``, ``ky <= ny`` and the ``M + 1`` z frequencies,
-        shape ``(nx + 1, ny + 1, M + 1)``.  Each base function is transformed once and added
-        to every combination that uses it; nothing else is kept.
+        array is stored, for ``kx <= hx``, ``ky <= hy`` (half the lateral FFT lengths) and the
+        ``M + 1`` z frequencies, shape ``(hx + 1, hy + 1, M + 1)``.  Each base function is
+        transformed once and added to every combination that uses it; nothing else is kept.
+        On a periodic grid the kernels are periodised (:func:`_lattice_corner_sums`) and their
+        offsets ``0 .. n/2`` carry the whole period (the DCT-I's even extension of period n).
         """
         g = self.grid.surface
         nx, ny, nz = self.shape
+        hx, hy = self.halves
         m = self.length_z
         lattice, along_z, spectrum, z_plans, xy_plans = kernel_plans(
-            self.shape, self.length_z, self.planner, self.threads
+            self.halves, self.length_z, self.planner, self.threads
         )
-        scale = 1.0 / (2 * m * 4 * nx * ny)
-        shape = (nx + 1, ny + 1, m + 1)
+        scale = 1.0 / (2 * m * self.lengths[0] * self.lengths[1])
+        shape = (hx + 1, hy + 1, m + 1)
         spectra = {key: np.empty(shape, dtype=self._real) for key in combinations}
 
         def start(key: tuple) -> None:
@@ -278,8 +285,8 @@ class EigenstrainKernels:
         cy = (np.arange(-1, reach[1] + 1) + 0.5) * g.dy
         cz = (np.arange(-1, m + 1) + 0.5) * self.grid.dz  # z offsets 0 .. M
         works = [np.empty(shape) for _ in range(max(1, self.threads))]
-        lattice[nx] = 0.0
-        lattice[:, ny] = 0.0  # offset n: no pair of cells has it
+        lattice[hx] = 0.0
+        lattice[:, hy] = 0.0  # padded: offset n, no pair of cells has it (periodic: set below)
         # a periodic kernel's sum over one period at each z offset (its mean mode), per key
         period_sums = {key: np.zeros(m + 1) for key in combinations}
         for group in _base_groups(STRESS_BASE):
@@ -289,11 +296,15 @@ class EigenstrainKernels:
             for name in group:
                 base = STRESS_BASE.index(name)
                 px, py, pz = parity3(name[1:])
-                lattice[:nx, :ny] = sums.pop(name)
-                if periodic and not (px or py):
-                    base_sum = lattice[:nx, :ny].sum(axis=(0, 1))
-                    for key, coefficients in combinations.items():
-                        period_sums[key] += coefficients[base] * base_sum
+                values = sums.pop(name)
+                if periodic:  # offsets 0 .. n/2 of the period's (the rest by parity)
+                    lattice[...] = values[: hx + 1, : hy + 1]
+                    if not (px or py):
+                        base_sum = values.sum(axis=(0, 1))
+                        for key, coefficients in combinations.items():
+                            period_sums[key] += coefficients[base] * base_sum
+                else:
+                    lattice[:nx, :ny] = values
                 along_z[..., 0] = along_z[..., m] = 0.0  # the DST-I leaves the ends
                 z_plans[pz].execute()
                 # the 2-D DFT (period 2n) of a kernel of parity (px, py) is (-i)^(px + py)
@@ -333,7 +344,7 @@ class EigenstrainKernels:
         """
         nx, ny, _ = self.shape
         lattice, along_z, spectrum, z_plans, xy_plans = kernel_plans(
-            self.shape, self.length_z, self.planner, self.threads
+            self.halves, self.length_z, self.planner, self.threads
         )
         for key, coefficients in combinations.items():
             px, py, _ = parity3(component_name(key[0]) + component_name(key[1]))
@@ -341,8 +352,7 @@ class EigenstrainKernels:
                 continue
             target = -period_sums[key]
             target[0] += coefficients[-1] - coefficients[-2]  # the delta's own share
-            lattice[...] = 0.0
-            lattice[:nx, :ny] = target / (nx * ny)
+            lattice[...] = target / (nx * ny)  # uniform over the period
             z_plans[0].execute()
             spectrum[...] = 0.0
             xy_plans[0, 0].execute()
@@ -399,7 +409,7 @@ class EigenstrainKernels:
         """Per-layer 2-D spectra of the surface fields of source + image (normalised).
 
         ``"zz"``: ``S_zz = 2 sigma_zz^source(z = 0)`` per unit e_mn, shape
-        ``(6, 2nx, ny + 1, nz)`` (float, parity-typed), always built.  With ``displacement``
+        ``(6, Lx, Ly/2 + 1, nz)`` (float, parity-typed), always built.  With ``displacement``
         also ``"x"``, ``"y"``: ``2 u_x``, ``2 u_y`` of the source at z = 0, and ``"bx"``,
         ``"by"``, ``"bz"``: the Boussinesq surface displacement per unit pressure on a cell
         (complex ``(2nx, ny + 1)``) - the kernels of the direct route.
@@ -427,19 +437,21 @@ class EigenstrainKernels:
         ucoef = displacement_coefficients(gmod, nu)
         zz = STRESS_COMPONENTS.index("zz")
         forward, _ = self.surface_stress.batched_transforms(nz)
-        scale = 1.0 / (4 * nx * ny)
+        lx, ly = self.surface_stress.lengths
+        scale = 1.0 / (lx * ly)
 
         def lattice_sums(names: list[str]) -> dict:
+            """Kernels at the signed offsets ``-(n-1) .. n-1`` (periodic: ``0 .. n-1``)."""
             period = (nx, ny) if periodic else None
             sums = _lattice_corner_sums(cx, cy, cz, names, threads=self.threads, period=period)
-            if periodic:  # one period's offsets 0 .. n-1 to the signed -(n-1) .. n-1
-                ix, iy = np.arange(1 - nx, nx) % nx, np.arange(1 - ny, ny) % ny
-                sums = {k: v[ix][:, iy] for k, v in sums.items()}
             # z offsets ascending: -(nz - 1/2) dz .. -dz/2, layers nz-1 .. 0: to layer order
             return {k: v[:, :, ::-1] for k, v in sums.items()}
 
         def spectrum_of(field: np.ndarray, indices: str) -> np.ndarray:
-            wrap_layout(field, (0, 1), forward.input_array)
+            if periodic:  # one period's offsets 0 .. n-1: the circular layout already
+                forward.input_array[...] = field
+            else:
+                wrap_layout(field, (0, 1), forward.input_array)
             forward.execute()
             out = forward.output_array
             part = out.imag if _is_imaginary(indices) else out.real
@@ -448,7 +460,7 @@ class EigenstrainKernels:
         if "zz" not in kernels:
             # S_zz of every component, one base function at a time (each transformed once and
             # added where it enters: the lattices of all of them are never held at once)
-            field = kernels["zz"] = np.zeros((6, 2 * nx, ny + 1, nz), dtype=self._real)
+            field = kernels["zz"] = np.zeros((6, lx, ly // 2 + 1, nz), dtype=self._real)
             used = [n for n in STRESS_BASE if np.any(coef[zz, :, STRESS_BASE.index(n)] != 0.0)]
             period_sums = np.zeros((6, nz))  # of a periodic kernel over one period, per layer
             for group in _base_groups(used):
@@ -457,7 +469,7 @@ class EigenstrainKernels:
                     b = STRESS_BASE.index(name)
                     values = sums.pop(name)
                     if periodic and not any(parity3(name[1:])[:2]):
-                        period_sums += np.outer(2.0 * coef[zz, :, b], values[:nx, :ny].sum((0, 1)))
+                        period_sums += np.outer(2.0 * coef[zz, :, b], values.sum((0, 1)))
                     # its parity is that of S_zz of each component it enters
                     spectrum = spectrum_of(values, name[1:])
                     for mn in range(6):
@@ -471,7 +483,7 @@ class EigenstrainKernels:
                     field[mn, :, :, 0] -= 2.0 * inside[zz, mn] * scale
                     period_sums[mn, 0] -= 2.0 * inside[zz, mn]
             if periodic:  # a uniform layer has no S_zz: each period sums to zero exactly
-                flat = spectrum_of(np.ones((2 * nx - 1, 2 * ny - 1, nz)), "xx")[..., :1]
+                flat = spectrum_of(np.ones((nx, ny, nz)), "xx")[..., :1]
                 for mn in range(3):  # the even-even ones (the others sum to zero by parity)
                     field[mn] -= flat * (period_sums[mn] / (nx * ny))
         if displacement:

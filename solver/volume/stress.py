@@ -93,8 +93,9 @@ def layer_kernels(
     Returns
     -------
     ndarray
-        Shape ``(6, 2nx, 2ny, len(layers))``: stress (Pa per Pa) at offset ``(i dx, j dy)`` in
-        slot ``(i mod 2nx, j mod 2ny)`` (slots nx, ny zero).
+        Shape ``(6, Lx, Ly, len(layers))`` (:meth:`~solver.numerics.grid.VolumeGrid.fft_lengths`):
+        stress (Pa per Pa) at offset ``(i dx, j dy)`` in slot ``(i mod Lx, j mod Ly)`` (slots
+        nx, ny zero when padded; the periodised kernel's own offsets on a periodic grid).
     """
     s = grid.surface
     if grid.periodic:  # the offsets the periodic images reach
@@ -107,7 +108,7 @@ def layer_kernels(
         cy = _corner_lattice(s.ny, s.dy)[None, :]
     names = POTENTIAL_DERIVATIVES[traction]
     layers = list(layers)
-    out = np.empty((6, 2 * s.nx, 2 * s.ny, len(layers)))
+    out = np.empty((6, *grid.fft_lengths(), len(layers)))
 
     def layer(n: int) -> None:
         z = float(grid.z[layers[n]])
@@ -117,8 +118,9 @@ def layer_kernels(
         if grid.periodic:
             mean = uniform_traction_stress(traction, nu)
             parities = [kernel_parity(c, traction) for c in STRESS_COMPONENTS]
-            sigma = _periodised(sigma, s.nx, s.ny, mean, parities)
-        wrap_layout(sigma, (1, 2), out[..., n])
+            out[..., n] = _periodised(sigma, s.nx, s.ny, mean, parities)
+        else:
+            wrap_layout(sigma, (1, 2), out[..., n])
 
     each(layer, range(len(layers)), threads)
     return out
@@ -133,23 +135,24 @@ def _periodised(
     and second orders added (``parities``: (x, y) per component,
     :func:`~solver.numerics.images.far_images`), each component's sum over one period set to
     ``mean`` (the response to a uniform traction: the far images' share of the mean, which the
-    truncated sum misses); laid out as :func:`wrap_layout` reads them.
+    truncated sum misses).  Returns ``(6, nx, ny)``: offsets ``0 .. n - 1``, the circular
+    convolution's own layout.
     """
     period = fold_signed(fold_signed(kernels, nx, 1), ny, 2)
     for c, parity in enumerate(parities):
         edges = {"x": kernels[c, -3:, :], "y": np.swapaxes(kernels[c, :, -3:], 0, 1)}
         period[c] += far_images(edges, parity, nx, ny)
     period += ((mean - period.sum(axis=(1, 2))) / (nx * ny))[:, None, None]
-    ix, iy = np.arange(-(nx - 1), nx) % nx, np.arange(-(ny - 1), ny) % ny
-    return period[:, ix][:, :, iy]
+    return period
 
 
 class SubsurfaceStressOperator:
     """Stresses at the volume-grid cell centres from piecewise-constant surface tractions.
 
-    Per layer a 2-D DC-FFT (Liu, Wang & Liu 2000): tractions zero-padded to ``(2nx, 2ny)``,
-    kernels (:func:`layer_kernels`, closed forms) in wrap-around order, one batched FFTW
-    transform over the layers.
+    Per layer a 2-D DC-FFT (Liu, Wang & Liu 2000): tractions zero-padded to ``(Lx, Ly) = (2nx,
+    2ny)``, kernels (:func:`layer_kernels`, closed forms) in wrap-around order, one batched FFTW
+    transform over the layers; on a periodic grid a circular convolution, ``(Lx, Ly) = (nx,
+    ny)`` and the periodised kernels (:meth:`~solver.numerics.grid.VolumeGrid.fft_lengths`).
 
     Parameters
     ----------
@@ -168,10 +171,10 @@ class SubsurfaceStressOperator:
     Notes
     -----
     FFT normalisation: forward real transforms unnormalised, the backward one FFTW's
-    unnormalised inverse; ``1/(4 nx ny)`` is folded into the stored kernel spectra.  By parity
+    unnormalised inverse; ``1/(Lx Ly)`` is folded into the stored kernel spectra.  By parity
     every kernel spectrum is purely real or purely imaginary (:func:`kernel_parity`), so one
-    float64 array ``(2nx, ny + 1, nz)`` is stored per (traction, component): the cache of all
-    18 costs ``18 * 16 nx (ny + 1) nz`` bytes (:meth:`memory_bytes`).  Spectra are built on
+    float64 array ``(Lx, Ly/2 + 1, nz)`` is stored per (traction, component): the cache of all
+    18 costs ``18 * 8 Lx (Ly/2 + 1) nz`` bytes (:meth:`memory_bytes`).  Spectra are built on
     first use per traction and reused for every later call.
     """
 
@@ -188,15 +191,17 @@ class SubsurfaceStressOperator:
         self.dtype = np.dtype(dtype)
         self.threads = threads
         self.planner = planner
-        nx, ny = grid.surface.shape
-        self._surface_in = pyfftw.empty_aligned((2 * nx, 2 * ny), dtype="float64")
-        self._surface_out = pyfftw.empty_aligned((2 * nx, ny + 1), dtype="complex128")
+        #: Lateral FFT lengths (Lx, Ly): twice the cells, or the period's own
+        self.lengths = grid.fft_lengths()
+        lx, ly = self.lengths
+        self._surface_in = pyfftw.empty_aligned((lx, ly), dtype="float64")
+        self._surface_out = pyfftw.empty_aligned((lx, ly // 2 + 1), dtype="complex128")
         self._surface_fft = plan(
             self._surface_in, self._surface_out, axes=(0, 1), planner=planner, threads=threads
         )
         self._surface_in[...] = 0.0
-        self._surface_spec = pyfftw.empty_aligned((2 * nx, ny + 1), dtype="complex128")
-        self._surface_real = pyfftw.empty_aligned((2 * nx, 2 * ny), dtype="float64")
+        self._surface_spec = pyfftw.empty_aligned((lx, ly // 2 + 1), dtype="complex128")
+        self._surface_real = pyfftw.empty_aligned((lx, ly), dtype="float64")
         self._surface_ifft = plan(
             self._surface_spec,
             self._surface_real,
@@ -212,7 +217,7 @@ class SubsurfaceStressOperator:
     # -- kernels ---------------------------------------------------------------------------
 
     def kernel_spectra(self, traction: str) -> np.ndarray:
-        """Stored spectra of one traction's kernels, shape ``(6, 2nx, ny + 1, nz)`` float64.
+        """Stored spectra of one traction's kernels, shape ``(6, Lx, Ly/2 + 1, nz)`` float64.
 
         Entry ``c`` is the real part (even-even and odd-odd kernels) or the imaginary part
         (mixed parity) of the normalised transform of component ``c`` (:func:`kernel_parity`).
@@ -220,10 +225,10 @@ class SubsurfaceStressOperator:
         if traction not in self._spectra:
             if traction not in TRACTIONS:
                 raise ValueError(f"unknown traction {traction!r}; use one of {TRACTIONS}")
-            g = self.grid.surface
+            lx, ly = self.lengths
             nz = self.grid.nz
-            spectra = np.empty((6, 2 * g.nx, g.ny + 1, nz), dtype=self.dtype)
-            scale = 1.0 / (4 * g.nx * g.ny)
+            spectra = np.empty((6, lx, ly // 2 + 1, nz), dtype=self.dtype)
+            scale = 1.0 / (lx * ly)
             chunk = self._kernel_chunk()
             for k0 in range(0, nz, chunk):
                 layers = range(k0, min(nz, k0 + chunk))
@@ -253,13 +258,13 @@ class SubsurfaceStressOperator:
     def batched_transforms(self, nlayers: int) -> tuple[pyfftw.FFTW, pyfftw.FFTW]:
         """Batched forward and backward 2-D transforms over ``nlayers`` layers (cached).
 
-        Arrays: real ``(2nx, 2ny, nlayers)`` (the forward input and the backward output share
-        it) and complex ``(2nx, ny + 1, nlayers)``; the transforms run over the first two axes.
+        Arrays: real ``(Lx, Ly, nlayers)`` (the forward input and the backward output share
+        it) and complex ``(Lx, Ly/2 + 1, nlayers)``; the transforms run over the first two axes.
         """
         if nlayers not in self._batched:
-            nx, ny = self.grid.surface.shape
-            real = pyfftw.empty_aligned((2 * nx, 2 * ny, nlayers), dtype="float64")
-            spec = pyfftw.empty_aligned((2 * nx, ny + 1, nlayers), dtype="complex128")
+            lx, ly = self.lengths
+            real = pyfftw.empty_aligned((lx, ly, nlayers), dtype="float64")
+            spec = pyfftw.empty_aligned((lx, ly // 2 + 1, nlayers), dtype="complex128")
             options = {"planner": self.planner, "threads": self.threads}
             forward = plan(real, spec, axes=(0, 1), **options)
             backward = plan(
@@ -274,13 +279,13 @@ class SubsurfaceStressOperator:
         return self._batched[nlayers]
 
     def surface_spectrum(self, field: np.ndarray) -> np.ndarray:
-        """Forward transform of a surface field (a new ``(2nx, ny + 1)`` complex array).
+        """Forward transform of a surface field (a new ``(Lx, Ly/2 + 1)`` complex array).
 
-        ``field`` is either an ``(nx, ny)`` field, zero-padded here, or a full ``(2nx, 2ny)``
-        array (a kernel in wrap-around order).
+        ``field`` is either an ``(nx, ny)`` field, zero-padded here, or a full ``(Lx, Ly)``
+        array (a kernel in wrap-around order; the same on a periodic grid).
         """
         nx, ny = self.grid.surface.shape
-        if field.shape == (2 * nx, 2 * ny):
+        if field.shape == self.lengths:
             self._surface_in[...] = field
             self._surface_fft.execute()
             self._surface_in[...] = 0.0
@@ -290,7 +295,7 @@ class SubsurfaceStressOperator:
         return self._surface_out.copy()
 
     def surface_inverse(self, spectrum: np.ndarray) -> np.ndarray:
-        """Backward transform of a normalised ``(2nx, ny + 1)`` spectrum, cut to ``(nx, ny)``."""
+        """Backward transform of a normalised ``(Lx, Ly/2 + 1)`` spectrum, cut to ``(nx, ny)``."""
         nx, ny = self.grid.surface.shape
         self._surface_spec[...] = spectrum
         self._surface_ifft.execute()
@@ -356,9 +361,11 @@ class SubsurfaceStressOperator:
     @staticmethod
     def memory_bytes(grid: VolumeGrid, tractions: int = 3, dtype: str = "float64") -> int:
         """Bytes of the kernel cache for ``tractions`` traction types, plus FFT buffers."""
-        nx, ny, nz = grid.shape
-        spectra = tractions * 6 * np.dtype(dtype).itemsize * 2 * nx * (ny + 1) * nz
-        buffers = 8 * 4 * nx * ny * nz + 16 * 2 * nx * (ny + 1) * nz + 8 * 2 * nx * (ny + 1) * nz
+        nz = grid.nz
+        lx, ly = grid.fft_lengths()
+        half = lx * (ly // 2 + 1) * nz  # entries of one per-layer half spectrum
+        spectra = tractions * 6 * np.dtype(dtype).itemsize * half
+        buffers = 8 * lx * ly * nz + 16 * half + 8 * half
         return spectra + buffers
 
 
