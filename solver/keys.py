@@ -421,7 +421,7 @@ CASE_KEYS: tuple[Key, ...] = (
         "Not with a height map, roughness or two elastic-plastic bodies (the whole track then)."),
     Key("grid", "periodic", "boolean", "", "false",
         "true or false; true needs grid.size, flat bodies (no radius or profile), periodic "
-        "heights, body 1 rigid or elastic, friction only with beta = 0, no slide or roll",
+        "heights, body 1 rigid or elastic, no slide or roll",
         "rough flat surfaces",
         "The domain grid.size = [Lx, Ly] is one period of a nominally flat surface in x and y: "
         "periodic influence coefficients (Fourier-space forms, solver.surface.periodic), a "
@@ -431,7 +431,7 @@ CASE_KEYS: tuple[Key, ...] = (
         "laterally periodic (solver.numerics.images), grid.depth in metres, sized from the "
         "period's elastic yield region when not given; a mean pressure whose uniaxial strain "
         "alone yields the body is refused.  Normal loading, and friction with tangential loads "
-        "for elastically similar bodies (Dundurs' beta = 0)."),
+        "(the normal-tangential coupling of dissimilar bodies included)."),
     Key("grid", "depth_body1", "number", "a_H", "depth if given, else body 1's yield depth",
         "as grid.depth", "two different elastic-plastic bodies",
         "Depth of body 1's own volume grid."),

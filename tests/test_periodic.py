@@ -269,7 +269,6 @@ def test_a_periodic_case_has_its_own_id():
         ({"body2": PLASTIC, "grid": {"n": [64, 64, 8], "depth": 0.6 * PERIOD}}, "grid.depth"),
         ({"body2": PLASTIC, "grid": {"n": [64, 64, 8]}, "load": {"normal_force": 1.8e9 * PERIOD
           * PERIOD}}, "load.path"),  # the mean pressure alone yields every depth
-        ({"friction": {"coefficient": 0.3}}, "friction.coefficient"),  # beta != 0
         ({"grid": {"n": [64, 64, 16]}}, "grid.n"),
         ({"body2": {"roughness": {**ROUGH, "long_cutoff": 2e-3}}}, "body2.roughness.long_cutoff"),
         ({"body2": {"roughness": {**ROUGH, "short_cutoff": 1e-4}}}, "body2.roughness.short_cutoff"),
@@ -475,6 +474,59 @@ def test_friction_on_a_rough_periodic_interface_converges_towards_gross_slip():
     assert result.shear_x.sum() * area == pytest.approx(0.99 * 0.3 * 5.0, rel=1e-9)
     traction = np.hypot(result.shear_x, result.shear_y)
     assert np.all(traction <= 0.3 * result.pressure * (1 + 1e-9) + 1e-12 * result.pressure.max())
+
+
+def dissimilar_rough_case(swap: bool = False, n: int = 64) -> dict:
+    """Aluminium on rough steel (Dundurs' beta = 0.117; ``swap``: the materials exchanged, beta
+    = -0.117, the same heights), mu = 0.3: pressed in 2 steps, then Q to 0.9 mu W in 4."""
+    steel = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
+    aluminium = {"behaviour": "elastic", "E": 70e9, "nu": 0.33}
+    first, second = (steel, aluminium) if swap else (aluminium, steel)
+    table = periodic_case(
+        {**second, "roughness": ROUGH},
+        n=(n, n),
+        body1={**first, "radius": "inf"},
+        friction={"coefficient": 0.3},
+    )
+    table["load"] = {
+        "path": [
+            {"normal_force": 5.0, "steps": 2},
+            {"tangential_force": [0.9 * 0.3 * 5.0, 0.0], "steps": 4},
+        ]
+    }
+    return table
+
+
+def test_dissimilar_periodic_bodies_slip_under_normal_load_and_the_sign_follows_beta():
+    """The coupled slip-stick loop on a rough period (beta != 0; it stalled before the normal
+    solve restarted from its penetrating cells): every increment converges, normal loading
+    alone slips part of the contact (the coupling's shear), Q is carried exactly within the
+    friction disks, and exchanging the materials (beta -> -beta, the same heights) gives the
+    same pressure and the opposite coupling shear after the normal steps."""
+    results = {}
+    for swap in (False, True):
+        case = solver.Case.from_dict(dissimilar_rough_case(swap))
+        assert case.pair.dundurs_beta == pytest.approx(-0.11674 if swap else 0.11674, abs=1e-5)
+        result = solver.solve(case)
+        assert result.status == "converged", result.notes
+        stick = result.history["stick_area"] / result.history["contact_area"]
+        assert stick[1] < 1.0  # the coupling slips part of the contact under normal load
+        assert stick[-1] < stick[2]
+        area = case.surface_grid.cell_area
+        assert result.shear_x.sum() * area == pytest.approx(0.9 * 0.3 * 5.0, rel=1e-9)
+        traction = np.hypot(result.shear_x, result.shear_y)
+        assert np.all(
+            traction <= 0.3 * result.pressure * (1 + 1e-9) + 1e-12 * result.pressure.max()
+        )
+        table = dissimilar_rough_case(swap)
+        table["load"]["path"] = table["load"]["path"][:1]
+        results[swap] = solver.solve(solver.Case.from_dict(table))
+    plain, swapped = results[False], results[True]
+    scale = np.abs(plain.shear_x).max()
+    assert scale > 0.01 * 0.3 * plain.pressure.max()  # a coupling shear to speak of
+    assert np.allclose(swapped.pressure, plain.pressure, rtol=0, atol=1e-6 * plain.pressure.max())
+    assert np.abs(swapped.shear_x + plain.shear_x).max() < 1e-3 * scale
+    assert np.abs(swapped.shear_y + plain.shear_y).max() < 1e-3 * scale
 
 
 def test_a_flat_period_gives_the_uniform_pressure_and_converges():

@@ -46,12 +46,10 @@ def check_periodic_scene(
 
     Solved: flat bodies with periodic heights (a roughness, a height map used as one period),
     body 2 elastic or elastic-plastic (its volume grid the whole period, laterally periodic),
-    body 1 rigid or elastic, under normal force, and with friction and tangential forces when
-    the bodies are elastically similar (Dundurs' beta = 0: with beta != 0 the coupled
-    slip-stick loop does not converge on a periodic surface yet, though the coupling kernels
-    are built).  Refused, naming the key: a radius or profile (not periodic), an
-    elastic-plastic body 1, a volume grid without a plastic body, a plastic box narrower than
-    the period, friction at beta != 0, and sliding or rolling stages.
+    body 1 rigid or elastic, under normal force, with friction and tangential forces (the
+    normal-tangential coupling of dissimilar bodies included).  Refused, naming the key: a
+    radius or profile (not periodic), an elastic-plastic body 1, a volume grid without a plastic
+    body, a plastic box narrower than the period, and sliding or rolling stages.
     """
     if not grid.periodic:
         return
@@ -79,14 +77,6 @@ def check_periodic_scene(
         fail("grid.n", "an elastic-plastic body needs a volume grid: give grid.n = [nx, ny, nz]")
     if grid.plastic_half_width is not None:
         fail("grid.plastic_half_width", "a periodic case's plastic box is the whole period")
-    if friction_coefficient and Pair(body1, body2).dundurs_beta != 0.0:
-        fail(
-            "friction.coefficient",
-            "friction on a periodic surface is solved for elastically similar bodies (Dundurs' "
-            f"beta = 0; here {Pair(body1, body2).dundurs_beta:.3g}): the coupled slip-stick "
-            "loop does not converge in periodic mode yet; give both bodies the same E and nu, "
-            "leave friction out, or leave grid.periodic out",
-        )
     if any(stage.motion for stage in stages):
         fail("load.path", "a periodic case is pressed, not slid or rolled: remove slide and roll")
 
