@@ -269,6 +269,7 @@ def test_a_periodic_case_has_its_own_id():
         ({"body2": PLASTIC, "grid": {"n": [64, 64, 8], "depth": 0.6 * PERIOD}}, "grid.depth"),
         ({"body2": PLASTIC, "grid": {"n": [64, 64, 8]}, "load": {"normal_force": 1.8e9 * PERIOD
           * PERIOD}}, "load.path"),  # the mean pressure alone yields every depth
+        ({"body2": PLASTIC, "grid": {"n": [64, 64, 4], "depth": 0.3 * PERIOD}}, "grid.depth"),
         ({"grid": {"n": [64, 64, 16]}}, "grid.n"),
         ({"body2": {"roughness": {**ROUGH, "long_cutoff": 2e-3}}}, "body2.roughness.long_cutoff"),
         ({"body2": {"roughness": {**ROUGH, "short_cutoff": 1e-4}}}, "body2.roughness.short_cutoff"),
@@ -285,6 +286,18 @@ def test_what_periodic_mode_does_not_solve_is_refused(change, field):
                 table.setdefault(key, {})[name] = value
     with pytest.raises(solver.SpecError, match=f"^{re.escape(field)}"):
         solver.Case.from_dict(table)
+
+
+def test_a_periodic_box_above_the_yield_region_is_noted_and_its_depth_sized():
+    """Left out, the depth is 1.2 times the elastic yield region's (in metres); a box that ends
+    above the region's bottom is solved with a note (the zone will likely reach it)."""
+    table = periodic_case({**PLASTIC, "roughness": ROUGH})
+    table["grid"]["n"] = [64, 64, 8]
+    sized = solver.Case.from_dict(table)
+    assert 0.0 < sized.grid.depth <= 0.5 * PERIOD and not sized.warnings
+    table["grid"]["depth"] = sized.grid.depth / 2
+    shallow = solver.Case.from_dict(table)
+    assert any("above the bottom of the elastic yield region" in w for w in shallow.warnings)
 
 
 def test_a_height_map_that_is_not_one_period_is_refused():

@@ -60,7 +60,8 @@ def test_a_uniform_traction_gives_the_uniform_stress_of_a_periodic_body(traction
     assert np.abs(stress - expected[:, None, None, None]).max() < 1e-12
 
 
-def test_periodic_traction_stress_agrees_with_the_fourier_series_and_converges():
+@pytest.mark.validation
+def test_periodic_traction_stress_agrees_with_the_fourier_series_and_converges(validation):
     """Cell kernels against the Fourier series of smooth tractions: error ~ dx^2."""
     errors = []
     for n in (32, 64, 128):
@@ -77,6 +78,13 @@ def test_periodic_traction_stress_agrees_with_the_fourier_series_and_converges()
         errors.append(np.abs(ours - series)[..., 2:].max() / np.abs(series).max())
     assert errors[-1] < 5e-4
     assert errors[0] > 2.0 * errors[1] > 4.0 * errors[2]
+    validation(
+        "periodic subsurface stress of pressure and shears (cell kernels summed over the "
+        "periods), 32 / 64 / 128 cells a period",
+        "Fourier series of the tractions (plane-strain modes; uniaxial strain and simple shear "
+        "for the means)",
+        " / ".join(f"{e:.1e}" for e in errors) + " of the peak",
+    )
 
 
 def test_a_uniform_eigenstrain_layer_gives_its_closed_form():
@@ -100,7 +108,8 @@ def test_a_uniform_eigenstrain_layer_gives_its_closed_form():
     assert np.abs(u_z - expected).max() < 1e-12 * abs(expected)
 
 
-def test_periodic_eigenstrain_stress_is_the_stress_of_many_copies():
+@pytest.mark.validation
+def test_periodic_eigenstrain_stress_is_the_stress_of_many_copies(validation):
     """One period against the non-periodic operator on 9 x 9 copies (a zero-mean field).
 
     A field with no mean in any layer acts at a distance like a multipole, so the copies
@@ -115,7 +124,13 @@ def test_periodic_eigenstrain_stress_is_the_stress_of_many_copies():
     tiled = EigenstrainOperator(wide, E, NU).stress(np.tile(field, (1, copies, copies, 1)))
     middle = slice(copies // 2 * n, (copies // 2 + 1) * n)
     centre = tiled[:, middle, middle]
-    assert np.abs(periodic - centre).max() < 5e-4 * np.abs(periodic).max()
+    error = np.abs(periodic - centre).max() / np.abs(periodic).max()
+    assert error < 5e-4
+    validation(
+        "periodic residual stress of a zero-mean eigenstrain, 16^2 x 8 cells",
+        "the non-periodic operator on 9 x 9 copies of the period",
+        f"{error:.1e} of the peak",
+    )
 
 
 def test_the_direct_displacement_route_is_refused_on_a_periodic_grid():
@@ -163,7 +178,8 @@ def sinusoid_von_mises(mean_over_full: float) -> float:
     return float(von_mises(stress).max())
 
 
-def test_the_periodic_sinusoid_yields_where_its_elastic_stress_says():
+@pytest.mark.validation
+def test_the_periodic_sinusoid_yields_where_its_elastic_stress_says(validation):
     """Full contact (mean pressure 1.5 p*): no plastic strain at 1.03 of the largest von Mises
     stress of the Fourier series (with the mean pressure's uniaxial strain), some at 0.97."""
     peak = sinusoid_von_mises(1.5)
@@ -174,6 +190,11 @@ def test_the_periodic_sinusoid_yields_where_its_elastic_stress_says():
         strains[factor] = result.history["max_plastic_strain"][-1]
     assert strains[1.03] == 0.0
     assert strains[0.97] > 0.0
+    validation(
+        "periodic elastic-plastic sinusoid in full contact (p = 1.5 p*), 32^2 x 12 cells",
+        "first yield at the largest von Mises stress of the Fourier series",
+        "no plastic strain at 1.03 of it, some at 0.97",
+    )
 
 
 def test_the_periodic_sinusoids_plastic_strain_converges_with_the_mesh():
@@ -189,3 +210,13 @@ def test_the_periodic_sinusoids_plastic_strain_converges_with_the_mesh():
     assert strains[0] > 0.0
     assert second < first / 3.0
     assert second < 0.05 * strains[2]
+
+
+def test_a_yield_region_deeper_than_half_the_period_is_refused():
+    """The sinusoid with sigma_Y0 at 0.7 of its elastic peak: the mean pressure's uniaxial
+    strain is close to yield at every depth and the modes push it over down past half the
+    period, which the periodic kernels cannot hold."""
+    table = sinusoid_case(16, 0.7 * sinusoid_von_mises(1.5), 1.5)
+    del table["grid"]["depth"]
+    with pytest.raises(solver.SpecError, match="^load.path: the elastic yield region spans"):
+        solver.Case.from_dict(table)

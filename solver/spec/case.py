@@ -268,7 +268,8 @@ class Case:
             check_periodic_load(plastic, force / (grid.size[0] * grid.size[1]))
             grid, region = periodic_depth(grid, pair, force, ratio, plastic)
             given_key = "grid.depth" if "depth" in table["grid"] else "grid.n"
-            check_periodic_volume(grid.depth, grid.nz, region, min(grid.size), given_key)
+            note = check_periodic_volume(grid.depth, grid.nz, region, min(grid.size), given_key)
+            warnings += [note] if note else []
         elif not grid.periodic:
             # no window given: an elastic-plastic case's window holds its plastic box
             window_free = grid.size is None and "half_width" not in table["grid"] and not moving

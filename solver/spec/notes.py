@@ -100,18 +100,19 @@ def check_periodic_load(body: Body, mean_pressure: float) -> None:
         )
 
 
-def check_periodic_volume(depth: float, nz: int, region, period: float, path: str) -> None:
+def check_periodic_volume(depth: float, nz: int, region, period: float, path: str) -> str | None:
     """Refuse a periodic elastic-plastic volume grid that cannot hold or resolve the zone.
 
     ``depth`` (m) of the volume grid, ``region`` the elastic yield region
     (:func:`~solver.spec.sizing.periodic_yield_region`, m), ``period`` the shorter side (m).
     The region must end within :data:`MAX_PERIODIC_DEPTH` of the period, the box reach the
     depth where yield starts, and its layers resolve the region (:data:`MIN_YIELD_CELLS`
-    across it).
+    across it).  Returns a note when the box ends above the region's bottom (the plastic zone
+    will likely reach it: truncated), else None.
     """
     top, bottom = region.top, region.bottom
     if bottom == 0.0:
-        return
+        return None
     told = f"the elastic yield region spans {top:.3g}-{bottom:.3g} m"
     if depth < top:
         fail(
@@ -119,10 +120,10 @@ def check_periodic_volume(depth: float, nz: int, region, period: float, path: st
             f"the box ends at {depth:.4g} m, above the depth {top:.3g} m where plasticity "
             f"starts ({told}): give grid.depth >= {bottom:.3g} m, or leave it out",
         )
-    if bottom > MAX_PERIODIC_DEPTH * period:
+    if bottom >= MAX_PERIODIC_DEPTH * period:  # it reaches the trial's floor
         fail(
             "load.path",
-            f"{told}, deeper than {MAX_PERIODIC_DEPTH:g} of the period ({period:.4g} m), which "
+            f"{told}, down to {MAX_PERIODIC_DEPTH:g} of the period ({period:.4g} m), which "
             "the periodic kernels cannot hold: lower the load or use a larger period",
         )
     cell = depth / nz
@@ -134,6 +135,13 @@ def check_periodic_volume(depth: float, nz: int, region, period: float, path: st
             f"the yield region ({told}: {span / cell:.2g} cells): use nz >= "
             f"{math.ceil(MIN_YIELD_CELLS * depth / max(span, 1e-300))}",
         )
+    if depth < bottom:
+        return (
+            f"the box ends at {depth:.4g} m, above the bottom of the elastic yield region "
+            f"({told}): the plastic zone will likely reach it and the case end truncated; give "
+            f"grid.depth >= {bottom:.3g} m, or leave it out"
+        )
+    return None
 
 
 def check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> None:
