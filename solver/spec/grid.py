@@ -212,13 +212,24 @@ def check_volume(
             f"starts ({region}): use depth >= {bottom:.3g}, or leave it out (sized "
             "from the yield region)",
         )
+    require_yield_cells(path, thick, region, top, bottom, depth, cell)
+
+
+def require_yield_cells(
+    path: str, thick: str, region: str, top: float, bottom: float, depth: float, cell: float
+) -> None:
+    """Refuse layers too thick for the yield region: fewer than :data:`MIN_YIELD_CELLS` across.
+
+    ``top``, ``bottom`` the region's, ``depth`` the box's, ``cell`` a layer's thickness (any one
+    unit); ``thick`` and ``region`` describe the layers and the region in the message.
+    """
     span = min(bottom, depth) - top
     if span < MIN_YIELD_CELLS * cell:
         fail(
             path,
             f"{thick} are too coarse for the yield region ({region}: {span / cell:.2g} "
             f"cells, at least {MIN_YIELD_CELLS} needed): use "
-            f"nz >= {math.ceil(MIN_YIELD_CELLS * depth / span)}",
+            f"nz >= {math.ceil(MIN_YIELD_CELLS * depth / max(span, 1e-300))}",
         )
 
 

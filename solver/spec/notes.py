@@ -13,8 +13,8 @@ import math
 from typing import Any
 
 from ..bodies.materials import Body, Pair
-from ..keys import MAX_AUTO_HALF_WIDTH, MAX_PERIODIC_DEPTH, MIN_YIELD_CELLS, PLASTIC_WIDTH_MARGIN
-from .grid import GridSpec
+from ..keys import MAX_AUTO_HALF_WIDTH, MAX_PERIODIC_DEPTH, PLASTIC_WIDTH_MARGIN
+from .grid import GridSpec, require_yield_cells
 from .reading import fail
 from .sizing import slope_index
 
@@ -106,8 +106,8 @@ def check_periodic_volume(depth: float, nz: int, region, period: float, path: st
     ``depth`` (m) of the volume grid, ``region`` the elastic yield region
     (:func:`~solver.spec.sizing.periodic_yield_region`, m), ``period`` the shorter side (m).
     The region must end within :data:`MAX_PERIODIC_DEPTH` of the period, the box reach the
-    depth where yield starts, and its layers resolve the region (:data:`MIN_YIELD_CELLS`
-    across it).  Returns a note when the box ends above the region's bottom (the plastic zone
+    depth where yield starts, and its layers resolve the region
+    (:func:`~solver.spec.grid.require_yield_cells`).  Returns a note when the box ends above the region's bottom (the plastic zone
     will likely reach it: truncated), else None.
     """
     top, bottom = region.top, region.bottom
@@ -127,14 +127,8 @@ def check_periodic_volume(depth: float, nz: int, region, period: float, path: st
             "the periodic kernels cannot hold: lower the load or use a larger period",
         )
     cell = depth / nz
-    span = min(bottom, depth) - top
-    if span < MIN_YIELD_CELLS * cell:
-        fail(
-            path,
-            f"layers {cell:.3g} m thick (depth {depth:.4g} m over nz = {nz}) are too coarse for "
-            f"the yield region ({told}: {span / cell:.2g} cells): use nz >= "
-            f"{math.ceil(MIN_YIELD_CELLS * depth / max(span, 1e-300))}",
-        )
+    thick = f"layers {cell:.3g} m thick (depth {depth:.4g} m over nz = {nz})"
+    require_yield_cells(path, thick, told, top, bottom, depth, cell)
     if depth < bottom:
         return (
             f"the box ends at {depth:.4g} m, above the bottom of the elastic yield region "
