@@ -14,14 +14,14 @@ from study.run.assemble import assemble_to_file
 from study.run.driver import RunOptions, run_campaign
 
 #: Two realisations of a rough period on elastic-plastic steel, loaded in 2 steps and unloaded
-#: (64^2 x 8 cells: seconds a case).
+#: (64^2 x 16 cells, layers half a cell thick: seconds a case).
 ROUGH = """
 [campaign]
 name = "rough"
 
 [base]
 body1 = { behaviour = "rigid", radius = "inf" }
-grid = { n = [64, 64, 8], size = 1e-4, depth = 1.25e-5, periodic = true }
+grid = { n = [64, 64, 16], size = 1e-4, depth = 1.25e-5, periodic = true }
 
 [base.body2]
 behaviour = "elastic-plastic"

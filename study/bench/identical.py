@@ -181,6 +181,8 @@ def run(folder: pathlib.Path, save: bool, only: list[str] | None = None) -> int:
                 np.savez(path, **arrays)
                 (folder / f"{name}.json").write_text(json.dumps(attrs, indent=1, sort_keys=True))
                 differ = []
+            elif not path.exists():  # a scene the baseline's code did not have (a new campaign)
+                differ = ["new: no baseline"]
             else:
                 with np.load(path) as old:
                     keys = set(old.files) | set(arrays)
