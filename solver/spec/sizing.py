@@ -152,12 +152,11 @@ def periodic_yield_region(
     :func:`~solver.surface.periodic.periodic_surface_operator`: the asperities' contacts are
     as small as its cells, so no coarser trial), a sliding shear of ``traction_ratio`` times
     the pressure along x, and their stress from the Fourier series
-    (:func:`~solver.theory.half_space.periodic_pressure_stress`, its shear by the same
-    plane-strain modes turned) on layers one cell thick, scanned down until twice the deepest
-    yielding layer (a tenth of the period when none yields) has passed without yield, at most
-    half the period.  ``half_width`` is 0:
-    the box is the whole period.  The mean pressure's own stress (uniaxial strain) must stay
-    below yield, or every depth would yield: checked by the caller.
+    (:func:`~solver.theory.half_space.periodic_traction_stress`) on layers one cell thick,
+    scanned down until twice the deepest yielding layer (a tenth of the period when none
+    yields) has passed without yield, at most half the period.  ``half_width`` is 0: the box is
+    the whole period.  The mean pressure's own stress (uniaxial strain) must stay below yield,
+    or every depth would yield: checked by the caller.
     """
     period = (grid.nx * grid.dx, grid.ny * grid.dy)
     operator = periodic_surface_operator(grid, pair)
@@ -166,9 +165,9 @@ def periodic_yield_region(
     dz = min(grid.dx, grid.dy)
     deepest, top, k = None, None, 0
     layers = math.ceil(0.5 * min(period) / dz)
+    shear = traction_ratio * pressure if traction_ratio > 0 else None
     while k < layers:
         z = (np.arange(k, min(k + TRIAL_BATCH, layers)) + 0.5) * dz
-        shear = traction_ratio * pressure if traction_ratio > 0 else None
         stress = periodic_traction_stress(period, z, nu, pressure, shear)
         yielded = np.flatnonzero((von_mises(stress) > yield_stress).any(axis=(0, 1)))
         if yielded.size:
