@@ -69,3 +69,38 @@ def test_plastic_campaign_assembles_scalars_histories_and_axis_profile(tmp_path)
     assert (speed_error_table(ds)["cells"] == 8000).all()
     with pytest.raises(KeyError):
         ds["tangential_force_x"]  # no slip-stick history in this campaign
+
+
+CONE = """
+[campaign]
+name = "cone"
+
+[base.body1]
+behaviour = "rigid"
+radius = "inf"
+profile = { shape = "cone", angle = 0.05 }
+
+[base.body2]
+behaviour = "elastic-plastic"
+radius = "inf"
+E = 210e9
+nu = 0.3
+hardening = { law = "linear", yield_stress = 1e9, modulus = 20e9 }
+
+[base]
+load = { normal_force = 5.0, steps = 1 }
+grid = { n = [16, 16, 16] }
+
+[sweep]
+"body2.hardening.modulus" = [10e9, 20e9]
+"""
+
+
+def test_a_cone_on_a_plastic_body_assembles_without_a_hertz_radius(tmp_path):
+    """A profile's cases carry Sneddon's radius, not Hertz's: the assembly read the Hertz radius
+    for every plastic depth profile and failed (KeyError); there is no such profile now."""
+    campaign = load_campaign(write(tmp_path, CONE))
+    assert run_campaign(campaign, tmp_path / "out", options=RunOptions()).exit_status == 0
+    ds = assemble(tmp_path / "out", campaign)
+    assert (ds.status == 1).all() and np.isfinite(ds.max_plastic_strain).all()
+    assert np.isnan(ds.plastic_strain_profile).all()  # no Hertz radius to scale the depth by
