@@ -396,9 +396,9 @@ CASE_KEYS: tuple[Key, ...] = (
         f"(a profile, a periodic surface: of the computed elastic yield region; >= "
         f"{DEFAULT_DEPTH:g} a_H; 2 x under a sliding load; periodic with no elastic yield: "
         f"{DEFAULT_PERIODIC_DEPTH:g} of the period); {DEFAULT_DEPTH:g} for elastic bodies",
-        f"{_range(*DEPTH_RANGE)}, periodic (0, {MAX_PERIODIC_DEPTH:g} of the period]; plastic "
-        f"bodies: cells <= {MAX_CELL_DEPTH:g} a_H, the box reaches where yield starts, >= "
-        f"{MIN_YIELD_CELLS} cells across the yield region", "volume grids",
+        f"{_range(*DEPTH_RANGE)}, periodic [a surface cell, {MAX_PERIODIC_DEPTH:g} of the "
+        f"period]; plastic bodies: cells <= {MAX_CELL_DEPTH:g} a_H, the box reaches where "
+        f"yield starts, >= {MIN_YIELD_CELLS} cells across the yield region", "volume grids",
         "Depth of the volume grid (the plastic box); in metres for a periodic surface, which "
         "has no Hertz radius."),
     Key("grid", "plastic_half_width", "number", "a_H",

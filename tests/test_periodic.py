@@ -267,6 +267,7 @@ def test_a_periodic_case_has_its_own_id():
         ({"body2": PLASTIC, "grid": {"n": [64, 64, 8], "plastic_half_width": 0.5}},
          "grid.plastic_half_width"),
         ({"body2": PLASTIC, "grid": {"n": [64, 64, 8], "depth": 0.6 * PERIOD}}, "grid.depth"),
+        ({"body2": PLASTIC, "grid": {"n": [64, 64, 8], "depth": 5e-324}}, "grid.depth"),
         ({"body2": PLASTIC, "grid": {"n": [64, 64, 8]}, "load": {"normal_force": 1.8e9 * PERIOD
           * PERIOD}}, "load.path"),  # the mean pressure alone yields every depth
         ({"body2": PLASTIC, "grid": {"n": [64, 64, 4], "depth": 0.3 * PERIOD}}, "grid.depth"),

@@ -110,8 +110,16 @@ def parse_grid(table: Any) -> GridSpec:
         if key in table:
             depths[key] = number(table[key], f"grid.{key}", positive=True)
             low, high = DEPTH_RANGE
-            if periodic and key == "depth":  # metres, at most a fraction of the period
+            if periodic and key == "depth":  # metres, a cell to a fraction of the period
                 deepest = MAX_PERIODIC_DEPTH * min(size)
+                cell = min(size[0] / sizes[0], size[1] / sizes[1])
+                if depths[key] < cell:
+                    fail(
+                        "grid.depth",
+                        f"a periodic case's depth is in metres, at least a surface cell "
+                        f"({cell:.4g} m), got {depths[key]:g}: an asperity's plastic zone "
+                        "spans cells; leave the depth out (sized from the elastic yield region)",
+                    )
                 if depths[key] > deepest:
                     fail(
                         "grid.depth",
