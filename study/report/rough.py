@@ -13,7 +13,7 @@
 - ``<name>_spot_sizes.png`` (cases whose path ends loaded): the share of spots larger than an
   area, against the area (log-log), every case;
 - ``<name>_residual_topography.png`` (elastic-plastic): the first case's initial gap, its gap
-  after the path and the difference (the plastic print).
+  after the path (on one colour scale) and the difference (the plastic print).
 """
 
 from __future__ import annotations
@@ -159,8 +159,12 @@ def plot_residual_topography(dataset, cases_dir: Path, path: Path) -> Path | Non
         (after - after.mean(), "gap after the path"),
         (after - before, "plastic print (after - before)"),
     )
-    for ax, (values, name) in zip(axes, panels, strict=True):
-        image = ax.imshow(1e9 * values.T, origin="lower", extent=extent, cmap="viridis")
+    shared = 1e9 * max(np.abs(panels[0][0]).max(), np.abs(panels[1][0]).max())
+    limits = ((-shared, shared), (-shared, shared), (None, None))  # before and after alike
+    for ax, (values, name), (low, high) in zip(axes, panels, limits, strict=True):
+        image = ax.imshow(
+            1e9 * values.T, origin="lower", extent=extent, cmap="viridis", vmin=low, vmax=high
+        )
         ax.set(xlabel="x (um)", ylabel="y (um)")
         ax.set_title(name, fontsize=9)
         fig.colorbar(image, ax=ax, location="bottom", label="nm", shrink=0.8)
