@@ -2,8 +2,8 @@ r"""Periodic images of a convolution kernel: the kernel of a laterally periodic 
 
 A field that repeats with period ``n`` cells, convolved with a kernel ``K`` of the infinite
 plane, is the circular convolution of one period with the periodised kernel
-``P(d) = sum_m K(d + m n)``.  Fed to a zero-padded (linear) convolution at the offsets ``|d| <=
-n - 1``, a periodic ``P`` gives exactly the circular result: ``P(i - j) = P((i - j) mod n)``.
+``P(d) = sum_m K(d + m n)``, given at the offsets ``0 .. n - 1`` (the operators of a periodic
+grid convolve with FFTs of the period's own lengths, :meth:`~.grid.VolumeGrid.fft_lengths`).
 
 The sum is taken over the :data:`IMAGES` nearest periods on each side, centred on each offset:
 ``P(d) = sum_t w(t) K(t)`` over ``t = d (mod n)`` with ``|t| <= (IMAGES + 1/2) n``, ``w = 1``
