@@ -18,6 +18,8 @@ The parts, from the bottom up; each imports only those listed before it (tested)
 - :mod:`solver.bodies`: shapes, height maps and roughness, elastic constants, Dundurs' beta;
 - :mod:`solver.surface`: influence coefficients, DC-FFT, normal and tangential solvers;
 - :mod:`solver.volume`: subsurface stress, eigenstrain operator, cuboid kernels;
+- :mod:`solver.theorems`: shakedown theorems solved directly (Melan's static limit of a track
+  as a conic program, its pointwise upper bound);
 - :mod:`solver.spec`: the case tables parsed, the grid sized, the notes, :class:`Case`;
 - :mod:`solver.result`: :class:`Result` (fields, histories, per-cycle quantities, xarray);
 - :mod:`solver.drive`: operators, contact steps, the plasticity loop, the moving window,
@@ -34,7 +36,8 @@ Where a new kind of physics goes:
   written in :mod:`solver.drive.record`;
 - a surface solver (a periodic operator, steady rolling): :mod:`solver.surface`;
 - a hardening law: :mod:`solver.plasticity.hardening` (and the return mapping if it needs one);
-- a closed form or a theorem (a shakedown bound): :mod:`solver.theory`;
+- a closed form: :mod:`solver.theory`; a theorem solved as a program (a shakedown bound):
+  :mod:`solver.theorems`;
 - a note or a refusal of a case: :mod:`solver.spec.notes`.
 """
 
@@ -49,6 +52,6 @@ __all__ = ["PARTS", "Case", "Result", "SpecError", "memory_estimate", "solve"]
 #: sub-package's modules import each other without a cycle); ``tests/test_layout.py`` checks it.
 PARTS = (
     "variables", "keys", "numerics", "theory", "plasticity", "bodies", "surface", "volume",
-    "spec", "result", "drive",
+    "theorems", "spec", "result", "drive",
 )  # fmt: skip
 __version__ = "0.1.0"

@@ -358,6 +358,62 @@ def hamilton_stress(
     return math.pi * max_pressure * out
 
 
+def mcewen_stress(
+    x, z, half_width: float, max_pressure: float, nu: float, friction_coefficient=0.0
+):
+    """Plane-strain stress of a Hertz line contact with a sliding traction (McEwen 1949).
+
+    The pressure ``p = p0 sqrt(1 - x^2/a^2)`` and the shear ``q_x = mu p`` (+x) on the surface
+    of a half-space in plane strain along y.  With ``A = a^2 - x^2 + z^2``,
+    ``m^2 = (sqrt(A^2 + 4 x^2 z^2) + A)/2``, ``n^2 = (sqrt(A^2 + 4 x^2 z^2) - A)/2`` (n has the
+    sign of x) and ``S = m^2 + n^2``, per unit ``p0 / a`` (Johnson 1985, section 7.1, the
+    sign of the normal load's shear fixed by quadrature of Flamant's solution,
+    ``tests/test_theorems.py``)::
+
+        pressure  xx: -m (1 + (z^2 + n^2)/S) + 2 z   zz: -m (1 - (z^2 + n^2)/S)
+                  xz: -n (m^2 - z^2)/S
+        shear x   xx:  mu (n (2 - (z^2 - m^2)/S) - 2 x)   zz: -mu n (m^2 - z^2)/S
+                  xz: -mu (m (1 + (z^2 + n^2)/S) - 2 z)
+
+    and ``sigma_yy = nu (sigma_xx + sigma_zz)``, ``sigma_yz = sigma_xy = 0``.
+
+    Parameters
+    ----------
+    x, z : array_like
+        Field points (m), ``z > 0``, relative to the contact's centre line.
+    half_width : float
+        Contact half-width a (m).
+    max_pressure : float
+        Peak pressure p0 (Pa).
+    nu : float
+        Poisson's ratio.
+    friction_coefficient : float
+        mu; the shear traction on the body is ``q_x = mu p`` (+x).
+
+    Returns
+    -------
+    ndarray
+        Shape ``(6,) + broadcast shape`` (Pa), components :data:`STRESS_COMPONENTS`.
+    """
+    x, z = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (x, z)))
+    a, mu = half_width, friction_coefficient
+    big = a * a - x * x + z * z
+    root = np.sqrt(big * big + 4.0 * x * x * z * z)
+    m = np.sqrt(0.5 * (root + big))
+    n = np.sign(x) * np.sqrt(np.maximum(0.5 * (root - big), 0.0))
+    s = m * m + n * n
+    out = np.zeros((6,) + x.shape)
+    out[0] = (
+        -m * (1.0 + (z * z + n * n) / s)
+        + 2.0 * z
+        + mu * (n * (2.0 - (z * z - m * m) / s) - 2.0 * x)
+    )
+    out[2] = -m * (1.0 - (z * z + n * n) / s) - mu * n * (m * m - z * z) / s
+    out[4] = -n * (m * m - z * z) / s - mu * (m * (1.0 + (z * z + n * n) / s) - 2.0 * z)
+    out[1] = nu * (out[0] + out[2])
+    return out * (max_pressure / a)
+
+
 def uniform_traction_stress(traction: str, nu: float) -> np.ndarray:
     """Stress (per unit traction) of a uniform traction on a laterally periodic half-space.
 

@@ -39,7 +39,7 @@ import numpy as np
 
 from ..numerics.tensor import contract, deviator, von_mises
 from ..variables import PLASTIC_ZONE_THRESHOLD
-from .half_space import hamilton_stress
+from .half_space import hamilton_stress, mcewen_stress
 
 #: The classes and their flags (CF ``flag_values`` / ``flag_meanings`` of ``shakedown``).
 SHAKEDOWN_FLAGS = {
@@ -160,12 +160,16 @@ def shakedown_variable(regime: Shakedown | np.ndarray, dims: tuple[str, ...] = (
     return dims, np.int8(flags) if not dims else flags, attrs
 
 
-def sliding_first_yield(friction_coefficient: float, nu: float) -> tuple[float, float, float]:
-    """First yield (von Mises) under a sliding Hertz point contact, from Hamilton's field.
+def sliding_first_yield(
+    friction_coefficient: float, nu: float, contact: str = "point"
+) -> tuple[float, float, float]:
+    """First yield (von Mises) under a sliding Hertz contact, from its closed-form field.
 
-    The largest von Mises stress of :func:`solver.theory.half_space.hamilton_stress` (pressure p_0
-    and shear ``mu p`` along +x) over the plane y = 0, found on a grid of a/200 (x from -1.5 a to
-    1.5 a, depth from 1e-4 a to 1.2 a) and refined on a grid of a/20000 around the best point.
+    The largest von Mises stress of :func:`solver.theory.half_space.hamilton_stress` (a point
+    contact: pressure p_0 and shear ``mu p`` along +x, over the plane y = 0) or of
+    :func:`~solver.theory.half_space.mcewen_stress` (a line contact, plane strain), found on a
+    grid of a/200 (x from -1.5 a to 1.5 a, depth from 1e-4 a to 1.2 a) and refined on a grid
+    of a/20000 around the best point.
 
     Parameters
     ----------
@@ -173,20 +177,27 @@ def sliding_first_yield(friction_coefficient: float, nu: float) -> tuple[float, 
         mu (1).
     nu : float
         Poisson's ratio of the yielding body.
+    contact : str
+        ``"point"`` (a sphere) or ``"line"`` (a cylinder).
 
     Returns
     -------
     (float, float, float)
         ``p_0 / k`` at first yield (k = sigma_Y / sqrt 3, the shear yield stress) and the point
         ``(x / a, z / a)`` where it starts: below the surface for small mu (2.79 k at 0.48 a
-        for mu = 0, nu = 0.3, as :func:`solver.theory.hertz.first_yield_pressure`), on the surface
-        at the trailing edge once mu is past about 0.3.
+        for a point contact, mu = 0, nu = 0.3, as :func:`solver.theory.hertz.first_yield_pressure`),
+        on the surface at the trailing edge once mu is past about 0.3.
     """
+    if contact not in ("point", "line"):
+        raise ValueError(f"contact must be 'point' or 'line', got {contact!r}")
     x = np.linspace(-1.5, 1.5, 601)
     z = np.concatenate([[1e-4, 1e-3], np.linspace(0.005, 1.2, 240)])
     for _ in range(2):
         xs, zs = np.meshgrid(x, z, indexing="ij")
-        stress = hamilton_stress(xs, 0.0 * xs, zs, 1.0, 1.0, nu, friction_coefficient)
+        if contact == "point":
+            stress = hamilton_stress(xs, 0.0 * xs, zs, 1.0, 1.0, nu, friction_coefficient)
+        else:
+            stress = mcewen_stress(xs, zs, 1.0, 1.0, nu, friction_coefficient)
         equivalent = von_mises(stress)
         i, j = np.unravel_index(int(np.argmax(equivalent)), equivalent.shape)
         best = (float(xs[i, j]), float(zs[i, j]))

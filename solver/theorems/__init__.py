@@ -1,0 +1,12 @@
+"""Shakedown theorems solved directly: Melan's static limit of a load passing along a track.
+
+- :mod:`.residual`: every residual stress field that does not change along the track (Prandtl
+  and Airy stress functions on the cross-section);
+- :mod:`.melan`: the static theorem as a second-order cone program (Clarabel), its certified
+  factor, the pointwise upper bound;
+- :mod:`.track`: a Hertz point or line contact sliding along a track: the static limit, the
+  upper bound beside it, first yield and surface flow.
+
+Imports: :mod:`solver.theory` (the closed-form elastic fields, first yield) and the
+declarations; scipy and clarabel.
+"""

@@ -1,0 +1,206 @@
+"""Shakedown of a Hertz contact passing along a track: the static limit, bracketed.
+
+A Hertz point contact (a sphere, circular) or line contact (a cylinder, plane strain) with the
+sliding traction ``q_x = mu p`` (Hamilton 1983; McEwen 1949) passes along x over a half-space.
+:func:`track_limits` sets up the cross-section (cells of ``a / cells``, a box ``width`` a to
+the side of the track's centre line and ``depth`` a deep, positions from ``-span`` a to
+``span`` a along the track) and returns, in units of k (the shear yield stress):
+
+- the static limit (:func:`.melan.static_limit`): Melan's lower bound on the cells;
+- an upper bound: the smallest pointwise bound (:func:`.melan.pointwise_limit`) over the cells
+  where the program binds, below them on the free surface, and a local search from the best;
+- first yield (:func:`solver.theory.shakedown.sliding_first_yield`) and the surface-flow line
+  ``mu p0 = k``.
+
+Classical values (frictionless, nu = 0.3): a line contact shakes down to 4.0 k (Johnson &
+Jefferis 1963: the orthogonal shear 0.25 p0 cannot be relieved); a point contact to 4.7 k
+(Ponter, Hearle & Johnson 1985, kinematic, an upper bound).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import minimize, minimize_scalar
+
+from ..theory.half_space import hamilton_stress, mcewen_stress
+from ..theory.shakedown import sliding_first_yield
+from .melan import SURFACE_SHIFTS, StaticLimit, pointwise_limit, static_limit
+from .residual import line_basis, section_basis
+
+#: Contacts a track can carry.
+CONTACTS = ("point", "line")
+#: Depth (in a) at which the surface points' stress is evaluated (the closed forms need z > 0).
+SURFACE = 1e-9
+#: Positions per contact radius of the upper bound's stress paths (finer than the program's:
+#: a coarse path would overstate the bound).
+BOUND_POSITIONS = 100
+#: Evaluations of the upper bound's local search.
+SEARCH_EVALUATIONS = 40
+
+
+@dataclass(frozen=True)
+class Track:
+    """A Hertz contact passing along x: the load and the cross-section's discretisation.
+
+    Attributes
+    ----------
+    contact : str
+        ``"point"`` or ``"line"``.
+    friction : float
+        mu: the shear traction ``mu p`` along +x (Hamilton's sliding), 0 to 1.
+    nu : float
+        Poisson's ratio.
+    cells : int
+        Cells per contact radius a (both y and z).
+    width, depth, span : float
+        Half-width and depth of the box, reach of the positions either side, in a.
+    back_stress_bound : float or None
+        Kinematic hardening that saturates: the largest back stress norm, in k times sqrt 2
+        (the yield surface may move that far); None for perfect plasticity.
+    """
+
+    contact: str = "point"
+    friction: float = 0.0
+    nu: float = 0.3
+    cells: int = 16
+    width: float = 2.0
+    depth: float = 4.0
+    span: float = 4.0
+    back_stress_bound: float | None = None
+
+    def __post_init__(self):
+        if self.contact not in CONTACTS:
+            raise ValueError(f"contact must be one of {CONTACTS}, got {self.contact!r}")
+        if not 0.0 <= self.friction <= 1.0:
+            raise ValueError(f"friction must be in [0, 1], got {self.friction}")
+        if not -1.0 < self.nu < 0.5:
+            raise ValueError(f"nu must be in (-1, 0.5), got {self.nu}")
+        if self.cells < 2:
+            raise ValueError(f"cells (per contact radius) must be at least 2, got {self.cells}")
+        for name in ("width", "depth", "span"):
+            if not getattr(self, name) >= 1.0:
+                raise ValueError(
+                    f"{name} must be at least 1 contact radius, got {getattr(self, name)}"
+                )
+        if self.back_stress_bound is not None and not self.back_stress_bound >= 0.0:
+            raise ValueError(
+                f"back_stress_bound must be >= 0 or None, got {self.back_stress_bound}"
+            )
+
+    def stress(self, s, y, z) -> np.ndarray:
+        """Elastic stress per unit p0 at (y, z) with the load's centre at x = s: ``(6, ...)``."""
+        if self.contact == "point":
+            return hamilton_stress(-s, y, z, 1.0, 1.0, self.nu, self.friction)
+        return mcewen_stress(-s, z, 1.0, 1.0, self.nu, self.friction)
+
+    def positions(self, per_radius: float) -> np.ndarray:
+        """Positions from ``-span`` to ``span`` (in a), ``per_radius`` a contact radius."""
+        return np.linspace(-self.span, self.span, round(2 * self.span * per_radius) + 1)
+
+
+@dataclass
+class TrackLimits:
+    """The shakedown limits of a track, in ``p0 / k``.
+
+    Attributes
+    ----------
+    static : StaticLimit
+        Melan's program (lower bound on the cells; ``static.factor``).
+    upper : float
+        The smallest pointwise upper bound found.
+    upper_at : (float, float)
+        Where (y / a, z / a).
+    first_yield : float
+        First yield ``p0 / k``.
+    surface_flow : float
+        ``1 / mu``: the surface shear reaches k (inf for mu = 0).
+    """
+
+    static: StaticLimit
+    upper: float
+    upper_at: tuple[float, float]
+    first_yield: float
+    surface_flow: float
+
+
+def track_limits(track: Track) -> TrackLimits:
+    """Melan's static limit of a track, an upper bound beside it, first yield, surface flow."""
+    h = 1.0 / track.cells
+    layers = round(track.depth * track.cells)
+    z = np.concatenate([[SURFACE], (np.arange(layers) + 0.5) * h])  # the surface, the cells
+    s = track.positions(2.0 * track.cells)  # two positions a cell
+    if track.contact == "point":
+        y = (np.arange(round(track.width * track.cells)) + 0.5) * h  # the half y >= 0
+        elastic = track.stress(s[:, None, None], y[None, :, None], z[None, None, :])
+        basis = section_basis(y.size, layers, h, h, symmetric=True, surface=True)
+        edge_y = np.linspace(0.0, track.width, 4 * y.size + 1)
+        edge_z = np.linspace(h / 4, track.depth, 4 * z.size)
+        edge = np.concatenate(
+            [
+                track.stress(s[:, None], edge_y[None, :], track.depth).reshape(6, -1),
+                track.stress(s[:, None], track.width, edge_z[None, :]).reshape(6, -1),
+            ],
+            axis=1,
+        )
+    else:
+        y = np.zeros(1)
+        elastic = track.stress(s[:, None], 0.0, z[None, :])[:, :, None, :]
+        basis = line_basis(z.size)
+        edge = track.stress(s, 0.0, track.depth)
+    static = static_limit(elastic, basis, 1.0, track.back_stress_bound, edge)
+    upper, at = _upper_bound(track, static, y, z)
+    first = sliding_first_yield(track.friction, track.nu, track.contact)[0]
+    flow = math.inf if track.friction == 0.0 else 1.0 / track.friction
+    return TrackLimits(static, upper, at, first, flow)
+
+
+def _upper_bound(track: Track, static: StaticLimit, y, z) -> tuple[float, tuple[float, float]]:
+    """The smallest pointwise bound over the binding cells, the surface above, a local search."""
+    s = track.positions(BOUND_POSITIONS)
+    line = track.contact == "line"
+    shifts = SURFACE_SHIFTS if line else None  # a line's fields: rho_xx, rho_yy, rho_xy only
+
+    def bound(point) -> float:
+        py, pz = abs(point[0]), max(point[1], SURFACE)
+        surface = pz <= SURFACE
+        path = track.stress(s, py, pz)
+        allowed = SURFACE_SHIFTS if surface else shifts
+        return pointwise_limit(path, allowed, 1.0, track.back_stress_bound)
+
+    cells = (
+        np.argwhere(static.binding)
+        if static.binding.any()
+        else np.argwhere(np.ones_like(static.binding))
+    )
+    candidates = [(float(y[i]), float(z[k])) for i, k in cells[:8]]
+    candidates += [(c[0], 0.0) for c in candidates if c[1] > SURFACE]
+    values = [bound(c) for c in candidates]
+    best = int(np.nanargmin(values))
+    start = candidates[best]
+    if start[1] > SURFACE:  # a local search inside the body, or along the surface
+        found = minimize(
+            lambda p: bound((0.0 if line else p[0], max(p[1], 1e-6))),
+            np.array(start),
+            method="Nelder-Mead",
+            options={"xatol": 1e-3, "fatol": 1e-5, "maxfev": SEARCH_EVALUATIONS},
+        )
+        point = (abs(float(found.x[0])), max(float(found.x[1]), 1e-6))
+    elif not line:
+        found = minimize_scalar(
+            lambda py: bound((py, 0.0)),
+            bounds=(0.0, track.width),
+            method="bounded",
+            options={"xatol": 1e-3, "maxiter": SEARCH_EVALUATIONS},
+        )
+        point = (float(found.x), SURFACE)
+    else:
+        return float(values[best]), start
+    if found.fun < values[best]:
+        return float(found.fun), point
+    return float(values[best]), start
+
+
+__all__ = ["BOUND_POSITIONS", "CONTACTS", "Track", "TrackLimits", "track_limits"]
