@@ -131,6 +131,7 @@ SOLVER_DEFAULTS = {
     "fft_threads": 1,
     "fft_planner": "estimate",
     "volume_precision": "double",
+    "method": "incremental",
 }
 #: Smallest plasticity tolerance a single-precision volume convolution can settle to: its
 #: rounding (~1e-7 of the stress) would otherwise keep the plasticity loop from converging.
@@ -485,6 +486,12 @@ CASE_KEYS: tuple[Key, ...] = (
         '"single" uses about half its memory and saves about 1/6 of the CPU at 48^3 '
         "(docs/tables/plastic.md), results within ~1e-7 of double's (part of the case id when "
         "single)."),
+    Key("solver", "method", "string", "", f'"{SOLVER_DEFAULTS["method"]}"',
+        '"incremental" or "static_shakedown"', "elastic-plastic body 2 on a sliding track",
+        '"incremental": the four loops along the load path; "static_shakedown": Melan\'s '
+        "static theorem solved directly for the case's sliding Hertz contact (a lower bound of "
+        "the shakedown limit on the track's cross-section, an upper bound beside it, "
+        "solver.theorems); part of the case id when not incremental."),
 )  # fmt: skip
 
 

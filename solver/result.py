@@ -83,6 +83,9 @@ class Result:
         Melan's static shakedown factor of the final residual stress under the sliding Hertz
         load (:func:`solver.theory.shakedown.melan_factor`): sliding cases along x with a circular
         Hertz contact on isotropic hardening; None otherwise.
+    section : (ndarray, ndarray) or None
+        y and z (m) of a sliding track's cross-section (``solver.method = "static_shakedown"``,
+        dimensions ``y_section``, ``z_section``).
     """
 
     case: Case
@@ -101,6 +104,7 @@ class Result:
     depth_body1: np.ndarray | None = None
     truncated: bool = False
     melan_factor: float | None = None
+    section: tuple[np.ndarray, np.ndarray] | None = None
 
     @property
     def status(self) -> str:
@@ -169,6 +173,14 @@ class Result:
                 self.depth_body1,
                 {"units": "m", "long_name": "depth into body 1 (its own volume grid)"},
             )
+        if self.section is not None:
+            along = {"y": "across the track (its half y >= 0)", "z": "depth (0: the surface)"}
+            for axis, values in zip("yz", self.section, strict=True):
+                coords[f"{axis}_section"] = (
+                    f"{axis}_section",
+                    values,
+                    {"units": "m", "long_name": f"track cross-section: {along[axis]}"},
+                )
         for name, values in self.fields.items():
             declared = FIELDS[name]
             if "component" in declared.dims:

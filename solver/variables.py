@@ -7,7 +7,8 @@ A history has one value per load step; its ``reduction`` says how a campaign tur
 per-case scalar (``"last"`` step, ``"max"`` over the steps, ``"sum"``; None: not reduced) and
 ``scalar`` names that scalar.  A field has named dimensions: ``x``, ``y`` (surface cells),
 ``z`` (volume layers, depth into body 2; ``z_body1`` into body 1 on its own grid),
-``component`` (:data:`solver.numerics.tensor.COMPONENTS`).
+``component`` (:data:`solver.numerics.tensor.COMPONENTS`); ``y_section``, ``z_section``: the
+cross-section of a sliding track (``solver.method = "static_shakedown"``).
 
 ``swap_sign`` is the factor a value takes when the bodies are relabelled (an elastic-plastic
 body 1 is solved as body 2, :meth:`solver.spec.case.Case.swapped`): body 1's frame is body 2's
@@ -117,6 +118,25 @@ HISTORIES: dict[str, History] = {
         "sum",
     ),
     "step_cycle": History("1", "load cycle of the step (0: outside a cycle block)", None),
+    "static_shakedown_limit": History(
+        "1",
+        "Melan's static shakedown limit p_0/k of the case's sliding track (solver.method = "
+        "static_shakedown): a residual field on the cross-section's cells proves it",
+    ),
+    "shakedown_upper_bound": History(
+        "1",
+        "smallest pointwise upper bound p_0/k found for the track's shakedown limit (the best "
+        "constant residual shift of one point's stress path)",
+    ),
+    "first_yield_limit": History("1", "p_0/k at first yield under the sliding Hertz contact"),
+    "shakedown_load_factor": History(
+        "1",
+        "static shakedown limit over the case's own p_0/k: the factor of the case's load up to "
+        "which repeated passes shake down",
+    ),
+    "program_iterations": History(
+        "1", "interior-point iterations of the shakedown program, summed over its rounds", "sum"
+    ),
     "cycle_residual_stress": History(
         "Pa",
         "largest von Mises residual stress of the plastic strain at the end of the step's load "
@@ -226,6 +246,17 @@ FIELDS: dict[str, Field] = {
         )
         for c in ("xx", "yy", "zz")
     },
+    "static_residual_stress": Field(
+        ("component", "y_section", "z_section"),
+        "Pa",
+        "residual stress proving Melan's static limit on the track's cross-section (half y >= "
+        "0; z_section 0 is the surface)",
+    ),
+    "static_binding": Field(
+        ("y_section", "z_section"),
+        "1",
+        "1 where the static limit's yield condition binds at some load position",
+    ),
     "cycle_rut_profile": Field(
         ("cycle", "y"),
         "m",

@@ -163,6 +163,12 @@ def build_parser() -> argparse.ArgumentParser:
         "flat surface) instead of the rough sphere",
     )
     bench.add_argument(
+        "--incremental",
+        action="store_true",
+        help="shakedown: also solve the cases incrementally (four passes each: most of an hour "
+        "a case past the surface limit) beside Melan's theorem",
+    )
+    bench.add_argument(
         "--table",
         metavar="FILE",
         help="also write what the run prints to FILE (Markdown), headed by the command, the "
@@ -230,8 +236,9 @@ def main(argv: list[str] | None = None) -> int:
 
         with recorded(args.table, ["python -m study", *(argv or sys.argv[1:])]):
             return run_benchmark(
-                args.scene, args.sizes, args.peers, args.repeat, args.error, args.periodic
-            )
+                args.scene, args.sizes, args.peers, args.repeat, args.error, args.periodic,
+                args.incremental,
+            )  # fmt: skip
 
     from .campaign import CampaignError
     from .report import main as report_main

@@ -60,6 +60,7 @@ from .record import (
     touches_edge,
 )
 from .steps import ContactState, StepResult, normal_step, position_of, sliding_step, slip_stick_step
+from .theorem import solve_static_shakedown
 from .window import Follower, shifted
 
 #: Halvings of an increment whose plasticity loop does not converge (down to 1/8 of it).
@@ -289,6 +290,8 @@ def solve(case: Case) -> Result:
         Final tractions, fields, per-step histories and status; non-convergence is reported in
         ``Result.converged`` and ``Result.notes``, never raised.
     """
+    if case.solver.method == "static_shakedown":
+        return solve_static_shakedown(case)
     if case.plastic_body1:
         return _relabelled(solve(case.swapped()), case)
     start = time.perf_counter()

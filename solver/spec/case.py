@@ -37,6 +37,7 @@ from ..keys import (
     MIN_PLASTIC_HALF_WIDTH,
     MOVING_DEPTH_MARGIN,
     PLASTIC_WIDTH_MARGIN,
+    SOLVER_DEFAULTS,
     YIELD_DEPTH_MARGIN,
     required_keys,
     table_keys,
@@ -52,6 +53,7 @@ from .notes import (
     check_periodic_scene,
     check_periodic_volume,
     check_plastic_scene,
+    check_static_shakedown,
     layer_note,
     narrow_window_note,
     plastic_regime,
@@ -60,7 +62,14 @@ from .notes import (
     window_note,
     window_unbuilt,
 )
-from .options import EXECUTION_KEYS, FIELD_OUTPUTS, SOLVER_RULES, SolverOptions, parse_solver
+from .options import (
+    EXECUTION_KEYS,
+    FIELD_OUTPUTS,
+    ID_SILENT_DEFAULTS,
+    SOLVER_RULES,
+    SolverOptions,
+    parse_solver,
+)
 from .path import (
     LoadStage,
     check_mean_pressure,
@@ -414,11 +423,11 @@ class Case:
             },
             # FFT threads and planner are kept (a campaign's cases are solved from this table)
             # but change no result beyond round-off: not in the case id (EXECUTION_KEYS); the
-            # volume precision only when single (the ids of double cases stay as they were)
+            # keys added later only when not their default (the older cases' ids stay)
             "solver": {
                 k: json_number(getattr(solver, k))
                 for k in SOLVER_RULES
-                if k != "volume_precision" or solver.volume_precision != "double"
+                if getattr(solver, k) != SOLVER_DEFAULTS[k] or k not in ID_SILENT_DEFAULTS
             },
             "output": {"fields": sorted(fields)},
         }
@@ -428,8 +437,11 @@ class Case:
         )  # fmt: skip
         check_resolution(case)
         check_surfaces(case)
-        notes = (layer_note(case), surface_shear_note(case), window_note(case))
-        notes = tuple(filter(None, notes))
+        if solver.method == "static_shakedown":  # no loops: the theorem's own notes
+            notes = check_static_shakedown(case)
+        else:
+            notes = (layer_note(case), surface_shear_note(case), window_note(case))
+            notes = tuple(filter(None, notes))
         if notes:
             case = dataclasses.replace(case, warnings=(*case.warnings, *notes))
         for stage, path in zip(stages, paths, strict=True):

@@ -384,3 +384,52 @@ def narrow_window_note(grid: Any, zone: float, sized: bool) -> str:
         f"give n >= {cells} and leave half_width out (the window then holds the zone), or "
         f"half_width >= {zone:.4g} with n >= {cells}"
     )
+
+
+def check_static_shakedown(case) -> tuple[str, ...]:
+    """Refuse a ``solver.method = "static_shakedown"`` case the theorem cannot take; its notes.
+
+    The theorem (:mod:`solver.theorems.track`) passes Hamilton's field of a circular Hertz
+    contact, with the shear ``mu p`` of gross sliding along x, over an elastic-perfectly plastic
+    body 2 (or one with kinematic hardening): everything else is refused, naming the key.
+    """
+    path = "solver.method"
+    body, pair = case.body2, case.pair
+    if case.grid.periodic:
+        fail(path, "static_shakedown passes one contact along a track: not with grid.periodic")
+    if case.plastic_body1 or body.behaviour != "elastic-plastic":
+        fail(path, "static_shakedown needs an elastic-plastic body 2 (body 1 rigid or elastic)")
+    hardening = body.hardening
+    if hardening.law != "perfect":
+        fail(
+            "body2.hardening.law",
+            f"static_shakedown takes perfect plasticity, with or without kinematic hardening; "
+            f'isotropic hardening ({hardening.law!r}) is not built: use law = "perfect"',
+        )
+    if case.reference is None or not pair.geometry.hertzian:
+        fail(path, "static_shakedown takes a Hertz contact: quadric bodies, no profile or heights")
+    kx, ky = pair.curvature
+    if not math.isclose(kx, ky, rel_tol=1e-9):
+        fail(
+            path,
+            "static_shakedown takes a circular Hertz contact (Hamilton's field); an elliptical "
+            f"one (curvatures {kx:.4g} and {ky:.4g} 1/m) is not built",
+        )
+    slides = [s for s in case.stages if s.motion == "slide"]
+    if any(s.motion == "roll" for s in case.stages):
+        fail(path, "static_shakedown takes sliding stages; rolling (creepages) is not built")
+    if not slides or any(
+        s.travel[1] != 0.0 or s.travel[0] == 0.0 for s in slides if s.normal_force > 0
+    ):
+        fail(
+            path,
+            "static_shakedown needs the load path to slide the loaded contact along x "
+            "(slide = [dx, 0])",
+        )
+    notes = []
+    if pair.dundurs_beta != 0.0 and case.friction_coefficient > 0.0:
+        notes.append(
+            f"static_shakedown takes Hertz's pressure and the shear mu p (Hamilton's field): the "
+            f"coupling of dissimilar bodies (beta = {pair.dundurs_beta:.3g}) is left out"
+        )
+    return tuple(notes)

@@ -56,6 +56,7 @@ class SolverOptions:
     fft_threads: int = SOLVER_DEFAULTS["fft_threads"]
     fft_planner: str = SOLVER_DEFAULTS["fft_planner"]
     volume_precision: str = SOLVER_DEFAULTS["volume_precision"]
+    method: str = SOLVER_DEFAULTS["method"]
 
 
 SOLVER_RULES = {
@@ -73,6 +74,7 @@ SOLVER_RULES = {
     "fft_threads": ("threads",),
     "fft_planner": ("planner",),
     "volume_precision": ("precision",),
+    "method": ("method",),
 }
 
 
@@ -105,6 +107,10 @@ def parse_solver(table: Any) -> SolverOptions:
             if value not in ("double", "single"):
                 fail(path, f'must be "double" or "single", got {value!r}')
             values[key] = value
+        elif rule == "method":
+            if value not in METHODS:
+                fail(path, f"must be one of {list(METHODS)}, got {value!r}")
+            values[key] = value
         elif rule == "threads":
             values[key] = integer(value, path, 1, MAX_FFT_THREADS)
         elif rule == "memory":
@@ -127,6 +133,11 @@ def parse_solver(table: Any) -> SolverOptions:
     return options
 
 
+#: What ``solver.method`` can be: the load path's loops, or Melan's theorem solved directly.
+METHODS = ("incremental", "static_shakedown")
+#: Solver keys added after cases were stored: in the normalised table (and the case id) only
+#: when not their default, so the ids of the cases before them stay as they were.
+ID_SILENT_DEFAULTS = ("volume_precision", "method")
 #: Solver keys of how a case is computed, not what: kept in the table, not in the case id.
 EXECUTION_KEYS = ("fft_threads", "fft_planner")
 

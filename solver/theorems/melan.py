@@ -170,8 +170,8 @@ def static_limit(
     shear_yield : float or ndarray
         k per cell (``(ny, nz)``) or for all, in the units of ``elastic`` times lambda.
     back_stress_bound : float, optional
-        b: the largest norm ``|alpha|`` of a saturated back stress, in the units of k times
-        ``sqrt 2`` (kinematic hardening that saturates at ``sigma_Y + (sqrt 3 / sqrt 2) b``);
+        b: the largest Frobenius norm ``|alpha|`` of the deviatoric back stress, in the units
+        of k (the yield radius is sqrt 2 k); ``inf``: unbounded (linear kinematic hardening);
         None for perfect plasticity.
     edge : ndarray, optional
         ``(6, ...)`` elastic stress outside the box (where the residual field is zero) over
@@ -301,7 +301,7 @@ def _solve(clarabel, load, residual, radius, pairs, bound):
     b = np.zeros(6 * count)
     b[0::6] = radius[cell]
     cones = [clarabel.SecondOrderConeT(6)] * count
-    if extra:  # |alpha| <= bound per cell
+    if extra and math.isfinite(bound):  # |alpha| <= bound per cell (else free)
         rows = (np.arange(cells)[:, None] * 6 + 1 + np.arange(5)[None, :]).ravel()
         cols = (
             1
@@ -374,7 +374,7 @@ def pointwise_limit(
         if back:
             a[1 + k :: 6, 1 + m + k] = 1.0
     cones = [clarabel.SecondOrderConeT(6)] * count
-    if back:  # (b, alpha)
+    if back and math.isfinite(back_stress_bound):  # (b, alpha); else free
         extra = np.zeros((6, n))
         extra[1:, 1 + m :] = -np.eye(5)
         a = np.vstack([a, extra])

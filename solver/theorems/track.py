@@ -27,7 +27,13 @@ from scipy.optimize import minimize, minimize_scalar
 
 from ..theory.half_space import hamilton_stress, mcewen_stress
 from ..theory.shakedown import sliding_first_yield
-from .melan import SURFACE_SHIFTS, StaticLimit, pointwise_limit, static_limit
+from .melan import (
+    SURFACE_SHIFTS,
+    StaticLimit,
+    deviatoric_coordinates,
+    pointwise_limit,
+    static_limit,
+)
 from .residual import line_basis, section_basis
 
 #: Contacts a track can carry.
@@ -37,6 +43,8 @@ SURFACE = 1e-9
 #: Positions per contact radius of the upper bound's stress paths (finer than the program's:
 #: a coarse path would overstate the bound).
 BOUND_POSITIONS = 100
+#: Cells the upper bound tries: the widest stress paths, of all cells and of the binding ones.
+CANDIDATES = 6
 #: Evaluations of the upper bound's local search.
 SEARCH_EVALUATIONS = 40
 
@@ -58,8 +66,10 @@ class Track:
     width, depth, span : float
         Half-width and depth of the box, reach of the positions either side, in a.
     back_stress_bound : float or None
-        Kinematic hardening that saturates: the largest back stress norm, in k times sqrt 2
-        (the yield surface may move that far); None for perfect plasticity.
+        Kinematic hardening: the largest norm ``|alpha| / k`` of the deviatoric back stress
+        (Frobenius; the yield radius is sqrt 2 in these units, and an Armstrong-Frederick back
+        stress saturating at ``C / gamma`` uniaxially has ``sqrt 2 (C / gamma) / sigma_Y``);
+        ``inf`` for linear (Prager) hardening, None for perfect plasticity.
     """
 
     contact: str = "point"
@@ -117,6 +127,9 @@ class TrackLimits:
         First yield ``p0 / k``.
     surface_flow : float
         ``1 / mu``: the surface shear reaches k (inf for mu = 0).
+    y, z : ndarray
+        The cross-section's points (in a): y of the cell columns (the half y >= 0 of a point
+        contact, 0 for a line), z of the surface (0) and the cell centres.
     """
 
     static: StaticLimit
@@ -124,6 +137,8 @@ class TrackLimits:
     upper_at: tuple[float, float]
     first_yield: float
     surface_flow: float
+    y: np.ndarray
+    z: np.ndarray
 
 
 def track_limits(track: Track) -> TrackLimits:
@@ -151,14 +166,17 @@ def track_limits(track: Track) -> TrackLimits:
         basis = line_basis(z.size)
         edge = track.stress(s, 0.0, track.depth)
     static = static_limit(elastic, basis, 1.0, track.back_stress_bound, edge)
-    upper, at = _upper_bound(track, static, y, z)
+    upper, at = _upper_bound(track, static, elastic, y, z)
     first = sliding_first_yield(track.friction, track.nu, track.contact)[0]
     flow = math.inf if track.friction == 0.0 else 1.0 / track.friction
-    return TrackLimits(static, upper, at, first, flow)
+    z = np.concatenate([[0.0], z[1:]])
+    return TrackLimits(static, upper, at, first, flow, y, z)
 
 
-def _upper_bound(track: Track, static: StaticLimit, y, z) -> tuple[float, tuple[float, float]]:
-    """The smallest pointwise bound over the binding cells, the surface above, a local search."""
+def _upper_bound(
+    track: Track, static: StaticLimit, elastic: np.ndarray, y, z
+) -> tuple[float, tuple[float, float]]:
+    """The smallest pointwise bound over the likeliest cells, the surface, a local search."""
     s = track.positions(BOUND_POSITIONS)
     line = track.contact == "line"
     shifts = SURFACE_SHIFTS if line else None  # a line's fields: rho_xx, rho_yy, rho_xy only
@@ -170,13 +188,22 @@ def _upper_bound(track: Track, static: StaticLimit, y, z) -> tuple[float, tuple[
         allowed = SURFACE_SHIFTS if surface else shifts
         return pointwise_limit(path, allowed, 1.0, track.back_stress_bound)
 
-    cells = (
-        np.argwhere(static.binding)
-        if static.binding.any()
-        else np.argwhere(np.ones_like(static.binding))
-    )
-    candidates = [(float(y[i]), float(z[k])) for i, k in cells[:8]]
-    candidates += [(c[0], 0.0) for c in candidates if c[1] > SURFACE]
+    # candidates: the surface points, and the cells whose stress paths are widest (a path of
+    # diameter D needs a ball of radius D/2 at least: the widest are the likeliest to bind),
+    # among all cells and among the binding ones
+    coords = deviatoric_coordinates(elastic).reshape(5, elastic.shape[1], -1)
+    width = np.zeros(coords.shape[2])
+    for p in range(coords.shape[1]):
+        gap = coords - coords[:, p : p + 1, :]
+        width = np.maximum(width, np.sqrt(np.einsum("dpc,dpc->pc", gap, gap)).max(axis=0))
+    inside = np.arange(width.size) % z.size > 0  # layer 0 is the surface
+    binding = static.binding.ravel() & inside
+    ranked = [
+        *np.argsort(np.where(inside, -width, np.inf))[:CANDIDATES],
+        *np.argsort(np.where(binding, -width, np.inf))[: min(CANDIDATES, int(binding.sum()))],
+    ]
+    candidates = [(float(y[c // z.size]), float(z[c % z.size])) for c in dict.fromkeys(ranked)]
+    candidates += [(float(py), 0.0) for py in y]
     values = [bound(c) for c in candidates]
     best = int(np.nanargmin(values))
     start = candidates[best]

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import importlib
 
-#: Scene -> (module, runner, the options it takes of ``peers``, ``repeat``, ``error`` and
-#: ``periodic``).
+#: Scene -> (module, runner, the options it takes of ``peers``, ``repeat``, ``error``,
+#: ``periodic`` and ``incremental``).
 SCENES = {
     "hertz": ("hertz", "run_hertz", ("peers", "repeat")),
     "cattaneo": ("cattaneo", "run_cattaneo", ("peers", "repeat")),
@@ -19,6 +19,7 @@ SCENES = {
     "rough": ("rough", "run_rough", ("peers", "periodic")),
     "moving": ("moving", "run_moving", ()),
     "rolling": ("rolling", "run_rolling", ("peers",)),
+    "shakedown": ("shakedown", "run_shakedown", ("incremental",)),
 }
 
 DEFAULT_SIZES = {
@@ -31,6 +32,7 @@ DEFAULT_SIZES = {
     "rough --periodic": [32, 64, 128],
     "moving": [16, 32],
     "rolling": [32, 64],
+    "shakedown": [],  # the campaign fixes the cases
 }
 
 
@@ -41,6 +43,7 @@ def run_benchmark(
     repeat: int = 3,
     error: bool = False,
     periodic: bool = False,
+    incremental: bool = False,
 ) -> int:
     """Run a benchmark scene, print its table, and return an exit status."""
     module, runner, takes = SCENES[scene]
@@ -49,6 +52,11 @@ def run_benchmark(
     if periodic and "periodic" not in takes:
         raise ValueError(f"--periodic: scene {scene!r} has no periodic form (only rough)")
     run = getattr(importlib.import_module(f"{__package__}.{module}"), runner)
-    options = {"peers": peers, "repeat": repeat, "error": error, "periodic": periodic}
+    if incremental and "incremental" not in takes:
+        raise ValueError(f"--incremental: scene {scene!r} has no such run (only shakedown)")
+    options = {
+        "peers": peers, "repeat": repeat, "error": error, "periodic": periodic,
+        "incremental": incremental,
+    }  # fmt: skip
     default = DEFAULT_SIZES[f"{scene} --periodic" if periodic else scene]
     return run(sizes or default, **{k: options[k] for k in takes})

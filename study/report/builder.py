@@ -21,7 +21,7 @@ import numpy as np
 from solver.result import STATUS_FLAGS
 
 from .. import analysis
-from . import cycles, plastic, rolling, rough, shakedown
+from . import cycles, plastic, rolling, rough, shakedown, theorem
 from .elastic import (
     _convergence_note,
     plot_convergence,
@@ -102,6 +102,7 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
         dataset = analysis.with_derived(raw.load())
     name = str(dataset.attrs.get("campaign", path.stem))
     heights_only = _heights_only(dataset, storage.cases_dir(out))
+    by_theorem = theorem.is_theorem(dataset)  # no load path was followed: no profiles, no maps
     mesh = analysis.mesh_axes(dataset)
     names = analysis.quantities(dataset)
     refs = analysis.closed_forms(dataset)
@@ -216,7 +217,9 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
             figures.append(("Speed versus error", png, note))
             lines += [f"![speed versus error]({png.name})", "", f"Shown: {note}.", ""]
         cases = storage.cases_dir(out)
-        if heights_only:
+        if by_theorem:
+            pass  # the theorem's section says what the cases hold
+        elif heights_only:
             lines += [
                 "## Profiles and stick/slip maps",
                 "",
@@ -225,16 +228,13 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
                 "rough-interface section below has their curves and maps.",
                 "",
             ]
-        png = None if heights_only else plot_profiles(dataset, out / f"{name}_profiles.png")
+        skip = heights_only or by_theorem
+        png = None if skip else plot_profiles(dataset, out / f"{name}_profiles.png")
         if png:
             note = profile_panels(dataset)[1]
             figures.append(("Traction profiles", png, note))
             lines += ["## Profiles", "", f"![profiles]({png.name})", "", f"Shown: {note}.", ""]
-        png = (
-            None
-            if heights_only
-            else plot_stick_slip(dataset, cases, out / f"{name}_stick_slip.png")
-        )
+        png = None if skip else plot_stick_slip(dataset, cases, out / f"{name}_stick_slip.png")
         if png:
             note = stick_slip_panels(dataset, cases)[1]
             figures.append(("Stick/slip maps", png, note))
@@ -242,7 +242,9 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
             lines += [f"Shown: {note}.", ""]
     if heights_only:
         lines += rough.section(dataset, out, name, plt, figures)
-    if analysis.is_plastic(dataset) and not heights_only:  # (the rough section has its own)
+    if by_theorem:
+        lines += theorem.section(dataset, out, name, plt, figures)
+    elif analysis.is_plastic(dataset) and not heights_only:  # (the rough has its own)
         lines += plastic.section(dataset, out, name, plt, figures)
     if "cycle" in dataset.dims:
         lines += cycles.section(dataset, out, name, plt, figures)

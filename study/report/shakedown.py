@@ -11,7 +11,9 @@ cycle.  This section writes
   cycles, the gain of the first and the last cycle and the net tensor change of the last one;
 - ``<name>_shakedown_map.png``: p_0/k against mu, one marker per case coloured by its regime,
   with first yield under a sliding point contact (Hamilton's field,
-  :func:`solver.theory.shakedown.sliding_first_yield`), the line mu p_0 = k (above it the sliding
+  :func:`solver.theory.shakedown.sliding_first_yield`), Melan's static limit solved directly
+  and its upper bound (:func:`static_curve`: the classical limit, for an unchanging surface;
+  the cases put the print into the gap), the line mu p_0 = k (above it the sliding
   shear at Hertz's peak exceeds what a perfectly plastic surface can carry:
   :attr:`solver.plasticity.hardening.Hardening.shear_limit`) and each converged case's Melan
   bound drawn over it.
@@ -101,6 +103,24 @@ def first_yield_curve(mu_max: float, nu: float, points: int = 41) -> tuple[np.nd
     return mu, np.array([sliding_first_yield(m, nu)[0] for m in mu])
 
 
+#: Cross-section cells a contact radius of the static limit drawn over an incremental map (a
+#: second or two a point; 1 % above the fine-mesh limit at mu = 0).
+STATIC_CELLS = 4
+
+
+def static_curve(mu_max: float, nu: float, step: float = 0.1) -> tuple[np.ndarray, ...]:
+    """(mu, static limit, upper bound) p_0/k of a sliding point contact, perfect plasticity.
+
+    Melan's theorem solved directly (:func:`solver.theorems.track.track_limits`) on cells of
+    a/:data:`STATIC_CELLS`, mu from 0 to ``mu_max`` every ``step``.
+    """
+    from solver.theorems.track import Track, track_limits
+
+    mu = np.arange(0.0, mu_max + 1e-9, step)
+    limits = [track_limits(Track("point", float(m), nu, STATIC_CELLS)) for m in mu]
+    return mu, np.array([t.static.factor for t in limits]), np.array([t.upper for t in limits])
+
+
 def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
     """p_0/k against mu, a marker per case (shape and colour: its regime); first yield over it.
 
@@ -137,6 +157,10 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
     if nu is not None:
         mu, ratio = first_yield_curve(mu_max, nu)
         ax.plot(mu, ratio, "k-", lw=1, label=f"first yield (Hamilton 1983, nu = {nu:g})")
+        mu, static, upper = static_curve(mu_max, nu)
+        ax.plot(mu, static, "-", color="tab:purple", lw=1.2,
+                label=f"Melan's static limit, direct (cells a/{STATIC_CELLS})")  # fmt: skip
+        ax.plot(mu, upper, "--", color="tab:purple", lw=1, label="its pointwise upper bound")
     # mu p_0 = k: past it the sliding shear at Hertz's peak exceeds the shear a perfectly
     # plastic surface can carry (solver.plasticity.hardening.Hardening.shear_limit)
     top = ax.get_ylim()[1]

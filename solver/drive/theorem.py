@@ -1,0 +1,96 @@
+"""A case solved by Melan's theorem, not along its load path (``method = "static_shakedown"``).
+
+The case gives the track: its circular Hertz contact (the largest normal force of its loaded
+slides, Hertz's p_0 and contact radius a), the shear ``mu p`` of gross sliding along x,
+Poisson's ratio and the yield stress of body 2 (k = sigma_Y0 / sqrt 3), its kinematic
+hardening (the back stress bound: Armstrong-Frederick's saturation, unbounded for Prager's);
+the cross-section's cells follow the case's cells (a / the largest cell side, from
+:data:`MIN_CELLS` to :data:`MAX_CELLS` a contact radius).  :func:`solve_static_shakedown`
+returns a :class:`~solver.result.Result` of one step: the limits (histories
+``static_shakedown_limit``, ``shakedown_upper_bound``, ``first_yield_limit``,
+``shakedown_load_factor``), the residual field that proves the static limit and where it
+binds (fields on ``y_section``, ``z_section``), and on the surface the Hertz pressure and the
+sliding shear the theorem passes along the track.  Status: converged when the program is
+optimal, truncated when the elastic field yields outside the cross-section's box, not
+converged otherwise; the reason is a note.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..result import SEPARATED, SLIP, Result
+from ..spec.case import Case
+from ..theorems.track import Track, track_limits
+from ..theory.hertz import hertz
+
+#: Fewest and most cross-section cells a contact radius.
+MIN_CELLS, MAX_CELLS = 4, 16
+
+
+def track_of(case: Case) -> tuple[Track, float, float, float]:
+    """The track of a static-shakedown case, its p_0 (Pa), a (m) and normal force (N)."""
+    body = case.body2
+    hardening = body.hardening
+    force = max(s.normal_force for s in case.stages if s.motion == "slide")
+    contact = hertz(force, case.pair.composite_modulus, case.pair.curvature)
+    bound = None
+    if hardening.kinematic:
+        recall = hardening.kinematic_recall
+        saturation = hardening.kinematic_modulus / recall if recall > 0.0 else math.inf
+        bound = math.sqrt(2.0) * saturation / hardening.yield_stress
+    grid = case.surface_grid
+    cell = max(grid.dx, grid.dy, case.volume_grid.dz if case.volume_grid else 0.0)
+    cells = min(MAX_CELLS, max(MIN_CELLS, round(contact.radius / cell)))
+    track = Track("point", case.friction_coefficient, body.nu, cells, back_stress_bound=bound)
+    return track, contact.max_pressure, contact.radius, force
+
+
+def solve_static_shakedown(case: Case) -> Result:
+    """Melan's static limit of the case's sliding track, with its upper bound and first yield."""
+    start = time.perf_counter()
+    track, p0, a, force = track_of(case)
+    k = case.body2.hardening.yield_stress / math.sqrt(3.0)
+    limits = track_limits(track)
+    static = limits.static
+    history = {
+        "normal_force": np.array([force]),
+        "max_pressure": np.array([p0]),
+        "static_shakedown_limit": np.array([static.factor]),
+        "shakedown_upper_bound": np.array([limits.upper]),
+        "first_yield_limit": np.array([limits.first_yield]),
+        "shakedown_load_factor": np.array([static.factor * k / p0]),
+        "program_iterations": np.array([float(static.solver_iterations)]),
+        "step_converged": np.array([1.0 if static.converged else 0.0]),
+    }
+    grid = case.surface_grid
+    x, y = np.meshgrid(grid.x, grid.y, indexing="ij")
+    pressure = p0 * np.sqrt(np.clip(1.0 - (x * x + y * y) / (a * a), 0.0, None))
+    fields = {
+        "static_residual_stress": static.residual * k,
+        "static_binding": static.binding.astype(np.int8),
+    }
+    notes = [*case.warnings, f"static shakedown ({static.status}): {static.reason}"]
+    result = Result(
+        case=case,
+        grid=grid,
+        pressure=pressure,
+        shear_x=track.friction * pressure,
+        shear_y=np.zeros_like(pressure),
+        contact_state=np.where(pressure > 0.0, SLIP, SEPARATED).astype(np.int8),
+        history=history,
+        loops=("static_shakedown",),
+        converged=static.status in ("optimal", "box_too_small"),
+        notes=notes,
+        fields=fields,
+        truncated=static.status == "box_too_small",
+        section=(limits.y * a, limits.z * a),
+    )
+    result.wall_time = time.perf_counter() - start
+    return result
+
+
+__all__ = ["MAX_CELLS", "MIN_CELLS", "solve_static_shakedown", "track_of"]
