@@ -17,6 +17,7 @@ near the limit (the geometric shakedown of Kapoor and Johnson).
 
 from __future__ import annotations
 
+import sys
 import time
 from pathlib import Path
 
@@ -101,7 +102,7 @@ def run_shakedown(sizes: list[int], incremental: bool = False) -> int:
                     incremental_MB=passes["memory"],
                 )  # fmt: skip
         rows.append(row)
-        print(f"  {row['case']}: done ({time.perf_counter() - start:.0f} s)", flush=True)
+        print(f"  {row['case']}: done ({time.perf_counter() - start:.0f} s)", file=sys.stderr)
     print(
         "Shakedown map of a sliding sphere (campaigns/shakedown_map.toml, 12 cases): Melan's "
         "theorem solved directly (solver.method = static_shakedown)"

@@ -1,0 +1,216 @@
+"""``solver.method = "static_shakedown"``: a case solved by Melan's theorem, run and reported.
+
+The limits come from :mod:`solver.theorems` (tested against closed forms in
+``tests/test_theorems.py``); here: the case gives the theorem the right track, the result says
+what it holds, the inputs the theorem cannot take are refused, a campaign runs and reports.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+from study_fixtures import write
+
+import solver
+from solver.drive.theorem import track_of
+from solver.theorems.track import track_limits
+from study import analysis
+from study.campaign import load_campaign
+from study.report import build_report
+from study.report import theorem as report_theorem
+from study.run import storage
+from study.run.assemble import assemble_to_file
+from study.run.driver import RunOptions, run_campaign
+
+SIGMA_Y = 433.0127e6  # k = 250 MPa
+#: A rigid sphere sliding over elastic-perfectly plastic steel at p_0 = 3.2 k, cells of a/4.
+TABLE = {
+    "body1": {"behaviour": "rigid", "radius": 0.01},
+    "body2": {
+        "behaviour": "elastic-plastic", "radius": "inf", "E": 210e9, "nu": 0.3,
+        "hardening": {"law": "perfect", "yield_stress": SIGMA_Y},
+    },
+    "friction": {"coefficient": 0.3},
+    "grid": {"n": [48, 16, 12]},
+    "load": {"path": [{"hertz_pressure": 0.8e9, "steps": 1}, {"slide": [1e-4, 0.0], "steps": 1}]},
+    "solver": {"method": "static_shakedown"},
+}  # fmt: skip
+
+
+def _table(**changes) -> dict:
+    table = copy.deepcopy(TABLE)
+    for path, value in changes.items():
+        *keys, last = path.split("__")
+        target = table
+        for key in keys:
+            target = target[key]
+        target[last] = value
+    return table
+
+
+def test_a_case_gives_the_theorem_its_track_and_reports_the_limits():
+    case = solver.Case.from_dict(_table())
+    track, p0, a, _ = track_of(case)
+    assert p0 == pytest.approx(0.8e9) and track.friction == 0.3 and track.nu == 0.3
+    assert track.cells == round(a / case.surface_grid.dx)
+    result = solver.solve(case)
+    assert result.status == "converged" and result.loops == ("static_shakedown",)
+    expected = track_limits(track)
+    h = result.history
+    assert h["static_shakedown_limit"][0] == expected.static.factor
+    assert h["shakedown_upper_bound"][0] == expected.upper
+    k = SIGMA_Y / math.sqrt(3.0)
+    assert h["shakedown_load_factor"][0] == pytest.approx(expected.static.factor * k / p0)
+    data = result.to_xarray()
+    assert data["static_residual_stress"].dims == ("component", "y_section", "z_section")
+    assert float(data["z_section"][0]) == 0.0 and data["y_section"].attrs["units"] == "m"
+    assert np.abs(data["static_residual_stress"]).max() > 0.1 * k  # in Pa, not in units of k
+    assert int(data["static_binding"].sum()) >= 1
+    assert data["pressure"].max() == pytest.approx(p0, rel=0.05)  # Hertz's, on the cells
+
+
+def test_the_method_is_in_the_case_id_only_when_not_incremental():
+    incremental = _table(solver={})
+    ids = {solver.Case.from_dict(incremental).case_id}
+    ids.add(solver.Case.from_dict(_table(solver={"method": "incremental"})).case_id)
+    assert len(ids) == 1
+    assert solver.Case.from_dict(_table()).case_id not in ids
+    assert "method" not in solver.Case.from_dict(incremental).spec["solver"]
+
+
+def test_kinematic_hardening_bounds_the_back_stress():
+    hardening = {
+        "law": "perfect", "yield_stress": SIGMA_Y,
+        "kinematic": {"law": "armstrong-frederick", "C": 20e9, "gamma": 200.0},
+    }  # fmt: skip
+    case = solver.Case.from_dict(_table(body2__hardening=hardening))
+    track = track_of(case)[0]
+    assert track.back_stress_bound == pytest.approx(math.sqrt(2.0) * (20e9 / 200.0) / SIGMA_Y)
+    prager = {**hardening, "kinematic": {"law": "prager", "C": 20e9}}
+    assert math.isinf(
+        track_of(solver.Case.from_dict(_table(body2__hardening=prager)))[0].back_stress_bound
+    )
+    perfect = solver.solve(solver.Case.from_dict(_table()))
+    kinematic = solver.solve(case)
+    assert kinematic.status == "converged"
+    limit = kinematic.history["static_shakedown_limit"][0]
+    assert limit >= perfect.history["static_shakedown_limit"][0] * (1.0 - 1e-6)
+
+
+@pytest.mark.parametrize(
+    "changes, key, words",
+    [
+        ({"solver": {"method": "melan"}}, "solver.method", "must be one of"),
+        (
+            {"body2__hardening": {"law": "linear", "yield_stress": SIGMA_Y, "modulus": 1e9}},
+            "body2.hardening.law",
+            "isotropic hardening",
+        ),
+        (
+            {
+                "body1": {"behaviour": "rigid", "radius_x": 0.01, "radius_y": 0.02},
+                "grid": {"n": [48, 32, 12]},
+            },
+            "solver.method",
+            "elliptical",
+        ),
+        (
+            {
+                "load": {
+                    "path": [
+                        {"hertz_pressure": 0.8e9, "steps": 1},
+                        {"hertz_pressure": 0.0, "steps": 1},
+                        {"slide": [1e-4, 0.0], "steps": 1},
+                    ]
+                }
+            },
+            "solver.method",
+            "slide the loaded contact along x",
+        ),
+        (
+            {
+                "load": {
+                    "path": [
+                        {"hertz_pressure": 0.8e9, "steps": 1},
+                        {"slide": [0.0, 1e-4], "steps": 1},
+                    ]
+                },
+                "grid": {"n": [48, 48, 12]},
+            },
+            "solver.method",
+            "along x",
+        ),
+        (
+            {"body2__behaviour": "elastic", "body2__hardening": None},
+            "solver.method",
+            "elastic-plastic body 2",
+        ),
+    ],
+)
+def test_what_the_theorem_cannot_take_is_refused(changes, key, words):
+    table = _table(**changes)
+    if table["body2"].get("hardening") is None:
+        table["body2"].pop("hardening", None)
+    with pytest.raises(solver.SpecError) as raised:
+        solver.Case.from_dict(table)
+    assert key in str(raised.value) and words in str(raised.value)
+
+
+CAMPAIGN = """
+[campaign]
+name = "theorem"
+
+[base]
+grid = { n = [48, 16, 12] }
+body1 = { behaviour = "rigid", radius = 0.01 }
+solver = { method = "static_shakedown" }
+friction = { coefficient = 0.0 }
+
+[base.body2]
+behaviour = "elastic-plastic"
+radius = "inf"
+E = 210e9
+nu = 0.3
+hardening = { law = "perfect", yield_stress = 433.0127e6 }
+
+[[base.load.path]]
+hertz_pressure = 0.8e9
+steps = 1
+
+[[base.load.path]]
+slide = [1e-4, 0.0]
+steps = 1
+
+[sweep]
+"friction.coefficient" = [0.0, 0.5]
+"""
+
+
+@pytest.fixture(scope="module")
+def theorem_campaign(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("theorem")
+    campaign = load_campaign(write(folder, CAMPAIGN))
+    assert run_campaign(campaign, folder / "out", options=RunOptions()).exit_status == 0
+    assemble_to_file(folder / "out")
+    return folder / "out"
+
+
+def test_a_theorem_campaign_assembles_and_reports(theorem_campaign):
+    with xr.open_dataset(theorem_campaign / "theorem.nc") as raw:
+        dataset = analysis.with_derived(raw.load())
+    assert report_theorem.is_theorem(dataset)
+    table = report_theorem.theorem_table(dataset)
+    assert list(table["mu"]) == [0.0, 0.5]
+    cases = storage.read_campaign(theorem_campaign).cases
+    frictionless, sliding = (track_of(item.case())[0] for item in cases)
+    assert (frictionless.friction, sliding.friction) == (0.0, 0.5)
+    assert table["static p0/k"].iloc[0] == pytest.approx(track_limits(frictionless).static.factor)
+    assert table["upper p0/k"].iloc[1] == pytest.approx(track_limits(sliding).upper)
+    report = build_report(theorem_campaign)
+    text = report.read_text()
+    assert "## Static shakedown" in text and "## Profiles" not in text
+    assert (theorem_campaign / "theorem_static_shakedown_map.png").exists()
