@@ -132,6 +132,7 @@ SOLVER_DEFAULTS = {
     "fft_planner": "estimate",
     "volume_precision": "double",
     "method": "incremental",
+    "residual_print": "in_gap",
 }
 #: Smallest plasticity tolerance a single-precision volume convolution can settle to: its
 #: rounding (~1e-7 of the stress) would otherwise keep the plasticity loop from converging.
@@ -486,6 +487,13 @@ CASE_KEYS: tuple[Key, ...] = (
         '"single" uses about half its memory and saves about 1/6 of the CPU at 48^3 '
         "(docs/tables/plastic.md), results within ~1e-7 of double's (part of the case id when "
         "single)."),
+    Key("solver", "residual_print", "string", "", f'"{SOLVER_DEFAULTS["residual_print"]}"',
+        '"in_gap" or "ignored"', "elastic-plastic bodies",
+        '"in_gap": the residual surface displacements of the plastic strain enter the gap (the '
+        'contact conforms to its print); "ignored": they are recorded but left out of the '
+        "gap, so the tractions are those of the unchanging surface (the assumption of the "
+        "classical shakedown theorems: compare like with like); part of the case id when "
+        "ignored."),
     Key("solver", "method", "string", "", f'"{SOLVER_DEFAULTS["method"]}"',
         '"incremental" or "static_shakedown"', "elastic-plastic body 2 on a sliding track",
         '"incremental": the four loops along the load path; "static_shakedown": Melan\'s '

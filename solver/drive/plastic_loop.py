@@ -131,6 +131,8 @@ def relative_residual(
 ) -> ResidualDisplacement:
     """Residual displacements of the pair (what enters the gap) from each plastic body's own.
 
+    None of them with ``solver.residual_print = "ignored"`` (zeros: the surface unchanged).
+
     ``displacements`` maps a body (1 or 2) to its residual surface displacements in its own
     frame (z into it).  Body 1's frame is (x, -y, -z) in body 2's: its dent adds to the gap
     like body 2's, and its tangential displacement, ``(u_x, -u_y)`` on the common axes, is
@@ -138,6 +140,9 @@ def relative_residual(
     (paper's eq. 2): the normal displacements of the two bodies add up and their tangential
     ones coincide, so no relative tangential part.
     """
+    if operators.case.solver.residual_print == "ignored":  # the surface stays as it was
+        zero = np.zeros_like(next(iter(displacements.values()))[2])
+        return ResidualDisplacement(zero, zero, zero)
     if operators.case.symmetric_plastic:
         uz = displacements[2][2]
         zero = np.zeros_like(uz)

@@ -387,6 +387,11 @@ class Case:
                 depth = grid.depth_body1 if own else grid.depth
                 check_volume(body, depth, grid.nz, p_max, given_key, region)
         solver = parse_solver(table.get("solver", {}))
+        if solver.residual_print == "ignored" and plastic is None:
+            fail(
+                "solver.residual_print",
+                "only an elastic-plastic body leaves a print to ignore: leave the key out",
+            )
         output = check_keys(table.get("output", {}), "output", table_keys("output"))
         form = f"a list drawn from {list(FIELD_OUTPUTS)}"
         fields = [plain(f) for f in entries(output.get("fields", []), "output.fields", form)]

@@ -57,6 +57,7 @@ class SolverOptions:
     fft_planner: str = SOLVER_DEFAULTS["fft_planner"]
     volume_precision: str = SOLVER_DEFAULTS["volume_precision"]
     method: str = SOLVER_DEFAULTS["method"]
+    residual_print: str = SOLVER_DEFAULTS["residual_print"]
 
 
 SOLVER_RULES = {
@@ -75,6 +76,7 @@ SOLVER_RULES = {
     "fft_planner": ("planner",),
     "volume_precision": ("precision",),
     "method": ("method",),
+    "residual_print": ("print",),
 }
 
 
@@ -111,6 +113,10 @@ def parse_solver(table: Any) -> SolverOptions:
             if value not in METHODS:
                 fail(path, f"must be one of {list(METHODS)}, got {value!r}")
             values[key] = value
+        elif rule == "print":
+            if value not in RESIDUAL_PRINTS:
+                fail(path, f"must be one of {list(RESIDUAL_PRINTS)}, got {value!r}")
+            values[key] = value
         elif rule == "threads":
             values[key] = integer(value, path, 1, MAX_FFT_THREADS)
         elif rule == "memory":
@@ -137,7 +143,9 @@ def parse_solver(table: Any) -> SolverOptions:
 METHODS = ("incremental", "static_shakedown")
 #: Solver keys added after cases were stored: in the normalised table (and the case id) only
 #: when not their default, so the ids of the cases before them stay as they were.
-ID_SILENT_DEFAULTS = ("volume_precision", "method")
+ID_SILENT_DEFAULTS = ("volume_precision", "method", "residual_print")
+#: What ``solver.residual_print`` can be: the print in the gap, or left out of it.
+RESIDUAL_PRINTS = ("in_gap", "ignored")
 #: Solver keys of how a case is computed, not what: kept in the table, not in the case id.
 EXECUTION_KEYS = ("fft_threads", "fft_planner")
 
