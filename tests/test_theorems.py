@@ -50,11 +50,18 @@ def _flamant(x: float, z: float, mu: float) -> np.ndarray:
     )
 
 
+@pytest.mark.validation
 @pytest.mark.parametrize("x, z", [(0.0, 0.5), (0.3, 0.2), (-0.8, 0.4), (1.5, 0.3), (-1.2, 1.0)])
-def test_mcewen_matches_flamant_quadrature(x, z):
+def test_mcewen_matches_flamant_quadrature(x, z, validation):
     mu, nu = 0.3, 0.25
     closed = mcewen_stress(x, z, 1.0, 1.0, nu, mu)
-    assert np.allclose(closed[[0, 2, 4]], _flamant(x, z, mu), atol=1e-9)
+    quadrature = _flamant(x, z, mu)
+    assert np.allclose(closed[[0, 2, 4]], quadrature, atol=1e-9)
+    validation(
+        "Sliding line contact's stress field (McEwen 1949), mu = 0.3",
+        "quadrature of Flamant's line loads, 5 points",
+        float(np.abs(closed[[0, 2, 4]] - quadrature).max() / np.abs(quadrature).max()),
+    )
     assert closed[1] == pytest.approx(nu * (closed[0] + closed[2]))
     assert closed[3] == closed[5] == 0.0
 
@@ -129,7 +136,8 @@ def test_symmetric_half_gives_the_full_sections_limit():
     assert factors[1] == pytest.approx(factors[0], rel=1e-5)
 
 
-def test_line_contact_limit_is_johnson_and_jefferis_and_converges():
+@pytest.mark.validation
+def test_line_contact_limit_is_johnson_and_jefferis_and_converges(validation):
     """Frictionless line contact: 1 / max |tau_xz| (0.25 p0), within 2 %, error shrinking."""
     z = np.linspace(1e-3, 2.0, 4001)
     x = np.linspace(-2.0, 2.0, 801)
@@ -145,9 +153,15 @@ def test_line_contact_limit_is_johnson_and_jefferis_and_converges():
     assert all(e > -1e-4 for e in errors)  # the cells sample the field: at or above the limit
     assert abs(errors[0]) < 0.02
     assert abs(errors[2]) < abs(errors[1]) / 3 < abs(errors[0]) / 9  # second order
+    validation(
+        "Melan's static shakedown limit, frictionless line contact (solver.theorems)",
+        f"Johnson & Jefferis 1963: 1 / max |tau_xz| = {expected:.4f} k",
+        "error " + ", ".join(f"{e:+.1e}" for e in errors) + " at a/10, a/20, a/40",
+    )
 
 
-def test_point_contact_static_limit_meets_the_pointwise_bound_below_ponters():
+@pytest.mark.validation
+def test_point_contact_static_limit_meets_the_pointwise_bound_below_ponters(validation):
     coarse, fine = (track_limits(Track("point", 0.0, 0.3, cells=c)) for c in (4, 8))
     assert coarse.static.converged and fine.static.converged
     upper = fine.upper
@@ -159,6 +173,12 @@ def test_point_contact_static_limit_meets_the_pointwise_bound_below_ponters():
     assert upper == pytest.approx(PONTER_POINT, rel=0.01)
     assert fine.upper_at[1] == pytest.approx(0.35, abs=0.02)  # on the centre plane
     assert fine.first_yield < upper
+    validation(
+        "Melan's static shakedown limit, frictionless point contact (solver.theorems)",
+        "its pointwise upper bound; Ponter, Hearle & Johnson 1985: 4.7 k (upper bound)",
+        f"static {coarse.static.factor:.4f} k, {fine.static.factor:.4f} k at a/4, a/8; upper "
+        f"bound {upper:.4f} k at z = {fine.upper_at[1]:.3f} a",
+    )
 
 
 def test_friction_moves_the_limit_to_the_surface():
