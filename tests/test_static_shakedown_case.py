@@ -54,8 +54,8 @@ def _table(**changes) -> dict:
 
 def test_a_case_gives_the_theorem_its_track_and_reports_the_limits():
     case = solver.Case.from_dict(_table())
-    track, p0, a, _ = track_of(case)
-    assert p0 == pytest.approx(0.8e9) and track.friction == 0.3 and track.nu == 0.3
+    track, p0, (a, b), _ = track_of(case)
+    assert a == b and p0 == pytest.approx(0.8e9) and track.friction == 0.3 and track.nu == 0.3
     assert track.cells == round(a / case.surface_grid.dx)
     result = solver.solve(case)
     assert result.status == "converged" and result.loops == ("static_shakedown",)
@@ -101,6 +101,31 @@ def test_kinematic_hardening_bounds_the_back_stress():
     assert limit >= perfect.history["static_shakedown_limit"][0] * (1.0 - 1e-6)
 
 
+def test_an_elliptical_contact_lies_between_the_line_and_the_circle():
+    """Frictionless, the contact long across the track: between 4.0 k (a line) and the circle."""
+    from solver.theorems.loads import elliptical_hertz, traction_limit
+
+    table = _table(friction={"coefficient": 0.0})
+    table["body1"] = {"behaviour": "rigid", "radius_x": 0.01, "radius_y": 0.04}
+    table["grid"] = {"n": [48, 48, 12]}
+    case = solver.Case.from_dict(table)
+    track, p0, (a, b), _ = track_of(case)
+    assert b > 1.5 * a
+    result = solver.solve(case)
+    assert result.status == "converged"
+    limit = result.history["static_shakedown_limit"][0]
+    # the circle on the same cells and route (Hertz's pressure on cells of a / cells)
+    pressure, shear, grid = elliptical_hertz((1.0, 1.0), 1.0, 0.0, track.cells)
+    c = track.cells
+    circle = traction_limit(pressure, shear, grid, 0.3, 1.0, 4 * c, 3 * c, 4 * c).static.factor
+    assert 4.0 < limit < circle
+    assert result.history["first_yield_limit"][0] < limit
+    assert result.fields["static_residual_stress"].shape[1:] == (
+        result.section[0].size,
+        result.section[1].size,
+    )
+
+
 @pytest.mark.parametrize(
     "changes, key, words",
     [
@@ -109,14 +134,6 @@ def test_kinematic_hardening_bounds_the_back_stress():
             {"body2__hardening": {"law": "linear", "yield_stress": SIGMA_Y, "modulus": 1e9}},
             "body2.hardening.law",
             "isotropic hardening",
-        ),
-        (
-            {
-                "body1": {"behaviour": "rigid", "radius_x": 0.01, "radius_y": 0.02},
-                "grid": {"n": [48, 32, 12]},
-            },
-            "solver.method",
-            "elliptical",
         ),
         (
             {

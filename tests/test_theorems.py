@@ -283,3 +283,35 @@ def test_track_refuses_bad_input():
     with pytest.raises(ValueError, match="at least 2 x 2"):
         section_basis(1, 4, 1.0, 1.0)
     assert line_basis(3).shape == (18, 9)
+
+
+def test_tractions_on_cells_approach_the_closed_form_route():
+    """Hertz's pressure on cells (the route of solved and elliptical loads) against Hamilton's.
+
+    The two routes discretise differently (cell-averaged load, positions a cell apart): their
+    limits part at first order in the cell and meet as it shrinks.
+    """
+    from solver.theorems.loads import elliptical_hertz, traction_limit
+
+    gaps = []
+    for cells in (4, 8):
+        pressure, shear, grid = elliptical_hertz((1.0, 1.0), 1.0, 0.0, cells)
+        on_cells = traction_limit(pressure, shear, grid, 0.3, 1.0, 4 * cells, 3 * cells, 4 * cells)
+        closed = track_limits(Track("point", 0.0, 0.3, cells=cells))
+        assert on_cells.static.converged
+        gaps.append(on_cells.static.factor / closed.static.factor - 1.0)
+    assert 0.0 < gaps[1] < 0.6 * gaps[0] and gaps[1] < 0.03
+
+
+def test_a_long_ellipse_tends_to_the_line_contact():
+    """Frictionless ellipses long across the track: the limit falls towards the line's 4.0 k."""
+    from solver.theorems.loads import elliptical_hertz, traction_limit
+
+    limits = []
+    for ratio in (1.0, 2.0, 8.0):
+        pressure, shear, grid = elliptical_hertz((1.0, ratio), 1.0, 0.0, 4)
+        width = int((ratio + 1.5) * 4)
+        limits.append(traction_limit(pressure, shear, grid, 0.3, 1.0, 16, width, 16).static.factor)
+    line = track_limits(Track("line", 0.0, 0.3, cells=4)).static.factor
+    assert limits[0] > limits[1] > limits[2] > line
+    assert limits[2] / line - 1.0 < 0.5 * (limits[0] / line - 1.0)

@@ -1,11 +1,13 @@
 """A case solved by Melan's theorem, not along its load path (``method = "static_shakedown"``).
 
-The case gives the track: its circular Hertz contact (the largest normal force of its loaded
-slides, Hertz's p_0 and contact radius a), the shear ``mu p`` of gross sliding along x,
+The case gives the track: its Hertz contact (the largest normal force of its loaded slides,
+Hertz's p_0 and semi-axes), the shear ``mu p`` of gross sliding along x,
 Poisson's ratio and the yield stress of body 2 (k = sigma_Y0 / sqrt 3), its kinematic
 hardening (the back stress bound: Armstrong-Frederick's saturation, unbounded for Prager's);
 the cross-section's cells follow the case's cells (a / the largest cell side, from
-:data:`MIN_CELLS` to :data:`MAX_CELLS` a contact radius).  :func:`solve_static_shakedown`
+:data:`MIN_CELLS` to :data:`MAX_CELLS` a contact radius, the smaller semi-axis of an
+ellipse).  A circular contact passes Hamilton's closed-form field, an elliptical one its
+Hertz pressure on cells (:mod:`solver.theorems.loads`).  :func:`solve_static_shakedown`
 returns a :class:`~solver.result.Result` of one step: the limits (histories
 ``static_shakedown_limit``, ``shakedown_upper_bound``, ``first_yield_limit``,
 ``shakedown_load_factor``), the residual field that proves the static limit and where it
@@ -24,15 +26,19 @@ import numpy as np
 
 from ..result import SEPARATED, SLIP, Result
 from ..spec.case import Case
-from ..theorems.track import Track, track_limits
+from ..theorems.loads import elliptical_hertz, traction_limit
+from ..theorems.track import Track, TrackLimits, track_limits
 from ..theory.hertz import hertz
 
 #: Fewest and most cross-section cells a contact radius.
 MIN_CELLS, MAX_CELLS = 4, 16
 
 
-def track_of(case: Case) -> tuple[Track, float, float, float]:
-    """The track of a static-shakedown case, its p_0 (Pa), a (m) and normal force (N)."""
+def track_of(case: Case) -> tuple[Track, float, tuple[float, float], float]:
+    """The track of a static-shakedown case: its Track, p_0 (Pa), semi-axes (m), force (N).
+
+    The Track's cells are those of a contact radius (the smaller semi-axis of an ellipse).
+    """
     body = case.body2
     hardening = body.hardening
     force = max(s.normal_force for s in case.stages if s.motion == "slide")
@@ -44,33 +50,58 @@ def track_of(case: Case) -> tuple[Track, float, float, float]:
         bound = math.sqrt(2.0) * saturation / hardening.yield_stress
     grid = case.surface_grid
     cell = max(grid.dx, grid.dy, case.volume_grid.dz if case.volume_grid else 0.0)
-    cells = min(MAX_CELLS, max(MIN_CELLS, round(contact.radius / cell)))
+    axes = (contact.semi_axis_x, contact.semi_axis_y)
+    cells = min(MAX_CELLS, max(MIN_CELLS, round(min(axes) / cell)))
     track = Track("point", case.friction_coefficient, body.nu, cells, back_stress_bound=bound)
-    return track, contact.max_pressure, contact.radius, force
+    return track, contact.max_pressure, axes, force
+
+
+def _limits(case: Case) -> tuple[TrackLimits, float, float, float]:
+    """The case's limits, the factor to p_0/k, the residual field's unit (Pa), the length (m).
+
+    A circular contact passes Hamilton's closed-form field (:func:`track_limits`, lengths in
+    a, stresses in k); an elliptical one its Hertz pressure on cells of the smaller semi-axis
+    over ``cells`` (:func:`traction_limit`, factors of the load, lengths in m).
+    """
+    track, p0, axes, _ = track_of(case)
+    k = case.body2.hardening.yield_stress / math.sqrt(3.0)
+    if math.isclose(axes[0], axes[1], rel_tol=1e-9):
+        return track_limits(track), 1.0, k, axes[0]
+    pressure, shear, grid = elliptical_hertz(axes, p0, track.friction, track.cells)
+    h, small = grid.dx, min(axes)
+    limits = traction_limit(
+        pressure, shear, grid, track.nu, k,
+        depth=round(track.depth * small / h),
+        width=math.ceil((axes[1] + track.width * small) / h),
+        span=math.ceil(track.span * small / h),
+        back_stress_bound=track.back_stress_bound,
+    )  # fmt: skip
+    return limits, p0 / k, 1.0, 1.0
 
 
 def solve_static_shakedown(case: Case) -> Result:
     """Melan's static limit of the case's sliding track, with its upper bound and first yield."""
     start = time.perf_counter()
-    track, p0, a, force = track_of(case)
+    _, p0, axes, force = track_of(case)
     k = case.body2.hardening.yield_stress / math.sqrt(3.0)
-    limits = track_limits(track)
+    limits, factor, unit, length = _limits(case)
     static = limits.static
     history = {
         "normal_force": np.array([force]),
         "max_pressure": np.array([p0]),
-        "static_shakedown_limit": np.array([static.factor]),
-        "shakedown_upper_bound": np.array([limits.upper]),
-        "first_yield_limit": np.array([limits.first_yield]),
-        "shakedown_load_factor": np.array([static.factor * k / p0]),
+        "static_shakedown_limit": np.array([static.factor * factor]),
+        "shakedown_upper_bound": np.array([limits.upper * factor]),
+        "first_yield_limit": np.array([limits.first_yield * factor]),
+        "shakedown_load_factor": np.array([static.factor * factor * k / p0]),
         "program_iterations": np.array([float(static.solver_iterations)]),
         "step_converged": np.array([1.0 if static.converged else 0.0]),
     }
     grid = case.surface_grid
     x, y = np.meshgrid(grid.x, grid.y, indexing="ij")
-    pressure = p0 * np.sqrt(np.clip(1.0 - (x * x + y * y) / (a * a), 0.0, None))
+    ellipse = (x / axes[0]) ** 2 + (y / axes[1]) ** 2
+    pressure = p0 * np.sqrt(np.clip(1.0 - ellipse, 0.0, None))
     fields = {
-        "static_residual_stress": static.residual * k,
+        "static_residual_stress": static.residual * unit,
         "static_binding": static.binding.astype(np.int8),
     }
     notes = [*case.warnings, f"static shakedown ({static.status}): {static.reason}"]
@@ -78,7 +109,7 @@ def solve_static_shakedown(case: Case) -> Result:
         case=case,
         grid=grid,
         pressure=pressure,
-        shear_x=track.friction * pressure,
+        shear_x=case.friction_coefficient * pressure,
         shear_y=np.zeros_like(pressure),
         contact_state=np.where(pressure > 0.0, SLIP, SEPARATED).astype(np.int8),
         history=history,
@@ -87,7 +118,7 @@ def solve_static_shakedown(case: Case) -> Result:
         notes=notes,
         fields=fields,
         truncated=static.status == "box_too_small",
-        section=(limits.y * a, limits.z * a),
+        section=(limits.y * length, limits.z * length),
     )
     result.wall_time = time.perf_counter() - start
     return result

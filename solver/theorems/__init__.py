@@ -5,8 +5,10 @@
 - :mod:`.melan`: the static theorem as a second-order cone program (Clarabel), its certified
   factor, the pointwise upper bound;
 - :mod:`.track`: a Hertz point or line contact sliding along a track: the static limit, the
-  upper bound beside it, first yield and surface flow.
+  upper bound beside it, first yield and surface flow;
+- :mod:`.loads`: any tractions given on cells passing along x (an elliptical Hertz contact, a
+  solved case's pressure), through the subsurface stress operator.
 
-Imports: :mod:`solver.theory` (the closed-form elastic fields, first yield) and the
-declarations; scipy and clarabel.
+Imports: :mod:`solver.volume` (the traction stresses), :mod:`solver.theory` (the closed-form
+elastic fields, first yield), :mod:`solver.numerics` and the declarations; scipy, clarabel.
 """

@@ -391,6 +391,27 @@ def pointwise_limit(
     return float(out.x[0])
 
 
+def likeliest_cells(elastic: np.ndarray, binding: np.ndarray, count: int) -> list[tuple[int, int]]:
+    """Cells (j, k) below the surface whose stress paths are widest, of all and of the binding.
+
+    A path of diameter D needs a ball of radius D/2 at least: the widest paths are the
+    likeliest to bind the pointwise bound.  Layer 0 is the surface (not among them).
+    """
+    coords = deviatoric_coordinates(elastic).reshape(5, elastic.shape[1], -1)
+    width = np.zeros(coords.shape[2])
+    for p in range(coords.shape[1]):
+        gap = coords - coords[:, p : p + 1, :]
+        width = np.maximum(width, np.sqrt(np.einsum("dpc,dpc->pc", gap, gap)).max(axis=0))
+    layers = elastic.shape[3]
+    inside = np.arange(width.size) % layers > 0
+    bound = binding.ravel() & inside
+    ranked = [
+        *np.argsort(np.where(inside, -width, np.inf))[:count],
+        *np.argsort(np.where(bound, -width, np.inf))[: min(count, int(bound.sum()))],
+    ]
+    return [(int(c // layers), int(c % layers)) for c in dict.fromkeys(ranked)]
+
+
 #: Shifts a point on the free surface allows: rho_xx, rho_yy, rho_xy (traction-free).
 SURFACE_SHIFTS = np.array(
     [
@@ -411,6 +432,7 @@ __all__ = [
     "StaticLimit",
     "certified_factors",
     "deviatoric_coordinates",
+    "likeliest_cells",
     "pointwise_limit",
     "static_limit",
 ]

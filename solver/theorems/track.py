@@ -27,13 +27,7 @@ from scipy.optimize import minimize, minimize_scalar
 
 from ..theory.half_space import hamilton_stress, mcewen_stress
 from ..theory.shakedown import sliding_first_yield
-from .melan import (
-    SURFACE_SHIFTS,
-    StaticLimit,
-    deviatoric_coordinates,
-    pointwise_limit,
-    static_limit,
-)
+from .melan import SURFACE_SHIFTS, StaticLimit, likeliest_cells, pointwise_limit, static_limit
 from .residual import line_basis, section_basis
 
 #: Contacts a track can carry.
@@ -188,21 +182,8 @@ def _upper_bound(
         allowed = SURFACE_SHIFTS if surface else shifts
         return pointwise_limit(path, allowed, 1.0, track.back_stress_bound)
 
-    # candidates: the surface points, and the cells whose stress paths are widest (a path of
-    # diameter D needs a ball of radius D/2 at least: the widest are the likeliest to bind),
-    # among all cells and among the binding ones
-    coords = deviatoric_coordinates(elastic).reshape(5, elastic.shape[1], -1)
-    width = np.zeros(coords.shape[2])
-    for p in range(coords.shape[1]):
-        gap = coords - coords[:, p : p + 1, :]
-        width = np.maximum(width, np.sqrt(np.einsum("dpc,dpc->pc", gap, gap)).max(axis=0))
-    inside = np.arange(width.size) % z.size > 0  # layer 0 is the surface
-    binding = static.binding.ravel() & inside
-    ranked = [
-        *np.argsort(np.where(inside, -width, np.inf))[:CANDIDATES],
-        *np.argsort(np.where(binding, -width, np.inf))[: min(CANDIDATES, int(binding.sum()))],
-    ]
-    candidates = [(float(y[c // z.size]), float(z[c % z.size])) for c in dict.fromkeys(ranked)]
+    cells = likeliest_cells(elastic, static.binding, CANDIDATES)
+    candidates = [(float(y[j]), float(z[k])) for j, k in cells]
     candidates += [(float(py), 0.0) for py in y]
     values = [bound(c) for c in candidates]
     best = int(np.nanargmin(values))
