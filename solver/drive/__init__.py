@@ -5,7 +5,9 @@
 - :mod:`.plastic_loop`: the plasticity loop around any contact step;
 - :mod:`.window`: the window that follows a moving contact over body 2's track;
 - :mod:`.record`: the histories, fields and notes a solve records;
-- :mod:`.loops`: :func:`~.loops.solve`, the load-path driver that runs the loops a scene needs.
+- :mod:`.loops`: :func:`~.loops.solve`, the load-path driver that runs the loops a scene needs;
+- :mod:`.theorem`: a case solved by Melan's theorem on its sliding track instead of its path
+  (``solver.method = "static_shakedown"``).
 
 Imports: everything below (:mod:`solver.result` included).  A new loop or a new kind of step
 goes here: a step in :mod:`.steps`, a loop around it beside :mod:`.plastic_loop`, its histories

@@ -44,6 +44,8 @@ DEPTH = 0.125
 #: Largest mesh Tamaas runs on (cells a period): at 256 it would take about ten hours here
 #: (267 s at 64, 8 to 16 times more for each doubling); ours runs on every size asked for.
 PEER_LARGEST = 128
+#: Longest a peer's run may take (s): Tamaas at 128 cells takes more than the default half hour.
+PEER_TIMEOUT = 4 * 3600.0
 #: Layers per cell width: layers half a cell thick (on cubic cells weak hardening lets the
 #: plasticity loop stall, :func:`solver.spec.notes.layer_note`).
 LAYERS = 2
@@ -195,7 +197,7 @@ def run_rough_periodic(sizes: list[int], peers: bool = False) -> int:
     for n in sorted(sizes):
         runs = {("slipstick", n): isolated(_ours, n)}
         if have_tamaas and n <= PEER_LARGEST:
-            runs["tamaas", n] = isolated(_tamaas, _inputs(n))
+            runs["tamaas", n] = isolated(_tamaas, _inputs(n), timeout=PEER_TIMEOUT)
         for key, (status, out) in runs.items():
             if status == "ok":
                 results[key] = out
