@@ -124,4 +124,30 @@ def solve_static_shakedown(case: Case) -> Result:
     return result
 
 
-__all__ = ["MAX_CELLS", "MIN_CELLS", "solve_static_shakedown", "track_of"]
+def conformed_limit(result: Result) -> TrackLimits:
+    """Melan's factor of a solved sliding case's final tractions, passed along its track.
+
+    The pressure and shear the case carried last (on the print it made, when the print is in
+    the gap) as the load of the static theorem (:func:`solver.theorems.loads.traction_limit`,
+    body 2 elastic-perfectly plastic or kinematic as in the case), on the case's cells: a
+    factor of at least 1 says the contact as it has conformed shakes down under its own load.
+    The case's grid must be centred on the track (y = 0, an even number of cells across).
+    """
+    case = result.case
+    if result.pressure.max() <= 0.0:
+        raise ValueError("the case ends unloaded: no tractions to pass along the track")
+    track = track_of(case)[0]
+    grid = result.grid
+    k = case.body2.hardening.yield_stress / math.sqrt(3.0)
+    extent = np.flatnonzero(result.pressure.max(axis=0) > 0.0)  # the contact's columns
+    small = 0.5 * (extent[-1] - extent[0] + 1) * grid.dy  # half its width across the track
+    return traction_limit(
+        result.pressure, result.shear_x, grid, track.nu, k,
+        depth=round(track.depth * small / grid.dy),
+        width=math.ceil((small + track.width * small) / grid.dy),
+        span=math.ceil(track.span * small / grid.dx),
+        back_stress_bound=track.back_stress_bound,
+    )  # fmt: skip
+
+
+__all__ = ["MAX_CELLS", "MIN_CELLS", "conformed_limit", "solve_static_shakedown", "track_of"]
