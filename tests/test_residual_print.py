@@ -61,3 +61,43 @@ def test_the_choice_is_in_the_case_id_and_needs_a_plastic_body():
         solver.Case.from_dict({**elastic, "solver": {"residual_print": "ignored"}})
     with pytest.raises(solver.SpecError, match="must be one of"):
         solver.Case.from_dict({**TABLE, "solver": {"residual_print": "partly"}})
+
+
+def _passes(print_: str, p0k: float) -> solver.Result:
+    """Two frictionless passes of campaigns/shakedown_limit.toml's scene at p_0 = p0k k."""
+    import tomllib
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "campaigns" / "shakedown_limit.toml"
+    table = tomllib.loads(path.read_text())["base"]
+    pressure = p0k * 433.0127e6 / 3**0.5
+    table["load"]["path"][0]["hertz_pressure"] = pressure
+    table["load"]["path"][1]["stages"][3]["hertz_pressure"] = pressure
+    table["load"]["path"][1]["cycles"] = 2
+    table["solver"] = {"residual_print": print_}
+    return solver.solve(solver.Case.from_dict(table))
+
+
+def test_the_conformed_contact_shakes_down_under_a_higher_nominal_load():
+    """Melan's factor of the final tractions: Hertz's limit with the print ignored; higher in it.
+
+    Ignored, the case's final tractions are Hertz's (on its cells): their factor times p_0/k
+    is the theorem's limit of the Hertz load, to the cells' discretisation.  In the gap, the
+    print flattens the pressure: the contact carries less than p_0 at its peak and the same
+    nominal load shakes down with room to spare.
+    """
+    from solver.drive.theorem import conformed_limit
+    from solver.theorems.track import Track, track_limits
+
+    p0k = 5.0
+    ignored, in_gap = _passes("ignored", p0k), _passes("in_gap", p0k)
+    k = 433.0127e6 / 3**0.5
+    hertz_limit = track_limits(Track("point", 0.0, 0.3, cells=8)).static.factor
+    elastic = conformed_limit(ignored).static
+    assert elastic.converged
+    assert elastic.factor * p0k == pytest.approx(hertz_limit, rel=0.05)
+    assert elastic.factor < 1.0  # p_0 = 5 k is past the classical limit
+    conformed = conformed_limit(in_gap).static
+    assert conformed.converged
+    assert in_gap.pressure.max() < 0.85 * p0k * k  # the print flattens the pressure
+    assert conformed.factor > 1.0 > elastic.factor
