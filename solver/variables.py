@@ -228,6 +228,12 @@ FIELDS: dict[str, Field] = {
         "gap between the unloaded bodies after the path: the initial gap plus the residual "
         "surface displacements (the plastically deformed topography; grid.periodic)",
     ),
+    "spot_areas": Field(
+        ("step", "spot"),
+        "m2",
+        "areas of the contact spots at each step, largest first, NaN past the step's count "
+        "(grid.periodic: spots joined across the period's sides)",
+    ),
     "residual_displacement_x": Field(
         ("x", "y"), "m", "residual surface displacement of the elastic-plastic body along x"
     ),

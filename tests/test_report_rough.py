@@ -70,8 +70,16 @@ def test_the_rough_section_tabulates_the_case_files(rough):
             # the print is the residual displacement of the plastic strain, into body 2
             assert np.allclose(after - before, case["residual_displacement_z"].values)
             assert case["mean_separation"].values[-1] > case["mean_separation"].values[peak]
+            # every step's spots are on record: those of the largest load, though it ends unloaded
+            areas = case["spot_areas"].values[peak]
+            areas = areas[np.isfinite(areas)]
+            assert areas.size == int(case["contact_spots"].values[peak])
+            period = 1e-4 * 1e-4
+            assert areas.sum() == pytest.approx(fraction[peak] * period)
+            assert np.all(np.diff(areas) <= 0.0)
+            assert not np.isfinite(case["spot_areas"].values[-1]).any()  # unloaded: no spot
         assert row["residual_rms_nm"] < row["gap_rms_nm"]  # the asperities flattened
-        assert "largest_spot_%" not in row or np.isnan(row["largest_spot_%"])  # ends unloaded
+        assert row["largest_spot_%"] == pytest.approx(100 * areas[0] / areas.sum())
 
 
 def test_the_rough_report_draws_its_figures(rough, monkeypatch):
@@ -79,10 +87,9 @@ def test_the_rough_report_draws_its_figures(rough, monkeypatch):
     monkeypatch.setattr("study.report.figures.DPI", 40)
     text = build_report(rough).read_text()
     assert "## Rough interface" in text and "## Plastic response" not in text
-    for name in ("load_curves", "residual_topography"):
+    for name in ("load_curves", "residual_topography", "spot_sizes"):  # spots: at the peak
         assert (rough / f"rough_{name}.png").exists()
         assert f"rough_{name}.png" in text
-    assert not (rough / "rough_spot_sizes.png").exists()  # the path ends unloaded
 
 
 def test_spot_areas_join_across_the_period():

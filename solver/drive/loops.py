@@ -57,6 +57,7 @@ from .record import (
     record_plastic,
     record_touching,
     shear_excess,
+    spot_areas,
     touches_edge,
 )
 from .steps import ContactState, StepResult, normal_step, position_of, sliding_step, slip_stick_step
@@ -317,6 +318,7 @@ def solve(case: Case) -> Result:
         names += CYCLE_PLASTIC_HISTORIES if plastic else ()
     total = case.total_steps
     history = {name: np.zeros(total) for name in names}
+    step_spots: list[np.ndarray] = []  # periodic: the spot areas of each step
     if case.cycles:
         history["step_cycle"][:] = cycles
     volume: VolumeGrid | None = case.volume_grid
@@ -432,6 +434,8 @@ def solve(case: Case) -> Result:
         state = outcome.state
         previous_target = target
         record(history, k, outcome, area, case.grid.periodic)
+        if case.grid.periodic:  # every step's spot sizes: the distribution along the path
+            step_spots.append(spot_areas(state.pressure > 0, area, periodic=True))
         if case.grid.periodic and state.normal is None:  # unloaded
             record_touching(history, k, operators.gap, plastic_state)
         if "friction_work" in history:
@@ -565,6 +569,11 @@ def solve(case: Case) -> Result:
     geometry = case.pair.geometry
     if geometry.profiles or geometry.surfaces:  # a quadric's gap is told by its radii
         result.fields["initial_gap"] = operators.gap
+    if case.grid.periodic:  # spots of each step, largest first, NaN past the step's count
+        table = np.full((total, max([1, *map(len, step_spots)])), np.nan)
+        for k, areas in enumerate(step_spots):
+            table[k, : areas.size] = areas
+        result.fields["spot_areas"] = table
     if plastic and case.grid.periodic:  # the plastically deformed topography
         result.fields["residual_gap"] = operators.gap + result.fields["residual_displacement_z"]
     result.wall_time = time.perf_counter() - start

@@ -10,8 +10,9 @@
   after the path (the residual gap: the plastically deformed topography);
 - ``<name>_load_curves.png``: the real contact fraction and the mean separation against the
   mean pressure, every case (the load-area and load-separation curves);
-- ``<name>_spot_sizes.png`` (cases whose path ends loaded): the share of spots larger than an
-  area, against the area (log-log), every case;
+- ``<name>_spot_sizes.png``: the share of spots larger than an area at the largest load,
+  against the area (log-log), every case (each step's spots are in the case files,
+  ``spot_areas``);
 - ``<name>_residual_topography.png`` (elastic-plastic): the first case's initial gap, its gap
   after the path (on one colour scale) and the difference (the plastic print).
 """
@@ -53,11 +54,26 @@ def _read(path: Path) -> dict:
                      "max_plastic_strain", "plastic_volume"):  # fmt: skip
             if name in case:
                 data[name] = case[name].values.astype(float)
-        for name in ("pressure", "initial_gap", "residual_gap"):
+        for name in ("pressure", "initial_gap", "residual_gap", "spot_areas"):
             if name in case:
                 data[name] = case[name].values.astype(float)
         data["extent"] = (x[0], x[-1], y[0], y[-1])
     return data
+
+
+def _peak_spots(data: dict) -> np.ndarray | None:
+    """Spot areas (m^2, largest first) at the largest load, or None when not on record.
+
+    Every step's spots are in the case file (``spot_areas``); a file without them has only the
+    final pressure, which serves when the path ends at its largest load.
+    """
+    peak = int(np.argmax(data["normal_force"]))
+    if "spot_areas" in data:
+        areas = data["spot_areas"][peak]
+        return areas[np.isfinite(areas)]
+    if data["normal_force"][-1] == data["normal_force"][peak] > 0:
+        return spot_areas(data["pressure"] > 0, data["cell_area"], periodic=True)
+    return None
 
 
 def rough_table(dataset, cases_dir: Path):
@@ -81,8 +97,8 @@ def rough_table(dataset, cases_dir: Path):
             "separation_nm": 1e9 * data["mean_separation"][peak],
             "spots": int(data["contact_spots"][peak]),
         }
-        if data["normal_force"][-1] > 0:
-            areas = spot_areas(data["pressure"] > 0, data["cell_area"], periodic=True)
+        areas = _peak_spots(data)
+        if areas is not None:
             row["largest_spot_%"] = 100 * areas[0] / areas.sum() if areas.size else math.nan
         if "max_plastic_strain" in data:
             row["ep_max_%"] = 100 * data["max_plastic_strain"].max()
@@ -119,23 +135,20 @@ def plot_load_curves(dataset, cases_dir: Path, path: Path) -> Path | None:
 
 
 def plot_spot_sizes(dataset, cases_dir: Path, path: Path) -> Path | None:
-    """Share of the spots larger than an area (log-log), final state of every loaded case."""
-    cases = [(labels, _read(file)) for labels, file in _cases(dataset, cases_dir)]
-    cases = [(labels, data) for labels, data in cases if data["normal_force"][-1] > 0]
+    """Share of the spots larger than an area (log-log) at the largest load, every case."""
+    cases = [(labels, _peak_spots(_read(file))) for labels, file in _cases(dataset, cases_dir)]
+    cases = [(labels, areas) for labels, areas in cases if areas is not None and areas.size]
     if not cases:
         return None
     plt = figures.pyplot()
     fig, (ax,), _ = figures.panel_grid(plt, 1, 4.2, 3.2)
-    for j, (labels, data) in enumerate(cases):
-        areas = spot_areas(data["pressure"] > 0, data["cell_area"], periodic=True)
-        if not areas.size:
-            continue
+    for j, (labels, areas) in enumerate(cases):
         share = np.arange(1, areas.size + 1) / areas.size  # larger-or-equal, largest first
         style = figures.series_style(j, len(cases))
         ax.loglog(areas * 1e12, share, label=figures.labels_text(labels), **style)
     ax.set(xlabel="spot area (um^2)", ylabel="share of spots at least this large (1)")
     ax.legend(fontsize=7)
-    figures.suptitle(fig, "Contact spot sizes at the last step (spots joined across the period)")
+    figures.suptitle(fig, "Contact spot sizes at the largest load (spots joined across the period)")
     figures.save(plt, fig, path)
     return Path(path)
 
@@ -185,7 +198,7 @@ def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
         "Per finished case, at the largest load: `p_mean_MPa` the mean pressure over the",
         "period, `contact_%` the real contact area over the period, `separation_nm` the mean",
         "gap, `spots` the contact spots (joined across the period's sides), `largest_spot_%`",
-        "the largest spot's share of the contact (last step, when loaded).  Elastic-plastic:",
+        "the largest spot's share of the contact.  Elastic-plastic:",
         "`ep_max_%` the largest equivalent plastic strain, `yielded_nm` the plastic volume",
         "over the period's area (the yielded layer's mean thickness), `gap_rms_nm` and",
         "`residual_rms_nm` the rms of the gap before and after the path.",
@@ -197,7 +210,7 @@ def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
         return lines
     drawn = (
         ("Load-area and load-separation", plot_load_curves, "load_curves", "every case"),
-        ("Contact spot sizes", plot_spot_sizes, "spot_sizes", "every case ending loaded"),
+        ("Contact spot sizes", plot_spot_sizes, "spot_sizes", "every case, at its largest load"),
         ("Residual topography", plot_residual_topography, "residual_topography",
          "the first elastic-plastic case"),
     )  # fmt: skip
