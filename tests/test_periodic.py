@@ -567,3 +567,68 @@ def test_absurd_periodic_domains_are_refused():
         table["grid"]["periodic"] = value
         with pytest.raises(solver.SpecError, match="^grid.periodic: must be true or false"):
             solver.Case.from_dict(table)
+
+
+def _plastic_friction(rms: float, yield_stress: float = 1e9) -> solver.Result:
+    """Rough steel pressed on elastic-plastic steel (beta = 0), then sheared to 0.99 mu W.
+
+    One period of 1e-4 m on 32 x 32 cells (the shortest wavelength 8 cells), 16 layers half a
+    cell thick; linear hardening sigma_Y = ``yield_stress`` + 10 GPa e_p; mu = 0.3, a mean
+    pressure of 400 MPa.  ``rms`` 5e-324 m: flat bodies.
+    """
+    steel = {"E": 210e9, "nu": 0.3}
+    rough = {"hurst": 0.8, "long_cutoff": 5e-5, "short_cutoff": 2.5e-5, "rms": rms, "seed": 5}
+    hardening = {"law": "linear", "yield_stress": yield_stress, "modulus": 10e9}
+    table = {
+        "body1": {"behaviour": "elastic", "radius": "inf", **steel},
+        "body2": {"behaviour": "elastic-plastic", "radius": "inf", **steel, "hardening": hardening},
+        "friction": {"coefficient": 0.3},
+        "grid": {"n": [32, 32, 16], "size": 1e-4, "depth": 2.5e-5, "periodic": True},
+        "load": {
+            "path": [
+                {"normal_force": 4.0, "steps": 2},
+                {"tangential_force": [0.99 * 0.3 * 4.0, 0.0], "steps": 5},
+            ]
+        },
+    }
+    table["body2"]["roughness"] = rough
+    return solver.solve(solver.Case.from_dict(table))
+
+
+def test_friction_on_a_rough_elastic_plastic_interface():
+    """Shear to gross slip on a rough elastic-plastic period: it converges, the stick spots
+    shrink to a few cells, the shear raises the plastic strain; plasticity off it is the elastic
+    interface, roughness off the smooth one (full stick, nothing yields)."""
+    rough = _plastic_friction(2e-7)
+    assert rough.status == "converged", rough.notes
+    h = rough.history
+    stick = h["stick_area"] / h["contact_area"]
+    # pressed, nearly all sticks (the plastic strain's tangential print slips a few cells)
+    assert stick[1] > 0.9 and np.all(np.diff(stick[1:]) <= 1e-12) and stick[-1] < 0.1
+    assert rough.contact_state.max() == 2 and (rough.contact_state == 1).any()  # slip and stick
+    sheared = h["max_plastic_strain"]
+    assert sheared[1] > 1e-4 and sheared[-1] > 1.05 * sheared[1]  # the shear's plastic strain
+    traction = np.hypot(rough.shear_x, rough.shear_y)
+    assert np.all(traction <= 0.3 * rough.pressure * (1 + 1e-9) + 1e-12 * rough.pressure.max())
+    # plasticity off: a yield stress nothing reaches gives the elastic interface's answer
+    stiff = _plastic_friction(2e-7, yield_stress=2.1e10)
+    assert stiff.history["max_plastic_strain"].max() == 0.0
+    elastic_table = stiff.case.to_dict()
+    elastic_table["body2"] = {**elastic_table["body2"], "behaviour": "elastic"}
+    elastic_table["body2"].pop("hardening")
+    elastic_table["grid"]["n"] = elastic_table["grid"]["n"][:2]
+    elastic_table["grid"].pop("depth")
+    elastic = solver.solve(solver.Case.from_dict(elastic_table))
+    for name in ("contact_area", "stick_area"):
+        assert np.array_equal(stiff.history[name], elastic.history[name]), name
+    # to the tangential solve's tolerance (the plastic route warm-starts differently)
+    scale = np.abs(elastic.shear_x).max()
+    np.testing.assert_allclose(stiff.shear_x, elastic.shear_x, rtol=0, atol=1e-5 * scale)
+    # roughness off: smaller asperities stick more and yield less; flat, all sticks, none yields
+    finer, flat = _plastic_friction(2e-8), _plastic_friction(5e-324)
+    fractions = [
+        r.history["stick_area"][-1] / r.history["contact_area"][-1] for r in (rough, finer, flat)
+    ]
+    strains = [r.history["max_plastic_strain"].max() for r in (rough, finer, flat)]
+    assert fractions[0] < fractions[1] <= fractions[2] == 1.0
+    assert strains[0] > strains[1] >= strains[2] == 0.0
