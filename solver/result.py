@@ -32,10 +32,35 @@ HISTORY_META = {name: (h.units, h.long_name) for name, h in HISTORIES.items()}
 #: Values of ``contact_state``.
 SEPARATED, STICK, SLIP = 0, 1, 2
 #: What a solve says of itself (:attr:`Result.status`).
-SOLVE_STATUSES = ("converged", "not_converged", "truncated")
+SOLVE_STATUSES = ("converged", "not_converged", "truncated", "surface_flow")
 #: Flags of a case's status in a campaign dataset: a solve's status, or ``pending`` (not run
 #: yet) and ``failed`` (raised, timed out, or its file is corrupt).
-STATUS_FLAGS = {"pending": 0, "converged": 1, "not_converged": 2, "failed": 3, "truncated": 4}
+STATUS_FLAGS = {
+    "pending": 0, "converged": 1, "not_converged": 2, "failed": 3, "truncated": 4,
+    "surface_flow": 5,
+}  # fmt: skip
+
+
+#: The words of the note that a surface shear passed the plastic body's limit (written by
+#: :func:`solver.solve`; the evidence :func:`stored_status` reads older case files by).
+SURFACE_FLOW_NOTE = "the surface shear traction reaches"
+#: Why a case in surface flow has no shakedown regime.
+SURFACE_FLOW_REASON = (
+    "surface flow: the surface shear exceeded what the body can carry, so its plastic strain "
+    "per cycle follows the layers (the regime is not the material's)"
+)
+
+
+def stored_status(status: str, notes: str) -> str:
+    """A stored case's status as this model tells it (:data:`SOLVE_STATUSES`).
+
+    A converged solve whose notes say the surface shear passed the body's limit
+    (:data:`SURFACE_FLOW_NOTE`) is ``"surface_flow"``: case files written before that status
+    existed carry the same evidence in their notes, found by the same criterion.
+    """
+    if status == "converged" and SURFACE_FLOW_NOTE in notes:
+        return "surface_flow"
+    return status
 
 
 #: The histories of each plastic body's largest equivalent plastic strain.
@@ -86,6 +111,11 @@ class Result:
     section : (ndarray, ndarray) or None
         y and z (m) of a sliding track's cross-section (``solver.method = "static_shakedown"``,
         dimensions ``y_section``, ``z_section``).
+    surface_flow : bool
+        True when at some step the surface shear traction exceeded the plastic body's shear
+        limit (:attr:`solver.plasticity.hardening.Hardening.shear_limit`; a note says when):
+        no stress field in equilibrium with it stays within yield, so the plastic strain near
+        the surface depends on the layers.
     """
 
     case: Case
@@ -105,18 +135,23 @@ class Result:
     truncated: bool = False
     melan_factor: float | None = None
     section: tuple[np.ndarray, np.ndarray] | None = None
+    surface_flow: bool = False
 
     @property
     def status(self) -> str:
-        """``"converged"``, ``"not_converged"`` or ``"truncated"``.
+        """``"converged"``, ``"not_converged"``, ``"truncated"`` or ``"surface_flow"``.
 
         ``"truncated"``: every solve converged, but the plastic zone reaches a face of the
         volume box, or the contact the domain's edge (:attr:`truncated`), so the answer is not
-        to be trusted.
+        to be trusted.  ``"surface_flow"``: every solve converged, but the surface shear
+        traction exceeded what the plastic body can carry (:attr:`surface_flow`): the top
+        layer's plastic strain is set by the layers, not the material.
         """
         if not self.converged:
             return "not_converged"
-        return "truncated" if self.truncated else "converged"
+        if self.truncated:
+            return "truncated"
+        return "surface_flow" if self.surface_flow else "converged"
 
     @property
     def shakedown(self) -> Shakedown | None:
@@ -128,6 +163,8 @@ class Result:
         per_cycle = cycle_summary(self.history)
         if "net_plastic_strain_increment" not in per_cycle:
             return None
+        if self.status == "surface_flow":
+            return Shakedown("undetermined", SURFACE_FLOW_REASON)
         return classify(
             per_cycle["plastic_strain_increment"],
             per_cycle["net_plastic_strain_increment"],

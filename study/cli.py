@@ -662,10 +662,10 @@ def _status(args: argparse.Namespace) -> int:
         counts[state] = counts.get(state, 0) + 1
     total = len(campaign.cases)
     done = sum(counts[name] for name in SOLVE_STATUSES)
-    finished = ", ".join(  # "truncated" only when there are such cases
+    finished = ", ".join(  # "truncated" and "surface flow" only when there are such cases
         f"{counts[n]} {n.replace('_', ' ')}"
         for n in SOLVE_STATUSES
-        if counts[n] or n != "truncated"
+        if counts[n] or n in ("converged", "not_converged")
     )
     print(
         f"campaign {campaign.name} in {out}: {done}/{total} finished ({finished}), "

@@ -25,6 +25,8 @@ from solver.theory.shakedown import (
     STEADY_DECAY,
     STEADY_NET,
     classify,
+    net_trend,
+    shakedown_variable,
 )
 from solver.variables import PLASTIC_ZONE_THRESHOLD
 
@@ -64,6 +66,31 @@ def test_a_steady_gain_is_ratchetting_or_closed_cycles():
     falling = gain * (0.96 * STEADY_NET) ** np.arange(4)
     assert falling[-1] > CLOSED_CYCLE_FRACTION * gain[-1]
     assert "net change still falls" in classify(gain, falling, 5e-3).reason
+
+
+def test_the_regime_carries_its_evidence_and_says_how_many_more_cycles():
+    """The net change's trend fitted over the last cycles, and the cycles it needs."""
+    gain = np.full(5, 1e-3)
+    rate = 0.8  # the net change falls 20 % a cycle, from 0.95 of the gain
+    net = 0.95e-3 * rate ** np.arange(5)
+    assert net_trend(net) == pytest.approx(rate, rel=1e-12)
+    result = classify(gain, net, 5e-3)
+    assert result.regime == "undetermined" and result.net_trend == pytest.approx(rate)
+    fraction = net[-1] / gain[-1]
+    assert result.net_fraction == pytest.approx(fraction)
+    expected = math.ceil(math.log(CLOSED_CYCLE_FRACTION / fraction) / math.log(rate))
+    assert result.more_cycles == expected and f"about {expected} more" in result.reason
+    # after them, the net change is closed: plastic shakedown, with its evidence
+    longer = 0.95e-3 * rate ** np.arange(5 + expected)
+    done = classify(np.full(longer.size, 1e-3), longer, 5e-3)
+    assert done.regime == "plastic_shakedown" and done.more_cycles == 0
+    assert "near it" in done.reason or done.net_fraction < 0.5 * CLOSED_CYCLE_FRACTION
+    # a steady net change just above the threshold is ratchetting, said to be near it
+    near = classify(gain, np.full(5, 0.12 * 1e-3), 5e-3)
+    assert near.regime == "ratchetting" and "near it" in near.reason
+    assert near.net_trend == pytest.approx(1.0)
+    _, _, attrs = shakedown_variable(near)
+    assert attrs["net_fraction"] == pytest.approx(0.12) and attrs["more_cycles"] == 0
 
 
 @pytest.mark.parametrize(
@@ -260,6 +287,10 @@ def test_a_sliding_shear_past_k_is_told_and_its_surface_strain_follows_the_layer
         peak = np.hypot(result.shear_x, result.shear_y).max() / SHEAR_YIELD
         assert peak > 1.0  # the flattened pressure still carries mu p above k
         assert any("surface shear traction reaches" in note for note in result.notes)
+        # not labelled converged: its numbers follow the layers
+        assert result.status == "surface_flow" and result.surface_flow
+        assert result.to_xarray().attrs["status"] == "surface_flow"
+        assert result.shakedown is None or result.shakedown.regime == "undetermined"
     strains = [r.history["max_plastic_strain"][-1] for r in results]
     assert strains[1] > 1.5 * strains[0]
     validation(
@@ -269,6 +300,29 @@ def test_a_sliding_shear_past_k_is_told_and_its_surface_strain_follows_the_layer
         "surface): the top layer's strain must follow the layers",
         f"e_p,max {strains[0]:.3f} / {strains[1]:.3f}; the note given",
     )
+
+
+def test_a_case_file_from_before_the_surface_flow_status_reads_as_surface_flow(tmp_path):
+    """Its notes carry the evidence: the same criterion tells its status and regime."""
+    from solver.result import SURFACE_FLOW_NOTE, stored_status
+    from study.run import storage
+    from study.run.assemble import _read_case
+
+    note = f"step 7: {SURFACE_FLOW_NOTE} 1.3 x the largest shear stress ..."
+    assert stored_status("converged", note) == "surface_flow"
+    assert stored_status("converged", "nothing said") == "converged"
+    assert stored_status("not_converged", note) == "not_converged"  # the worse status stays
+    result = _passes(6.0, 2)  # frictionless: a converged cyclic case with a regime
+    assert result.status == "converged"
+    data = storage.case_dataset(result, ("pressure", "shear_x"), {})
+    data.attrs.update(notes=note, status="converged")  # as written before the status existed
+    path = tmp_path / "old.nc"
+    storage.write_netcdf(data, path, mark_complete=True)
+    read = _read_case(path, np.linspace(0.0, 1.5, 4))
+    assert read["status"] == "surface_flow"
+    assert read["shakedown"][0] == SHAKEDOWN_FLAGS["undetermined"]
+    assert "surface flow" in read["shakedown"][1]
+    assert storage._inspect(path) == ("", "surface_flow")
 
 
 def test_many_failed_increments_are_told_in_one_note():

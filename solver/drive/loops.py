@@ -32,7 +32,7 @@ import numpy as np
 from ..keys import MIN_CELLS_ACROSS
 from ..numerics.grid import IndexBox, VolumeGrid
 from ..numerics.tensor import equivalent_strain, von_mises
-from ..result import SEPARATED, SLIP, STICK, Result
+from ..result import SEPARATED, SLIP, STICK, SURFACE_FLOW_NOTE, Result
 from ..spec.case import Case
 from ..spec.notes import SMALL_STRAIN_LIMIT
 from ..variables import BODY1_SUFFIX, CYCLE_PLASTIC_HISTORIES, HISTORIES, PLASTIC_BODY_HISTORIES
@@ -552,9 +552,10 @@ def solve(case: Case) -> Result:
         stress = operators.stress.stress(state.pressure, *shears)
         result.fields["stress"] = stress
         result.fields["von_mises"] = von_mises(stress)
-    if shear_peak[0] > 1.0:
+    result.surface_flow = shear_peak[0] > 1.0
+    if result.surface_flow:
         result.notes.append(
-            f"step {shear_peak[1]}: the surface shear traction reaches {shear_peak[0]:.3g} x "
+            f"step {shear_peak[1]}: {SURFACE_FLOW_NOTE} {shear_peak[0]:.3g} x "
             "the largest shear stress the elastic-plastic body can carry (sigma_Y / sqrt 3 "
             "without hardening): no stress field in equilibrium with it stays within yield, so "
             "the top layer shears without bound as the layers thin (its plastic strain is set "

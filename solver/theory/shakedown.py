@@ -60,6 +60,11 @@ STEADY_NET = 0.9
 CLOSED_CYCLE_FRACTION = 0.1
 #: Fewest cycles for a classification other than ``elastic``.
 MIN_CYCLES = 2
+#: Cycles the net change's trend is fitted over (a geometric rate, least squares in log).
+TREND_CYCLES = 3
+#: Net-change fractions within these multiples of :data:`CLOSED_CYCLE_FRACTION` are near the
+#: threshold: the reason says so, with the trend that decides.
+NEAR_THRESHOLD = (0.5, 2.0)
 
 
 @dataclass(frozen=True)
@@ -72,10 +77,21 @@ class Shakedown:
         A key of :data:`SHAKEDOWN_FLAGS`.
     reason : str
         One sentence with the numbers the regime rests on.
+    net_fraction : float
+        The last cycle's net tensor change over its gain (NaN before a steady gain).
+    net_trend : float
+        The net change's rate per cycle fitted over the last :data:`TREND_CYCLES` cycles
+        (below 1: it falls; NaN with fewer than two).
+    more_cycles : int
+        Cycles the trend needs to bring the net change under :data:`CLOSED_CYCLE_FRACTION` of
+        the gain, when the regime waits on it (0 otherwise).
     """
 
     regime: str
     reason: str
+    net_fraction: float = math.nan
+    net_trend: float = math.nan
+    more_cycles: int = 0
 
     @property
     def flag(self) -> int:
@@ -129,18 +145,46 @@ def classify(
             f"{SHAKEDOWN_TOLERANCE:g} of the largest ({largest:.3g}): give more cycles",
         )
     closed = float(net[-1]) / last
+    trend = net_trend(net)
+    near = NEAR_THRESHOLD[0] <= closed / CLOSED_CYCLE_FRACTION < NEAR_THRESHOLD[1]
+    evidence = (
+        f"net change {float(net[-1]):.3g} = {closed:.2g} of the gain (closed below "
+        f"{CLOSED_CYCLE_FRACTION:g}{', near it' if near else ''}), falling at {trend:.2g} per "
+        f"cycle over the last {min(TREND_CYCLES, count)}"
+    )
     if closed >= CLOSED_CYCLE_FRACTION and net[-1] < STEADY_NET * net[-2]:
+        more = 0
+        if 0.0 < trend < 1.0:  # geometric: net_k = net_last trend^k reaches the threshold
+            more = math.ceil(math.log(CLOSED_CYCLE_FRACTION / closed) / math.log(trend))
         return Shakedown(
             "undetermined",
             f"steady gain {last:.3g} per cycle, but its net change still falls ({net[-2]:.3g} "
-            f"then {net[-1]:.3g}): closed cycles or ratchetting, give more cycles",
-        )
+            f"then {net[-1]:.3g}): closed cycles or ratchetting, give more cycles"
+            + (f" (about {more} more at this rate)" if more else "")
+            + f"; {evidence}",
+            closed, trend, more,
+        )  # fmt: skip
     regime = "plastic_shakedown" if closed < CLOSED_CYCLE_FRACTION else "ratchetting"
     return Shakedown(
         regime,
-        f"steady gain {last:.3g} per cycle (the one before {before:.3g}), of which a net "
-        f"change {float(net[-1]):.3g} ({closed:.2g} of it; per cycle: {gains})",
-    )
+        f"steady gain {last:.3g} per cycle (the one before {before:.3g}; per cycle: {gains}); "
+        f"{evidence}",
+        closed, trend,
+    )  # fmt: skip
+
+
+def net_trend(net: np.ndarray) -> float:
+    """Geometric rate of the net change per cycle over the last :data:`TREND_CYCLES` cycles.
+
+    The slope of ``log net`` against the cycle by least squares, exponentiated: 1 steady,
+    below 1 falling; NaN with fewer than two positive values.
+    """
+    last = np.asarray(net, float)[-TREND_CYCLES:]
+    last = last[last > 0.0]
+    if last.size < 2:
+        return math.nan
+    slope = np.polyfit(np.arange(last.size), np.log(last), 1)[0]
+    return float(np.exp(slope))
 
 
 def shakedown_variable(regime: Shakedown | np.ndarray, dims: tuple[str, ...] = ()) -> tuple:
@@ -157,6 +201,10 @@ def shakedown_variable(regime: Shakedown | np.ndarray, dims: tuple[str, ...] = (
     }
     if isinstance(regime, Shakedown):
         attrs["reason"] = regime.reason
+        attrs.update(
+            net_fraction=regime.net_fraction, net_trend=regime.net_trend,
+            more_cycles=regime.more_cycles,
+        )  # fmt: skip
     return dims, np.int8(flags) if not dims else flags, attrs
 
 

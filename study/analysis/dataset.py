@@ -300,7 +300,7 @@ def _label_coordinates(dataset, dim: str) -> list[str]:
 
 
 def finished_mask(dataset):
-    """Quantities masked to finished cases (status converged, not_converged or truncated)."""
+    """Quantities masked to finished cases (a status of :data:`solver.result.SOLVE_STATUSES`)."""
     status = dataset["status"]
     return status.isin([STATUS_FLAGS[name] for name in SOLVE_STATUSES])
 

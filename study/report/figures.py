@@ -43,7 +43,9 @@ LINE_WIDTHS = (2.2, 1.0)
 #: A line with more points than this gets markers on every few points only, shifted per series.
 DENSE_POINTS = 24
 #: Statuses of a finished case that is not trusted, as said in the figures.
-UNTRUSTED = {"not_converged": "not converged", "truncated": "truncated"}
+UNTRUSTED = {
+    "not_converged": "not converged", "truncated": "truncated", "surface_flow": "surface flow",
+}  # fmt: skip
 #: Colour of the status marks (:func:`mark_panel`, :func:`status_handle`).
 STATUS_COLOUR = "tab:red"
 

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from solver.result import STATUS_FLAGS
-from solver.theory.shakedown import SHAKEDOWN_FLAGS, sliding_first_yield
+from solver.theory.shakedown import SHAKEDOWN_FLAGS, net_trend, sliding_first_yield
 
 from .. import analysis
 from . import figures
@@ -53,6 +53,7 @@ def _cases(dataset) -> list[dict]:
         case = dataset.isel(isel)
         gain = case["plastic_strain_increment"].values
         done = gain[np.isfinite(gain)]
+        net = case["net_plastic_strain_increment"].values[: done.size]
         out.append(
             {
                 "labels": labels,
@@ -69,11 +70,9 @@ def _cases(dataset) -> list[dict]:
                 "cycles": done.size,
                 "gain_first": done[0] if done.size else np.nan,
                 "gain_last": done[-1] if done.size else np.nan,
-                "net_last": (
-                    case["net_plastic_strain_increment"].values[done.size - 1]
-                    if done.size
-                    else np.nan
-                ),
+                "net_last": net[-1] if net.size else np.nan,
+                "net/gain": net[-1] / done[-1] if net.size and done[-1] > 0 else np.nan,
+                "net_trend": net_trend(net),
             }
         )
     return out
@@ -91,7 +90,7 @@ def shakedown_table(dataset):
 
     columns = (
         "p0/k", "mu", "regime", "melan p0/k", "status", "cycles", "gain_first", "gain_last",
-        "net_last",
+        "net_last", "net/gain", "net_trend",
     )  # fmt: skip
     table = pd.DataFrame([{**c["labels"], **{k: c[k] for k in columns}} for c in _cases(dataset)])
     return table.dropna(axis=1, how="all")  # no Melan factor: not a sliding campaign
@@ -124,7 +123,7 @@ def static_curve(mu_max: float, nu: float, step: float = 0.1) -> tuple[np.ndarra
 def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
     """p_0/k against mu, a marker per case (shape and colour: its regime); first yield over it.
 
-    Cases not converged or truncated are ringed in red.
+    Cases not converged, truncated or in surface flow are ringed in red.
     """
     cases = _cases(dataset)
     if not cases:
@@ -140,11 +139,11 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
                 linewidths=0.5, zorder=3,
             )  # fmt: skip
     unconverged = [c for c in cases if c["status"] in figures.UNTRUSTED]
-    if unconverged:  # a red ring round each case not converged or truncated
+    if unconverged:  # a red ring round each case not trusted (figures.UNTRUSTED)
         ax.scatter(
             [c["mu"] for c in unconverged], [c["p0/k"] for c in unconverged], s=150,
             facecolors="none", edgecolors=figures.STATUS_COLOUR, linewidths=1.5, zorder=4,
-            label="not converged or truncated",
+            label=" or ".join(sorted({figures.UNTRUSTED[c["status"]] for c in unconverged})),
         )  # fmt: skip
     # a case that did not converge has no trusted residual field: no bound drawn from it
     melan = [c for c in cases if np.isfinite(c["melan p0/k"]) and c["status"] == "converged"]
@@ -178,7 +177,8 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
         " (the others failed or are pending: not drawn)" if len(cases) < total else ""
     )
     if unconverged:
-        shown += f"; {len(unconverged)} not converged or truncated (ringed, no Melan bound drawn)"
+        told = " or ".join(sorted({figures.UNTRUSTED[c["status"]] for c in unconverged}))
+        shown += f"; {len(unconverged)} {told} (ringed, no Melan bound drawn)"
     figures.suptitle(fig, f"{dataset.attrs.get('campaign', '')}: shakedown map", shown)
     figures.save(plt, fig, path)
     return Path(path)
@@ -194,7 +194,11 @@ def section(dataset, out: Path, name: str, plt, shown: list, nu: float | None) -
         "change is below 0.1 of it), ratchetting (a steady net gain), undetermined (not",
         "converged, or still settling: more cycles). `gain_*`: equivalent plastic strain gained",
         "in the first and the last cycle; `net_last`: equivalent strain of the plastic strain",
-        "tensor's change over the last cycle. `melan p0/k`: the peak pressure up to which the",
+        "tensor's change over the last cycle, `net/gain` its share of the last gain (closed",
+        "below 0.1), `net_trend` its rate per cycle over the last three (below 0.9: still",
+        "falling; the case's reason says how many more cycles it needs). `surface_flow`",
+        "status: the surface shear passed what the body can carry (regime undetermined).",
+        "`melan p0/k`: the peak pressure up to which the",
         "case's final residual stress keeps the sliding Hertz load (Hamilton's field, every",
         "loaded position) inside the yield surface: Melan's static lower bound from that field.",
         "",

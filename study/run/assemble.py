@@ -8,7 +8,8 @@ zipped key (the one with the dimension's name, if any, indexes it).
 Variables (all with ``units`` and ``long_name``):
 
 - ``status`` (axes): int8 flags 0 pending, 1 converged, 2 not_converged, 3 failed, 4 truncated
-  (converged, but the plastic zone reaches a face of the volume box);
+  (converged, but the plastic zone reaches a face of the volume box), 5 surface_flow
+  (converged, but the surface shear exceeded what the plastic body can carry);
   ``case_id`` and ``error`` (axes): strings;
 - per-case scalars (axes): :data:`SCALARS`, the histories' reductions declared in
   :mod:`solver.variables` (last step, largest or summed over the steps) and provenance;
@@ -38,8 +39,15 @@ import numpy as np
 
 import solver
 from solver.drive.record import axis_value
-from solver.result import HISTORY_META, STATUS_FLAGS, cycle_variables, length_scale
-from solver.theory.shakedown import shakedown_variable
+from solver.result import (
+    HISTORY_META,
+    STATUS_FLAGS,
+    SURFACE_FLOW_REASON,
+    cycle_variables,
+    length_scale,
+    stored_status,
+)
+from solver.theory.shakedown import SHAKEDOWN_FLAGS, shakedown_variable
 from solver.variables import CYCLE_QUANTITIES, HISTORIES, reduced_scalars
 
 from ..campaign import Axis, Campaign
@@ -202,8 +210,11 @@ def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
     scalars["steps"] = float(len(histories.get("normal_force", [])))
     scalars["case_time"] = float(attrs.get("time_before_write", math.nan))
     scalars["mpi_rank"] = float(attrs.get("rank", -1))
+    status = stored_status(attrs.get("status", "converged"), str(attrs.get("notes", "")))
+    if status == "surface_flow" and regime is not None:  # a file written before the status
+        regime = (SHAKEDOWN_FLAGS["undetermined"], SURFACE_FLOW_REASON)
     return {
-        "status": attrs.get("status", "converged"),
+        "status": status,
         "text": {name: str(attrs.get(name, "")) for name in ("notes", "loops")},
         "scalars": scalars,
         "histories": histories,

@@ -160,9 +160,10 @@ class RunSummary:
         Cases in the campaign.
     skipped : int
         Cases finished by earlier runs (not recomputed).
-    converged, not_converged, truncated, failed : int
+    converged, not_converged, truncated, surface_flow, failed : int
         Cases of this run by outcome (``truncated``: converged, but the plastic zone reaches
-        a face of the volume box).
+        a face of the volume box; ``surface_flow``: converged, but the surface shear exceeded
+        what the plastic body can carry).
     pending : int
         Cases with neither a (complete) result nor a failure (recorded, or of this run) at
         the end.
@@ -187,6 +188,7 @@ class RunSummary:
     converged: int = 0
     not_converged: int = 0
     truncated: int = 0
+    surface_flow: int = 0
     failed: int = 0
     pending: int = 0
     failed_total: int = 0
@@ -210,6 +212,8 @@ class RunSummary:
         cut = (
             f"{self.truncated} truncated (plastic zone cut by the box), " if self.truncated else ""
         )
+        if self.surface_flow:
+            cut += f"{self.surface_flow} surface flow (the surface shear past the body's limit), "
         text = (
             f"campaign {self.campaign}: {self.total} cases; this run {self.converged} converged, "
             f"{self.not_converged} not converged, {cut}{self.failed} failed; {self.skipped} "
@@ -784,6 +788,7 @@ def _summarise(campaign: Campaign, out: Path, scheduler: _Scheduler, elapsed: fl
         converged=sum(r["status"] == "converged" for r in reports),
         not_converged=sum(r["status"] == "not_converged" for r in reports),
         truncated=sum(r["status"] == "truncated" for r in reports),
+        surface_flow=sum(r["status"] == "surface_flow" for r in reports),
         failed=sum(r["status"] == "failed" for r in reports),
         pending=len(ids - finished - failed),
         failed_total=len(ids & failed),

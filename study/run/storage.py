@@ -3,7 +3,7 @@
 Layout of an output folder ``OUT``::
 
     OUT/campaign.json                 the expanded campaign (axes, resolved case specs)
-    OUT/cases/<case_id>.nc            one finished case (converged, not_converged or truncated)
+    OUT/cases/<case_id>.nc            one finished case (a status of solver.result.SOLVE_STATUSES)
     OUT/cases/<case_id>.failed.json   one failed case (error, traceback, rank, host)
     OUT/<campaign name>.nc            the assembled dataset (:mod:`study.run.assemble`)
 
@@ -41,7 +41,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 import solver
-from solver.result import STICK
+from solver.result import STICK, stored_status
 
 from ..campaign import Campaign, CampaignCase, CampaignError
 
@@ -326,7 +326,7 @@ def _inspect(path: Path) -> tuple[str, str]:
             complete = False
         if not complete:
             problem = f"has no completion marker (global attribute {COMPLETE_ATTR} = 1)"
-        status = str(attrs.get("status", "converged"))
+        status = stored_status(str(attrs.get("status", "converged")), str(attrs.get("notes", "")))
     _CHECKED[str(path)] = (key, problem, status)
     return problem, status
 
