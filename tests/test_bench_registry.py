@@ -1,0 +1,32 @@
+"""The benchmark scenes' options: each scene takes only the options it has."""
+
+from __future__ import annotations
+
+import pytest
+
+from study.bench import registry
+from study.bench import shakedown as bench_shakedown
+
+
+@pytest.mark.parametrize(
+    ("scene", "option"),
+    [("hertz", {"incremental": True}), ("hertz", {"periodic": True}), ("rolling", {"error": True})],
+)
+def test_an_option_a_scene_does_not_take_is_refused_by_name(scene, option):
+    with pytest.raises(ValueError, match="--" + next(iter(option))):
+        registry.run_benchmark(scene, [8], **option)
+
+
+def test_the_shakedown_scene_solves_its_campaign_case_by_the_theorem():
+    """The first case of campaigns/shakedown_map.toml, by Melan's theorem: its verdict."""
+    from study.campaign import load_campaign
+
+    item = load_campaign(bench_shakedown.CAMPAIGN).cases[0]
+    case = item.case()
+    out = bench_shakedown._theorem(case.to_dict())
+    assert out["status"] == "converged" and out["first_yield"] < out["static"]
+    p0k = case.reference.max_pressure / (case.body2.hardening.yield_stress / 3**0.5)
+    assert p0k == pytest.approx(2.0, rel=1e-6)  # mu = 0.1 at p_0 = 2 k: below first yield
+    assert bench_shakedown._verdict(p0k, out) == "elastic"
+    assert bench_shakedown._verdict(3.0, out) == "shakes down"  # between first yield and 4.68
+    assert bench_shakedown._verdict(5.0, out) == "does not shake down"
