@@ -102,8 +102,8 @@ def provenance_line(command: list[str]) -> str:
 def recorded(path: str | None, command: list[str]):
     """Copy what the block prints to ``path`` (Markdown), headed by its provenance.
 
-    The header says the command, the date (UTC), the machine (:func:`machine`) and the commit,
-    so a table in the guide says where it came from and how to make it again.
+    The header says the command, the date (UTC) it started, the machine (:func:`machine`) and
+    the commit, so a table in the guide says where it came from and how to make it again.
     """
     if path is None:
         yield
@@ -125,10 +125,12 @@ def recorded(path: str | None, command: list[str]):
             for stream in self.streams:
                 stream.flush()
 
+    # the provenance of the code that runs, taken before it runs (a long run's files may
+    # change on disk meanwhile)
+    header = [provenance_line(command), ""]
     captured = io.StringIO()
     with contextlib.redirect_stdout(_Tee(sys.stdout, captured)):
         yield
-    header = [provenance_line(command), ""]
     lines, previous = [], ""
     for line in captured.getvalue().splitlines():
         if line.startswith("|") != previous.startswith("|"):
