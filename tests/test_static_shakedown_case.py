@@ -131,6 +131,11 @@ def test_an_elliptical_contact_lies_between_the_line_and_the_circle():
     [
         ({"solver": {"method": "melan"}}, "solver.method", "must be one of"),
         (
+            {"solver": {"method": "static_shakedown", "residual_print": "in_gap"}},
+            "solver.residual_print",
+            "leave the key out",
+        ),
+        (
             {"body2__hardening": {"law": "linear", "yield_stress": SIGMA_Y, "modulus": 1e9}},
             "body2.hardening.law",
             "isotropic hardening",

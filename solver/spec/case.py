@@ -387,6 +387,12 @@ class Case:
                 depth = grid.depth_body1 if own else grid.depth
                 check_volume(body, depth, grid.nz, p_max, given_key, region)
         solver = parse_solver(table.get("solver", {}))
+        if solver.method == "static_shakedown" and "residual_print" in table.get("solver", {}):
+            fail(
+                "solver.residual_print",
+                "static_shakedown follows no load path: the theorem takes the unchanging "
+                "surface of the classical theorems; leave the key out",
+            )
         if solver.residual_print == "ignored" and plastic is None:
             fail(
                 "solver.residual_print",
