@@ -133,7 +133,10 @@ SOLVER_DEFAULTS = {
     "volume_precision": "double",
     "method": "incremental",
     "residual_print": "in_gap",
+    "kinematic_cells": 8,
 }
+#: Finest mesh of Koiter's mechanism, cells a contact radius (memory grows as the cube).
+MAX_KINEMATIC_CELLS = 16
 #: Smallest plasticity tolerance a single-precision volume convolution can settle to: its
 #: rounding (~1e-7 of the stress) would otherwise keep the plasticity loop from converging.
 MIN_SINGLE_PLASTIC_TOLERANCE = 1e-6
@@ -500,6 +503,12 @@ CASE_KEYS: tuple[Key, ...] = (
         "static theorem solved directly for the case's sliding Hertz contact (a lower bound of "
         "the shakedown limit on the track's cross-section, an upper bound beside it, "
         "solver.theorems); part of the case id when not incremental."),
+    Key("solver", "kinematic_cells", "integer", "", str(SOLVER_DEFAULTS["kinematic_cells"]),
+        f"0 to {MAX_KINEMATIC_CELLS}", 'method = "static_shakedown", circular contacts',
+        "Cells a contact radius of the mechanism of Koiter's kinematic upper bound "
+        "(solver.theorems.koiter); 0: not solved.  Its cost grows as the cube: 4 s and 0.4 GB "
+        "at 8, 30 s and 2.2 GB at 16 (docs/validation.md).  Part of the case id of "
+        "static_shakedown cases."),
 )  # fmt: skip
 
 

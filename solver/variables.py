@@ -128,6 +128,12 @@ HISTORIES: dict[str, History] = {
         "smallest pointwise upper bound p_0/k found for the track's shakedown limit (the best "
         "constant residual shift of one point's stress path)",
     ),
+    "kinematic_upper_bound": History(
+        "1",
+        "Koiter's kinematic upper bound p_0/k of the track's shakedown limit: the best "
+        "mechanism on the cross-section's six-node triangles (solver.kinematic_cells a contact "
+        "radius; inf where not solved)",
+    ),
     "first_yield_limit": History("1", "p_0/k at first yield under the sliding Hertz contact"),
     "shakedown_load_factor": History(
         "1",

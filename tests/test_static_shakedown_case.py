@@ -59,10 +59,12 @@ def test_a_case_gives_the_theorem_its_track_and_reports_the_limits():
     assert track.cells == round(a / case.surface_grid.dx)
     result = solver.solve(case)
     assert result.status == "converged" and result.loops == ("static_shakedown",)
-    expected = track_limits(track)
+    expected = track_limits(track, case.solver.kinematic_cells)
     h = result.history
     assert h["static_shakedown_limit"][0] == expected.static.factor
     assert h["shakedown_upper_bound"][0] == expected.upper
+    assert h["kinematic_upper_bound"][0] == expected.kinematic.factor
+    assert expected.kinematic.converged and math.isfinite(expected.kinematic.factor)
     k = SIGMA_Y / math.sqrt(3.0)
     assert h["shakedown_load_factor"][0] == pytest.approx(expected.static.factor * k / p0)
     data = result.to_xarray()
@@ -80,6 +82,22 @@ def test_the_method_is_in_the_case_id_only_when_not_incremental():
     assert len(ids) == 1
     assert solver.Case.from_dict(_table()).case_id not in ids
     assert "method" not in solver.Case.from_dict(incremental).spec["solver"]
+
+
+def test_the_mechanisms_mesh_is_a_theorem_key():
+    """In every static case's id (its default too); refused by the incremental method."""
+    default = solver.Case.from_dict(_table())
+    assert default.spec["solver"]["kinematic_cells"] == 8
+    off = solver.Case.from_dict(_table(solver={"method": "static_shakedown", "kinematic_cells": 0}))
+    assert off.case_id != default.case_id
+    assert "kinematic_cells" not in solver.Case.from_dict(_table(solver={})).spec["solver"]
+    with pytest.raises(ValueError, match="solver.kinematic_cells"):
+        solver.Case.from_dict(_table(solver={"kinematic_cells": 4}))
+    with pytest.raises(ValueError, match="solver.kinematic_cells"):
+        solver.Case.from_dict(_table(solver={"method": "static_shakedown", "kinematic_cells": 99}))
+    result = solver.solve(off)
+    assert result.history["kinematic_upper_bound"][0] == math.inf
+    assert not any(note.startswith("kinematic") for note in result.notes)
 
 
 def test_kinematic_hardening_bounds_the_back_stress():
@@ -120,6 +138,8 @@ def test_an_elliptical_contact_lies_between_the_line_and_the_circle():
     circle = traction_limit(pressure, shear, grid, 0.3, 1.0, 4 * c, 3 * c, 4 * c).static.factor
     assert 4.0 < limit < circle
     assert result.history["first_yield_limit"][0] < limit
+    assert result.history["kinematic_upper_bound"][0] == math.inf  # not built: said so
+    assert any("not solved for an elliptical contact" in note for note in result.notes)
     assert result.fields["static_residual_stress"].shape[1:] == (
         result.section[0].size,
         result.section[1].size,

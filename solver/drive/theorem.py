@@ -9,12 +9,12 @@ the cross-section's cells follow the case's cells (a / the largest cell side, fr
 ellipse).  A circular contact passes Hamilton's closed-form field, an elliptical one its
 Hertz pressure on cells (:mod:`solver.theorems.loads`).  :func:`solve_static_shakedown`
 returns a :class:`~solver.result.Result` of one step: the limits (histories
-``static_shakedown_limit``, ``shakedown_upper_bound``, ``first_yield_limit``,
-``shakedown_load_factor``), the residual field that proves the static limit and where it
-binds (fields on ``y_section``, ``z_section``), and on the surface the Hertz pressure and the
-sliding shear the theorem passes along the track.  Status: converged when the program is
-optimal, truncated when the elastic field yields outside the cross-section's box, not
-converged otherwise; the reason is a note.
+``static_shakedown_limit``, ``shakedown_upper_bound``, ``kinematic_upper_bound``,
+``first_yield_limit``, ``shakedown_load_factor``), the residual field that proves the static
+limit and where it binds (fields on ``y_section``, ``z_section``), and on the surface the
+Hertz pressure and the sliding shear the theorem passes along the track.  Status: converged
+when the program is optimal, truncated when the elastic field yields outside the
+cross-section's box, not converged otherwise; the reason is a note.
 """
 
 from __future__ import annotations
@@ -66,7 +66,8 @@ def _limits(case: Case) -> tuple[TrackLimits, float, float, float]:
     track, p0, axes, _ = track_of(case)
     k = case.body2.hardening.yield_stress / math.sqrt(3.0)
     if math.isclose(axes[0], axes[1], rel_tol=1e-9):
-        return track_limits(track), 1.0, k, axes[0]
+        cells = case.solver.kinematic_cells or None
+        return track_limits(track, cells), 1.0, k, axes[0]
     pressure, shear, grid = elliptical_hertz(axes, p0, track.friction, track.cells)
     h, small = grid.dx, min(axes)
     limits = traction_limit(
@@ -86,11 +87,19 @@ def solve_static_shakedown(case: Case) -> Result:
     k = case.body2.hardening.yield_stress / math.sqrt(3.0)
     limits, factor, unit, length = _limits(case)
     static = limits.static
+    notes = [*case.warnings, f"static shakedown ({static.status}): {static.reason}"]
+    kinematic = math.inf  # no bound
+    if limits.kinematic is not None:
+        notes.append(f"kinematic bound ({limits.kinematic.status}): {limits.kinematic.reason}")
+        kinematic = limits.kinematic.factor
+    elif case.solver.kinematic_cells:
+        notes.append("kinematic bound: not solved for an elliptical contact (circular only)")
     history = {
         "normal_force": np.array([force]),
         "max_pressure": np.array([p0]),
         "static_shakedown_limit": np.array([static.factor * factor]),
         "shakedown_upper_bound": np.array([limits.upper * factor]),
+        "kinematic_upper_bound": np.array([kinematic * factor]),
         "first_yield_limit": np.array([limits.first_yield * factor]),
         "shakedown_load_factor": np.array([static.factor * factor * k / p0]),
         "program_iterations": np.array([float(static.solver_iterations)]),
@@ -104,7 +113,6 @@ def solve_static_shakedown(case: Case) -> Result:
         "static_residual_stress": static.residual * unit,
         "static_binding": static.binding.astype(np.int8),
     }
-    notes = [*case.warnings, f"static shakedown ({static.status}): {static.reason}"]
     result = Result(
         case=case,
         grid=grid,

@@ -66,6 +66,7 @@ from .options import (
     EXECUTION_KEYS,
     FIELD_OUTPUTS,
     ID_SILENT_DEFAULTS,
+    METHOD_KEYS,
     SOLVER_RULES,
     SolverOptions,
     parse_solver,
@@ -393,6 +394,9 @@ class Case:
                 "static_shakedown follows no load path: the theorem takes the unchanging "
                 "surface of the classical theorems; leave the key out",
             )
+        for key, method in METHOD_KEYS.items():
+            if solver.method != method and key in table.get("solver", {}):
+                fail(f"solver.{key}", f'only solver.method = "{method}" takes it: leave it out')
         if solver.residual_print == "ignored" and plastic is None:
             fail(
                 "solver.residual_print",
@@ -438,7 +442,11 @@ class Case:
             "solver": {
                 k: json_number(getattr(solver, k))
                 for k in SOLVER_RULES
-                if getattr(solver, k) != SOLVER_DEFAULTS[k] or k not in ID_SILENT_DEFAULTS
+                if (
+                    METHOD_KEYS[k] == solver.method
+                    if k in METHOD_KEYS
+                    else getattr(solver, k) != SOLVER_DEFAULTS[k] or k not in ID_SILENT_DEFAULTS
+                )
             },
             "output": {"fields": sorted(fields)},
         }

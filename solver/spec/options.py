@@ -14,6 +14,7 @@ from ..keys import (
     MAX_ANDERSON_MEMORY,
     MAX_FFT_THREADS,
     MAX_ITERATIONS,
+    MAX_KINEMATIC_CELLS,
     MAX_TOLERANCE,
     MIN_SINGLE_PLASTIC_TOLERANCE,
     SOLVER_DEFAULTS,
@@ -58,6 +59,7 @@ class SolverOptions:
     volume_precision: str = SOLVER_DEFAULTS["volume_precision"]
     method: str = SOLVER_DEFAULTS["method"]
     residual_print: str = SOLVER_DEFAULTS["residual_print"]
+    kinematic_cells: int = SOLVER_DEFAULTS["kinematic_cells"]
 
 
 SOLVER_RULES = {
@@ -77,6 +79,7 @@ SOLVER_RULES = {
     "volume_precision": ("precision",),
     "method": ("method",),
     "residual_print": ("print",),
+    "kinematic_cells": ("kinematic",),
 }
 
 
@@ -117,6 +120,8 @@ def parse_solver(table: Any) -> SolverOptions:
             if value not in RESIDUAL_PRINTS:
                 fail(path, f"must be one of {list(RESIDUAL_PRINTS)}, got {value!r}")
             values[key] = value
+        elif rule == "kinematic":
+            values[key] = integer(value, path, 0, MAX_KINEMATIC_CELLS)
         elif rule == "threads":
             values[key] = integer(value, path, 1, MAX_FFT_THREADS)
         elif rule == "memory":
@@ -144,6 +149,9 @@ METHODS = ("incremental", "static_shakedown")
 #: Solver keys added after cases were stored: in the normalised table (and the case id) only
 #: when not their default, so the ids of the cases before them stay as they were.
 ID_SILENT_DEFAULTS = ("volume_precision", "method", "residual_print")
+#: Solver keys of one method only: in the normalised table (and the case id) of that method's
+#: cases, always, and of no other's.
+METHOD_KEYS = {"kinematic_cells": "static_shakedown"}
 #: What ``solver.residual_print`` can be: the print in the gap, or left out of it.
 RESIDUAL_PRINTS = ("in_gap", "ignored")
 #: Solver keys of how a case is computed, not what: kept in the table, not in the case id.

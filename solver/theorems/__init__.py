@@ -4,8 +4,11 @@
   and Airy stress functions on the cross-section);
 - :mod:`.melan`: the static theorem as a second-order cone program (Clarabel), its certified
   factor, the pointwise upper bound;
+- :mod:`.koiter`: the kinematic theorem: the best mechanism (six-node triangles on the
+  cross-section, the plastic strain rates released at the load's positions) gives an upper
+  bound that converges to the limit from above;
 - :mod:`.track`: a Hertz point or line contact sliding along a track: the static limit, the
-  upper bound beside it, first yield and surface flow;
+  upper bounds beside it, first yield and surface flow;
 - :mod:`.loads`: any tractions given on cells passing along x (an elliptical Hertz contact, a
   solved case's pressure), through the subsurface stress operator.
 

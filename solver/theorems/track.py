@@ -9,6 +9,11 @@ the side of the track's centre line and ``depth`` a deep, positions from ``-span
 - the static limit (:func:`.melan.static_limit`): Melan's lower bound on the cells;
 - an upper bound: the smallest pointwise bound (:func:`.melan.pointwise_limit`) over the cells
   where the program binds, below them on the free surface, and a local search from the best;
+- for a point contact, if asked, Koiter's kinematic upper bound (:func:`.koiter.kinematic_limit`)
+  on a mesh of its own: a box of :data:`KINEMATIC_BOX` a (the mechanism may be confined: any
+  admissible mechanism bounds the limit), the cycle's instants one a cell over
+  :data:`KINEMATIC_SPAN` a either side.  A line contact needs none: its residual fields are
+  those of a single layer, so the pointwise bound at the worst depth is the limit itself;
 - first yield (:func:`solver.theory.shakedown.sliding_first_yield`) and the surface-flow line
   ``mu p0 = k``.
 
@@ -27,6 +32,7 @@ from scipy.optimize import minimize, minimize_scalar
 
 from ..theory.half_space import hamilton_stress, mcewen_stress
 from ..theory.shakedown import sliding_first_yield
+from .koiter import KinematicLimit, kinematic_limit
 from .melan import SURFACE_SHIFTS, StaticLimit, likeliest_cells, pointwise_limit, static_limit
 from .residual import line_basis, section_basis
 
@@ -41,6 +47,11 @@ BOUND_POSITIONS = 100
 CANDIDATES = 6
 #: Evaluations of the upper bound's local search.
 SEARCH_EVALUATIONS = 40
+#: Half-width and depth of the kinematic mechanism's box, in a (the plastic zone of a sliding
+#: sphere, mu <= 0.5, lies within 1 a of the centre line and the surface).
+KINEMATIC_BOX = 1.5
+#: Reach of the kinematic cycle's instants either side of the section, in a.
+KINEMATIC_SPAN = 2.0
 
 
 @dataclass(frozen=True)
@@ -124,6 +135,8 @@ class TrackLimits:
     y, z : ndarray
         The cross-section's points (in a): y of the cell columns (the half y >= 0 of a point
         contact, 0 for a line), z of the surface (0) and the cell centres.
+    kinematic : KinematicLimit or None
+        Koiter's upper bound, where computed.
     """
 
     static: StaticLimit
@@ -133,10 +146,24 @@ class TrackLimits:
     surface_flow: float
     y: np.ndarray
     z: np.ndarray
+    kinematic: KinematicLimit | None = None
 
 
-def track_limits(track: Track) -> TrackLimits:
-    """Melan's static limit of a track, an upper bound beside it, first yield, surface flow."""
+def track_limits(track: Track, kinematic_cells: int | None = None) -> TrackLimits:
+    """Melan's static limit of a track, upper bounds beside it, first yield, surface flow.
+
+    Parameters
+    ----------
+    track : Track
+        The contact and the static program's cross-section.
+    kinematic_cells : int, optional
+        Cells a contact radius of Koiter's mechanism (point contacts only); None: not solved.
+    """
+    if kinematic_cells is not None and track.contact != "point":
+        raise ValueError(
+            "kinematic_cells: Koiter's mechanism is built for point contacts (a line "
+            "contact's pointwise bound is its limit); leave it None"
+        )
     h = 1.0 / track.cells
     layers = round(track.depth * track.cells)
     z = np.concatenate([[SURFACE], (np.arange(layers) + 0.5) * h])  # the surface, the cells
@@ -164,7 +191,16 @@ def track_limits(track: Track) -> TrackLimits:
     first = sliding_first_yield(track.friction, track.nu, track.contact)[0]
     flow = math.inf if track.friction == 0.0 else 1.0 / track.friction
     z = np.concatenate([[0.0], z[1:]])
-    return TrackLimits(static, upper, at, first, flow, y, z)
+    kinematic = None
+    if kinematic_cells is not None:
+        instants = np.linspace(
+            -KINEMATIC_SPAN, KINEMATIC_SPAN, round(2 * KINEMATIC_SPAN * kinematic_cells) + 1
+        )
+        kinematic = kinematic_limit(
+            track.stress, instants, KINEMATIC_BOX, KINEMATIC_BOX, kinematic_cells,
+            track.back_stress_bound,
+        )  # fmt: skip
+    return TrackLimits(static, upper, at, first, flow, y, z, kinematic)
 
 
 def _upper_bound(
@@ -211,4 +247,12 @@ def _upper_bound(
     return float(values[best]), start
 
 
-__all__ = ["BOUND_POSITIONS", "CONTACTS", "Track", "TrackLimits", "track_limits"]
+__all__ = [
+    "BOUND_POSITIONS",
+    "CONTACTS",
+    "KINEMATIC_BOX",
+    "KINEMATIC_SPAN",
+    "Track",
+    "TrackLimits",
+    "track_limits",
+]

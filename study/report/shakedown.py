@@ -12,7 +12,8 @@ cycle.  This section writes
 - ``<name>_shakedown_map.png``: p_0/k against mu, one marker per case coloured by its regime,
   with first yield under a sliding point contact (Hamilton's field,
   :func:`solver.theory.shakedown.sliding_first_yield`), Melan's static limit solved directly
-  and its upper bound (:func:`static_curve`: the classical limit, for an unchanging surface;
+  and the upper bounds beside it, pointwise and Koiter's kinematic one (:func:`static_curve`:
+  the classical limit, for an unchanging surface;
   the cases put the print into the gap), the line mu p_0 = k (above it the sliding
   shear at Hertz's peak exceeds what a perfectly plastic surface can carry:
   :attr:`solver.plasticity.hardening.Hardening.shear_limit`) and each converged case's Melan
@@ -108,16 +109,22 @@ STATIC_CELLS = 4
 
 
 def static_curve(mu_max: float, nu: float, step: float = 0.1) -> tuple[np.ndarray, ...]:
-    """(mu, static limit, upper bound) p_0/k of a sliding point contact, perfect plasticity.
+    """(mu, static limit, pointwise and kinematic upper bounds) p_0/k of a sliding sphere.
 
-    Melan's theorem solved directly (:func:`solver.theorems.track.track_limits`) on cells of
-    a/:data:`STATIC_CELLS`, mu from 0 to ``mu_max`` every ``step``.
+    Perfect plasticity; Melan's and Koiter's theorems solved directly
+    (:func:`solver.theorems.track.track_limits`) on cells of a/:data:`STATIC_CELLS`, mu from 0
+    to ``mu_max`` every ``step``.
     """
     from solver.theorems.track import Track, track_limits
 
     mu = np.arange(0.0, mu_max + 1e-9, step)
-    limits = [track_limits(Track("point", float(m), nu, STATIC_CELLS)) for m in mu]
-    return mu, np.array([t.static.factor for t in limits]), np.array([t.upper for t in limits])
+    limits = [track_limits(Track("point", float(m), nu, STATIC_CELLS), STATIC_CELLS) for m in mu]
+    return (
+        mu,
+        np.array([t.static.factor for t in limits]),
+        np.array([t.upper for t in limits]),
+        np.array([t.kinematic.factor for t in limits]),
+    )
 
 
 def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
@@ -156,10 +163,12 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
     if nu is not None:
         mu, ratio = first_yield_curve(mu_max, nu)
         ax.plot(mu, ratio, "k-", lw=1, label=f"first yield (Hamilton 1983, nu = {nu:g})")
-        mu, static, upper = static_curve(mu_max, nu)
+        mu, static, upper, kinematic = static_curve(mu_max, nu)
         ax.plot(mu, static, "-", color="tab:purple", lw=1.2,
                 label=f"Melan's static limit, direct (cells a/{STATIC_CELLS})")  # fmt: skip
         ax.plot(mu, upper, "--", color="tab:purple", lw=1, label="its pointwise upper bound")
+        ax.plot(mu, kinematic, "-.", color="tab:purple", lw=1,
+                label=f"Koiter's kinematic upper bound (triangles a/{STATIC_CELLS})")  # fmt: skip
     # mu p_0 = k: past it the sliding shear at Hertz's peak exceeds the shear a perfectly
     # plastic surface can carry (solver.plasticity.hardening.Hardening.shear_limit)
     top = ax.get_ylim()[1]

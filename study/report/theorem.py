@@ -1,14 +1,14 @@
 """The static-shakedown part of a campaign report: Melan's limits solved directly, and the map.
 
 For campaigns whose cases ask ``solver.method = "static_shakedown"`` (:mod:`solver.theorems`)
-the dataset holds per case the static limit (a residual field proves it), the pointwise upper
-bound beside it and first yield, all as p_0/k.  This section writes
+the dataset holds per case the static limit (a residual field proves it), the pointwise and
+Koiter's kinematic upper bounds beside it and first yield, all as p_0/k.  This section writes
 
-- a table per case: its labels, mu, the static limit, the upper bound, first yield, the
+- a table per case: its labels, mu, the static limit, the upper bounds, first yield, the
   surface-flow line 1/mu, the factor of the case's own load that shakes down, status,
   interior-point iterations, wall time;
 - ``<name>_static_shakedown_map.png``: p_0/k against mu: the static limit (lower bound) and the
-  upper bound of every converged case, first yield, the line mu p_0 = k.
+  upper bounds of every converged case, first yield, the line mu p_0 = k.
 
 The incremental shakedown map (:mod:`.shakedown`) draws the static limit over its cases too.
 """
@@ -28,6 +28,7 @@ from . import figures
 COLUMNS = {
     "static_shakedown_limit": "static p0/k",
     "shakedown_upper_bound": "upper p0/k",
+    "kinematic_upper_bound": "kinematic p0/k",
     "first_yield_limit": "first yield p0/k",
     "shakedown_load_factor": "load factor",
     "program_iterations": "iterations",
@@ -51,7 +52,7 @@ def _cases(dataset) -> list[dict]:
             continue  # an incremental case of a mixed campaign
         mu = float(case["friction_coefficient"])
         row = {"labels": labels, "mu": mu}
-        row.update({title: float(case[name]) for name, title in COLUMNS.items()})
+        row.update({title: float(case[name]) for name, title in COLUMNS.items() if name in case})
         row["1/mu"] = 1.0 / mu if mu > 0.0 else np.inf
         row["status"] = statuses.get(int(case["status"]), "?")
         row["wall_s"] = float(case["wall_time"]) if "wall_time" in case else np.nan
@@ -100,9 +101,12 @@ def draw_limits(ax, cases: list[dict], label: str = "") -> None:
     for key, style, name in (
         ("static p0/k", "o-", "Melan's static limit on the section's cells"),
         ("upper p0/k", "v--", "pointwise upper bound"),
+        ("kinematic p0/k", "^-.", "Koiter's kinematic upper bound"),
         ("first yield p0/k", "k-", "first yield"),
     ):
-        values = np.array([c[key] for c in cases])
+        values = np.array([c.get(key, np.inf) for c in cases])
+        if not np.isfinite(values).any():
+            continue  # not solved (elliptical contacts, kinematic_cells = 0, older files)
         line = ax.plot(mu, values, style, lw=1.2, ms=5, label=name + label)[0]
         if not trusted.all() and key != "first yield p0/k":
             ax.scatter(mu[~trusted], values[~trusted], s=60, facecolors="none",
@@ -127,7 +131,9 @@ def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
         "certified for the field found): Melan's limit on the mesh, which converges to the",
         "limit as the cells shrink (from above where one point binds: the points sample it);",
         "`upper p0/k`: no constant residual shift at one point does better (an upper bound",
-        "whatever the mesh); `first yield p0/k`: the elastic limit;",
+        "whatever the mesh); `kinematic p0/k`: Koiter's upper bound, the best mechanism on the",
+        "cross-section's six-node triangles (solver.theorems.koiter; inf where not solved);",
+        "`first yield p0/k`: the elastic limit;",
         "`1/mu`: the line mu p_0 = k; `load factor`: the static limit over the case's own",
         "p_0/k (below 1: the case's load does not shake down).",
         "",
