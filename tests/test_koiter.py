@@ -120,3 +120,14 @@ def test_a_solver_that_stops_gives_a_status_and_no_bound(monkeypatch):
 def test_only_point_contacts_take_a_mechanism():
     with pytest.raises(ValueError, match="kinematic_cells"):
         track_limits(Track("line", 0.0, 0.3, cells=10), kinematic_cells=4)
+
+
+def test_a_load_that_does_no_work_is_infeasible_and_said_so():
+    """No elastic stress: no mechanism can be normalised; Clarabel says infeasible."""
+
+    def nothing(s, y, z):
+        return np.zeros((6, *np.broadcast_shapes(np.shape(s), np.shape(y), np.shape(z))))
+
+    result = kinematic_limit(nothing, _instants(2), 1.0, 1.0, 2)
+    assert result.status == "solver" and "Infeasible" in result.reason
+    assert result.factor == math.inf

@@ -24,6 +24,7 @@ from ..surface.convolution import SurfaceOperator, surface_operator
 from ..surface.periodic import periodic_surface_operator
 from ..volume.eigenstrain import VOLUME_PRECISIONS, EigenstrainOperator
 from ..volume.stress import SubsurfaceStressOperator
+from .theorem import theorem_cost
 
 
 def planner_flag(options: SolverOptions) -> str:
@@ -267,6 +268,10 @@ def plastic_work_arrays(options: SolverOptions, box: bool = False) -> float:
 def memory_estimate(case: Case) -> int:
     """Peak memory (bytes) a case's solve is expected to need, for the study scheduler.
 
-    :meth:`CaseOperators.memory_bytes`: the bundle and the solver's work arrays.
+    :meth:`CaseOperators.memory_bytes`: the bundle and the solver's work arrays; a case solved
+    by the shakedown theorems: the interpreter and the programs
+    (:func:`~solver.drive.theorem.theorem_cost`).
     """
+    if case.solver.method == "static_shakedown":
+        return PROCESS_BYTES + theorem_cost(case)[1]
     return CaseOperators.memory_bytes(case)

@@ -128,6 +128,9 @@ class Work:
     built_surface_cells, built_volume_cells : int
         Padded cells of every surface and volume operator built (whole window and moving
         window): their influence coefficients and spectra.
+    theorem : float
+        Seconds of the shakedown theorems' programs (``solver.method = "static_shakedown"``,
+        :func:`solver.drive.theorem.theorem_cost`: measured, not counted; no other work).
     """
 
     surface_cells: int
@@ -140,6 +143,7 @@ class Work:
     stress: bool = False
     built_surface_cells: int = 0
     built_volume_cells: int = 0
+    theorem: float = 0.0
 
     @property
     def surface_units(self) -> float:
@@ -376,6 +380,10 @@ def count(case: solver.Case) -> Work:
     Work
         Predicted iteration counts and the padded grid sizes they act on.
     """
+    if case.solver.method == "static_shakedown":
+        from solver.drive.theorem import theorem_cost
+
+        return Work(0, 0, 1, 0.0, 0.0, 0.0, 0.0, theorem=theorem_cost(case)[0])
     return count_features(features(case))
 
 
@@ -472,6 +480,7 @@ def _cache(cells: float, kind: str) -> float:
 def families(work: Work, units: Calibration) -> tuple[float, float, float]:
     """Seconds of ``work`` by family (Python overheads, surface FFT work, volume FFT work)."""
     overhead = units.case + units.passes * work.coupling + units.plastic * work.plastic
+    overhead += work.theorem
     overhead += units.iteration * (work.normal + work.slip)
     surface = units.build * work.built_surface_cells + work.surface_units * _cache(
         work.surface_cells, "surface"
