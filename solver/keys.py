@@ -506,9 +506,8 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("solver", "kinematic_cells", "integer", "", str(SOLVER_DEFAULTS["kinematic_cells"]),
         f"0 to {MAX_KINEMATIC_CELLS}", 'method = "static_shakedown", circular contacts',
         "Cells a contact radius of the mechanism of Koiter's kinematic upper bound "
-        "(solver.theorems.koiter); 0: not solved.  Its cost grows as the cube: 4 s and 0.4 GB "
-        "at 8, 30 s and 2.2 GB at 16 (docs/validation.md).  Part of the case id of "
-        "static_shakedown cases."),
+        "(solver.theorems.koiter); 0: not solved.  Its time and memory grow as the cube "
+        "(measured in docs/validation.md).  Part of the case id of static_shakedown cases."),
 )  # fmt: skip
 
 
