@@ -134,6 +134,7 @@ SOLVER_DEFAULTS = {
     "method": "incremental",
     "residual_print": "in_gap",
     "kinematic_cells": 8,
+    "steady_order": 2,
 }
 #: Finest mesh of Koiter's mechanism, cells a contact radius (memory grows as the cube).
 MAX_KINEMATIC_CELLS = 16
@@ -343,6 +344,13 @@ CASE_KEYS: tuple[Key, ...] = (
         f"|spin| a within {MAX_CREEPAGE:g} (a the contact radius); roll stages only; mu > 0",
         "rolling contacts", "Rigid rotation of body 1 relative to body 2 about z per unit "
         "distance rolled, counter-clockwise from x to y, about the contact's centre."),
+    Key("load", "steady", "boolean", "", "false",
+        "with creepage and/or spin, no roll or slide, no tangential_force; elastic bodies; "
+        "mu > 0", "steady rolling",
+        "The steady state of rolling along +x at the stage's creepage and spin, solved "
+        "directly (solver.surface.steady: Kalker's steady slip, an upwind difference along "
+        "the rolling direction of order solver.steady_order): no travel; each increment of "
+        "the ramp is one steady state (a creep curve)."),
     Key("load", "steps", "integer", "1", "1", f"[1, {MAX_STAGE_STEPS:,}]", _LOADS,
         "Increments of the linear ramp from the previous stage."),
     Key("load", "path", "array of tables", "", "optional (one stage)",
@@ -367,6 +375,9 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("load.path[i]", "spin", "number", "1/m", "0",
         f"|spin| a within {MAX_CREEPAGE:g}; roll stages only",
         "rolling contacts", "As load.spin."),
+    Key("load.path[i]", "steady", "boolean", "", "false",
+        "with creepage and/or spin; not with roll, slide or tangential_force",
+        "steady rolling", "As load.steady."),
     Key("load.path[i]", "steps", "integer", "1", "1", f"[1, {MAX_STAGE_STEPS:,}]", "load paths",
         "As load.steps."),
     Key("load.path[i] (cycle block)", "cycles", "integer", "1", "required",
@@ -503,6 +514,12 @@ CASE_KEYS: tuple[Key, ...] = (
         "static theorem solved directly for the case's sliding Hertz contact (a lower bound of "
         "the shakedown limit on the track's cross-section, an upper bound beside it, "
         "solver.theorems); part of the case id when not incremental."),
+    Key("solver", "steady_order", "integer", "", str(SOLVER_DEFAULTS["steady_order"]),
+        "1 or 2", "steady rolling stages",
+        "Order of the upwind difference of a steady rolling stage's slip along the rolling "
+        "direction: 1 is Kalker's CONTACT's scheme (the transient step of one cell), 2 the "
+        "second-order upwind difference (C11 within 0.2 % of Kalker's at a/13); part of the "
+        "case id when 1."),
     Key("solver", "kinematic_cells", "integer", "", str(SOLVER_DEFAULTS["kinematic_cells"]),
         f"0 to {MAX_KINEMATIC_CELLS}", 'method = "static_shakedown", circular contacts',
         "Cells a contact radius of the mechanism of Koiter's kinematic upper bound "

@@ -60,7 +60,15 @@ from .record import (
     spot_areas,
     touches_edge,
 )
-from .steps import ContactState, StepResult, normal_step, position_of, sliding_step, slip_stick_step
+from .steps import (
+    ContactState,
+    StepResult,
+    normal_step,
+    position_of,
+    sliding_step,
+    slip_stick_step,
+    steady_step,
+)
 from .theorem import solve_static_shakedown
 from .window import Follower, shifted
 
@@ -95,14 +103,20 @@ def scene(case: Case) -> tuple[tuple[str, ...], Callable[..., StepResult]]:
     """
     loops, step = _scene(case)
     motions = tuple(
-        name for name, kind in (("sliding", "slide"), ("rolling", "roll"))
+        name
+        for name, kind in (("sliding", "slide"), ("rolling", "roll"), ("steady_rolling", "steady"))
         if any(stage.motion == kind for stage in case.stages)
     )  # fmt: skip
     return (*loops[:1], *motions, *loops[1:]), step
 
 
-def _increment_step(contact_step, stage, moving: bool) -> Callable[..., StepResult]:
-    """The contact step of one increment of ``stage``: sliding, rolling (creepage) or static."""
+def _increment_step(contact_step, stage, moving: bool, creep=None) -> Callable[..., StepResult]:
+    """The contact step of one increment of ``stage``: sliding, rolling (creepage) or static.
+
+    ``creep``: the increment's (creepage, spin) of a steady stage (:meth:`Case.creep_ramp`).
+    """
+    if stage.motion == "steady":
+        return functools.partial(steady_step, creepage=creep[0], spin=creep[1])
     if moving and stage.motion == "slide":
         return sliding_step
     if stage.creepage is not None and contact_step is slip_stick_step:
@@ -354,7 +368,9 @@ def solve(case: Case) -> Result:
     cycle_profiles: dict[str, list] = {}  # CYCLE_PROFILES at the end of every cycle
     loaded_positions: set[tuple[float, float, float, float]] = set()  # (p_x, p_y, sign_x, sign_y)
     before = None  # (state, load increment) of the step before the last (elastic predictor)
+    creeps = case.creep_ramp()
     for k, (target, stage) in enumerate(zip(targets, case.increment_stages(), strict=True)):
+        creep = next(creeps)
         work = 0.0  # friction work of the step, its sub-steps included
         sub_iterations = dict.fromkeys((*ITERATION_HISTORY.values(), "plastic_iterations"), 0)
         if plastic and cycles[k] and (k == 0 or cycles[k] != cycles[k - 1]):
@@ -365,7 +381,7 @@ def solve(case: Case) -> Result:
                 guess = previous = None
             direction = new_direction
         moving = position_of(target) != position_of(previous_target)
-        step_of = _increment_step(contact_step, stage, moving)
+        step_of = _increment_step(contact_step, stage, moving, creep)
         # a load position of Melan's check: Hamilton's field is a slide's load, or a
         # frictionless roll's (a rolling contact's shear is not mu p)
         hamilton = stage.motion == "slide" or case.friction_coefficient == 0.0

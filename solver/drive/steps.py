@@ -47,6 +47,7 @@ import numpy as np
 
 from ..numerics.anderson import Anderson
 from ..surface.normal import NormalSolution, solve_normal
+from ..surface.steady import solve_steady_tangential, upwind
 from ..surface.tangential import solve_tangential, solve_tangential_coupled
 
 if TYPE_CHECKING:
@@ -386,6 +387,96 @@ def slip_stick_step(
     return _step_result(
         operators, previous, tangential, normal, (pxs, pys), (res_x, res_y), force, counts,
         worst, converged_all, "; ".join(messages), position, shift,
+    )  # fmt: skip
+
+
+def steady_step(
+    operators: CaseOperators,
+    previous: ContactState,
+    target: tuple[float, float, float],
+    residual: ResidualDisplacement | None = None,
+    initial: ContactState | None = None,
+    *,
+    creepage: tuple[float, float],
+    spin: float = 0.0,
+) -> StepResult:
+    """The steady state of rolling along +x at the given creepage and spin (no travel).
+
+    The normal problem for the target's force, then the steady tangential problem
+    (:func:`solver.surface.steady.solve_steady_tangential`, the slip ``-d_x u + c`` with
+    ``c = (-xi + phi y, -eta - phi x)`` about the contact's centre, the pressure's own
+    tangential displacement's upwind difference added for beta != 0); with the coupling
+    (beta != 0, not Goodman's approximation) the two alternate until the pressure settles.
+    Warm-started from the previous increment's tractions (the creep curve's last point).
+    """
+    del initial  # the previous state is the start
+    case, surface = operators.case, operators.surface
+    options = case.solver
+    force = target[0]
+    position = position_of(target)
+    base_gap = _extra_gap(operators, residual, position)
+    if force == 0.0:
+        return _unloaded_step(previous, base_gap, residual, position)
+    beta = case.pair.dundurs_beta
+    coupled = beta != 0.0 and not options.goodman
+    x, y = surface.grid.mesh()
+    rigid_x = -creepage[0] + spin * (y - position[1])
+    rigid_y = -creepage[1] - spin * (x - position[0])
+    zero = np.zeros_like(base_gap)
+    pressure = _start_pressure(operators, force, previous)
+    qx, qy = previous.shear_x, previous.shear_y
+    pxs = pys = zero
+    counts = {"normal": 0, "slip": 0, "coupling": 0}
+    messages, change = [], np.inf
+    order = options.steady_order
+    for loop in range(1, options.coupling_max_iterations + 1):
+        extra = base_gap + surface.normal_from_shear(qx, qy) if coupled else base_gap
+        normal = solve_normal(
+            surface, extra, force, initial_pressure=pressure,
+            tolerance=options.normal_tolerance, max_iterations=options.normal_max_iterations,
+        )  # fmt: skip
+        change = _pressure_change(normal.pressure, pressure)
+        pressure = normal.pressure
+        counts["normal"] += normal.iterations
+        counts["coupling"] = loop
+        if (pressure[-order:] > 0.0).any():
+            message = (
+                "the contact reaches the grid's leading edge (largest x): a steady solve needs "
+                "free cells ahead of it; widen the grid along x"
+            )
+            tangential = None
+            break
+        if beta != 0.0:  # the pressure's own tangential displacement, carried through
+            pxs, pys = surface.tangential_from_pressure(pressure)
+        dx = surface.grid.dx
+        tangential = solve_steady_tangential(
+            surface, pressure, case.friction_coefficient,
+            (rigid_x + upwind(pxs, dx, order), rigid_y + upwind(pys, dx, order)),
+            order=order, initial=(qx, qy), tolerance=options.slip_tolerance,
+            max_iterations=options.slip_max_iterations,
+        )  # fmt: skip
+        qx, qy = tangential.shear_x, tangential.shear_y
+        counts["slip"] += tangential.iterations
+        if not coupled or (loop > 1 and change < options.coupling_tolerance):
+            break
+    else:
+        messages.append(
+            f"steady coupling not converged after {options.coupling_max_iterations} "
+            f"iterations (pressure change {change:.3g})"
+        )
+    if tangential is None:  # refused on this pressure: no tractions, a message
+        state = dataclasses.replace(previous, pressure=pressure, normal=normal)
+        return StepResult(state, False, counts, np.inf, message, pressure > 0.0, normal.approach)
+    for solution, name in ((normal, "normal"), (tangential, "steady tangential")):
+        if not solution.converged:
+            messages.append(f"{name} solve {solution.message}")
+    state = ContactState(
+        pressure, qx, qy, np.asarray(previous.shift, float), pxs, pys, zero, zero,
+        tangential.displacement_x, tangential.displacement_y, force, normal, position,
+    )  # fmt: skip
+    return StepResult(
+        state, not messages, counts, max(normal.residual, tangential.residual),
+        "; ".join(messages), tangential.stick, normal.approach, 0.0,
     )  # fmt: skip
 
 

@@ -394,6 +394,16 @@ class Case:
                 "static_shakedown follows no load path: the theorem takes the unchanging "
                 "surface of the classical theorems; leave the key out",
             )
+        steady = [i for i, stage in enumerate(stages) if stage.motion == "steady"]
+        if steady and plastic is not None:
+            fail(
+                "load.path",
+                "a steady rolling stage (steady = true) is built for elastic bodies (no "
+                "plastic history has a steady state here): roll the elastic-plastic body with "
+                "roll = [dx, dy] instead",
+            )
+        if steady and grid.periodic:
+            fail("grid.periodic", "a steady rolling stage needs a bounded contact: not periodic")
         for key, method in METHOD_KEYS.items():
             if solver.method != method and key in table.get("solver", {}):
                 fail(f"solver.{key}", f'only solver.method = "{method}" takes it: leave it out')
@@ -677,6 +687,28 @@ class Case:
                     px0 + f * (px1 - px0), py0 + f * (py1 - py0),
                 )  # fmt: skip
             w0, qx0, qy0, px0, py0 = w1, qx1, qy1, px1, py1
+
+    def creep_ramp(self) -> Iterator[tuple[tuple[float, float], float]]:
+        """((xi, eta), spin) of every increment of a steady stage, None for others, in order.
+
+        A steady stage ramps linearly from the previous steady stage's creepage and spin (from
+        zero after any other stage): its increments are the points of a creep curve.
+        """
+        start = ((0.0, 0.0), 0.0)
+        for stage in self.stages:
+            if stage.motion != "steady":
+                start = ((0.0, 0.0), 0.0)
+                yield from (None for _ in range(stage.steps))
+                continue
+            (xi0, eta0), spin0 = start
+            xi1, eta1 = stage.creepage
+            for k in range(1, stage.steps + 1):
+                f = k / stage.steps
+                yield (
+                    (xi0 + f * (xi1 - xi0), eta0 + f * (eta1 - eta0)),
+                    spin0 + f * (stage.spin - spin0),
+                )
+            start = (stage.creepage, stage.spin)
 
     def increment_stages(self) -> Iterator[LoadStage]:
         """The stage of every load increment, in order (as :meth:`step_targets`)."""

@@ -60,6 +60,7 @@ class SolverOptions:
     method: str = SOLVER_DEFAULTS["method"]
     residual_print: str = SOLVER_DEFAULTS["residual_print"]
     kinematic_cells: int = SOLVER_DEFAULTS["kinematic_cells"]
+    steady_order: int = SOLVER_DEFAULTS["steady_order"]
 
 
 SOLVER_RULES = {
@@ -80,6 +81,7 @@ SOLVER_RULES = {
     "method": ("method",),
     "residual_print": ("print",),
     "kinematic_cells": ("kinematic",),
+    "steady_order": ("order",),
 }
 
 
@@ -120,6 +122,8 @@ def parse_solver(table: Any) -> SolverOptions:
             if value not in RESIDUAL_PRINTS:
                 fail(path, f"must be one of {list(RESIDUAL_PRINTS)}, got {value!r}")
             values[key] = value
+        elif rule == "order":
+            values[key] = integer(value, path, 1, 2)
         elif rule == "kinematic":
             values[key] = integer(value, path, 0, MAX_KINEMATIC_CELLS)
         elif rule == "threads":
@@ -148,7 +152,7 @@ def parse_solver(table: Any) -> SolverOptions:
 METHODS = ("incremental", "static_shakedown")
 #: Solver keys added after cases were stored: in the normalised table (and the case id) only
 #: when not their default, so the ids of the cases before them stay as they were.
-ID_SILENT_DEFAULTS = ("volume_precision", "method", "residual_print")
+ID_SILENT_DEFAULTS = ("volume_precision", "method", "residual_print", "steady_order")
 #: Solver keys of one method only: in the normalised table (and the case id) of that method's
 #: cases, always, and of no other's.
 METHOD_KEYS = {"kinematic_cells": "static_shakedown"}

@@ -26,7 +26,7 @@ from ..keys import (
 )
 from ..theory.hertz import hertz, hertz_force_for_pressure
 from ..theory.sneddon import radius_for_force
-from .reading import CYCLE_BLOCK, STAGE, check_keys, entries, fail, integer, number, show
+from .reading import CYCLE_BLOCK, STAGE, check_keys, entries, fail, integer, number, plain, show
 
 
 @dataclass(frozen=True)
@@ -48,7 +48,8 @@ class LoadStage:
         Travel (m) of body 1's apex over body 2 during the stage: gross sliding (``slide``) or
         rolling (``roll``).
     motion : str
-        ``"slide"``, ``"roll"`` or ``""`` (no travel).
+        ``"slide"``, ``"roll"``, ``"steady"`` (the steady state of rolling along +x, no
+        travel) or ``""`` (no travel).
     creepage : (float, float) or None
         Kalker's creepages (xi, eta) (dimensionless) of a rolling stage: the rigid slip of body
         1 relative to body 2 per unit distance rolled; the tangential force is then a result.
@@ -331,6 +332,25 @@ def parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool)
         if any(travel):  # a zero travel is no travel: the same case, the same id
             given[key] = list(travel)
             motion = key
+    if "steady" in table and not isinstance(plain(table["steady"]), bool):
+        fail(f"{path}.steady", f"must be true or false, got {table['steady']!r}")
+    if plain(table.get("steady", False)):
+        if motion:
+            fail(
+                f"{path}.{motion}",
+                "a steady stage has no travel (the steady state of rolling along +x is solved "
+                f"directly): remove {motion}",
+            )
+        if "tangential_force" in table:
+            fail(
+                f"{path}.tangential_force",
+                "a steady stage at a prescribed force is not built yet: give the creepage "
+                "(the force is then a result)",
+            )
+        if "creepage" not in table and "spin" not in table:
+            fail(f"{path}.steady", "a steady stage rolls at given creepage or spin: give them")
+        motion = "steady"
+        given["steady"] = True
     creepage, spin = _parse_creepage(table, path, previous, motion, given)
     if creepage is not None:  # the force is a result
         q = (0.0, 0.0)
@@ -343,10 +363,11 @@ def parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool)
 def _parse_creepage(table: Any, path: str, previous: tuple, motion: str, given: dict) -> tuple:
     """(creepage, spin) of a stage: Kalker's creepages of a rolling stage, or None (force)."""
     creep_keys = [key for key in ("creepage", "spin") if key in table]
-    if creep_keys and motion != "roll":
+    if creep_keys and motion not in ("roll", "steady"):
         fail(
             f"{path}.{creep_keys[0]}",
-            "creepage and spin belong to a rolling stage: give roll = [dx, dy] (m) too"
+            "creepage and spin belong to a rolling stage: give roll = [dx, dy] (m) too, or "
+            "steady = true (the steady state)"
             if motion == ""
             else "a sliding stage slips everywhere (mu p along the motion): remove "
             f"{creep_keys[0]} or roll instead of slide",

@@ -1,0 +1,178 @@
+"""Steady rolling solved directly (issue 39, first step): ``steady = true`` stages.
+
+Independent references: Kalker's linear creep coefficients C11, C22, C23 of a circular contact
+(his tables, :data:`solver.theory.friction.KALKER_CIRCLE_COEFFICIENTS`) in the small-creepage
+limit; the transient march of one-cell steps, whose end state the first-order scheme is by
+construction, rolled long enough; full slip at mu W.  Hard cases end with a status.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import solver
+from solver import SpecError
+from solver.result import STICK
+from solver.theory.friction import KALKER_CIRCLE_COEFFICIENTS
+
+E, NU, MU, W = 210e9, 0.25, 0.3, 1000.0
+G = E / (2 * (1 + NU))
+BODIES = {
+    "body1": {"behaviour": "elastic", "E": E, "nu": NU, "radius": 0.025},
+    "body2": {"behaviour": "elastic", "E": E, "nu": NU},
+    "friction": {"coefficient": MU},
+}
+
+
+def _steady(stage: dict, cells: int = 8, order: int = 2, **changes) -> solver.Case:
+    """Load W, then one steady stage; cells of a / ``cells`` over a grid of +-1.25 a."""
+    n = round(2.5 * cells)
+    table = {
+        **BODIES,
+        "load": {"path": [{"normal_force": W}, {"steady": True, **stage}]},
+        "grid": {"n": [n, n], "half_width": 1.25},
+        "solver": {"steady_order": order},
+        **changes,
+    }
+    return solver.Case.from_dict(table)
+
+
+def _coefficients(cells: int, order: int) -> tuple[float, float, float]:
+    """C11, C22, C23 of a nearly adhering contact (creepage 1e-7, spin 1e-4 / m)."""
+    out = []
+    for stage, component in (
+        ({"creepage": [1e-7, 0.0]}, "x"),
+        ({"creepage": [0.0, 1e-7]}, "y"),
+        ({"spin": 1e-4}, "y"),
+    ):
+        case = _steady(stage, cells, order)
+        result = solver.solve(case)
+        assert result.status == "converged"
+        a = case.hertz.radius
+        force = result.history[f"tangential_force_{component}"][-1]
+        scale = G * a**3 * 1e-4 if "spin" in stage else G * a * a * 1e-7
+        out.append(force / scale)
+    return tuple(out)
+
+
+@pytest.mark.validation
+def test_small_creepage_gives_kalkers_coefficients_and_converges(validation):
+    expected = KALKER_CIRCLE_COEFFICIENTS[NU]
+    second = _coefficients(16, 2)
+    errors = [c / e - 1.0 for c, e in zip(second, expected, strict=True)]
+    assert abs(errors[0]) < 0.01 and abs(errors[1]) < 0.01 and abs(errors[2]) < 0.02
+    first = [_coefficients(cells, 1)[0] / expected[0] - 1.0 for cells in (8, 16)]
+    assert abs(first[1]) < 0.7 * abs(first[0])  # first order: the error shrinks with the cells
+    validation(
+        "Steady rolling solved directly, circular contact, small creepage (solver.surface.steady)",
+        f"Kalker 1967: C11, C22, C23 = {expected[0]}, {expected[1]}, {expected[2]} (nu = {NU})",
+        "second order at a/16: " + ", ".join(f"{e:+.2%}" for e in errors)
+        + f"; first order C11 {first[0]:+.2%}, {first[1]:+.2%} at a/8, a/16",
+    )  # fmt: skip
+
+
+def test_the_transient_march_of_one_cell_steps_ends_at_the_first_order_steady_state():
+    xi = 0.001
+    steady = _steady({"creepage": [xi, 0.0]}, 8, order=1)
+    a, dx = steady.hertz.radius, steady.surface_grid.dx
+    result = solver.solve(steady)
+    force = result.history["tangential_force_x"][-1]
+    travel = 8.0 * a
+    march = solver.Case.from_dict(
+        {
+            **BODIES,
+            "load": {
+                "path": [
+                    {"normal_force": W},
+                    {"roll": [travel, 0.0], "creepage": [xi, 0.0], "steps": round(travel / dx)},
+                ]
+            },
+            "grid": {"n": [round(10.5 * 8), 20], "half_width": 1.25},
+        }
+    )
+    assert march.surface_grid.dx == pytest.approx(dx)
+    rolled = solver.solve(march).history["tangential_force_x"]
+    assert abs(rolled[-1] - force) < 0.002 * MU * W
+    assert abs(rolled[-1] - force) < 0.5 * abs(rolled[-9] - force)  # still closing on it
+    # the stick zone at the leading edge (+x), the slip zone behind
+    x, _ = result.grid.mesh()
+    assert x[result.contact_state == STICK].mean() > 0.0
+
+
+def test_a_creep_curve_rises_to_mu_w():
+    case = _steady({"creepage": [0.004, 0.0], "steps": 8}, 8)
+    result = solver.solve(case)
+    force = result.history["tangential_force_x"][1:] / (MU * W)
+    assert result.status == "converged"
+    assert np.all(np.diff(force) > 0.0) and force[-1] < 1.0 + 1e-9
+    full = solver.solve(_steady({"creepage": [0.05, 0.0]}, 8))
+    assert full.history["tangential_force_x"][-1] == pytest.approx(MU * W, rel=2e-3)
+    assert (full.contact_state != STICK).all()
+
+
+@pytest.mark.parametrize(
+    "stage, changes",
+    [
+        ({"creepage": [1.0, 0.0]}, {}),  # full slip at the largest creepage
+        ({"spin": 50.0}, {}),  # spin alone, past saturation (about 15 / m)
+        (
+            {"creepage": [0.002, 0.0]},
+            {"body1": {"behaviour": "rigid", "radius": 0.025}},  # beta = -0.29: coupled
+        ),
+    ],
+)
+def test_hard_cases_end_with_a_status(stage, changes):
+    result = solver.solve(_steady(stage, 8, **changes))
+    assert result.status in ("converged", "not_converged")
+    for values in result.history.values():
+        assert not np.isnan(np.asarray(values, float)).any()
+    assert result.status == "converged"
+    assert math.hypot(*(result.history[f"tangential_force_{c}"][-1] for c in "xy")) <= (
+        MU * W * (1 + 1e-6)
+    )
+
+
+def test_a_contact_at_the_leading_edge_is_told_not_solved():
+    table = {
+        **BODIES,
+        "load": {"path": [{"normal_force": W}, {"steady": True, "creepage": [0.001, 0.0]}]},
+        "grid": {"n": [22, 22], "half_width": 1.1},  # row centres 0.95 a and 1.05 a
+    }
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "not_converged"
+    assert any("leading edge" in note for note in result.notes)
+
+
+@pytest.mark.parametrize(
+    "stage, key",
+    [
+        ({"roll": [1e-4, 0.0], "creepage": [0.001, 0.0]}, "roll"),
+        ({}, "steady"),
+        ({"tangential_force": [10.0, 0.0]}, "tangential_force"),
+        ({"creepage": [0.001, 0.0], "steady": "yes"}, "steady"),
+    ],
+)
+def test_bad_steady_stages_are_refused_by_name(stage, key):
+    table = {
+        **BODIES,
+        "load": {"path": [{"normal_force": W}, {"steady": True, **stage}]},
+        "grid": {"n": [20, 20]},
+    }
+    with pytest.raises(SpecError, match=rf"load.path\[1\].{key}"):
+        solver.Case.from_dict(table)
+
+
+def test_an_elastic_plastic_body_is_refused_a_steady_stage():
+    body = {"behaviour": "elastic-plastic", "E": E, "nu": NU}
+    body["hardening"] = {"law": "perfect", "yield_stress": 1e9}
+    table = {
+        **BODIES,
+        "body2": body,
+        "load": {"path": [{"normal_force": W}, {"steady": True, "creepage": [0.001, 0.0]}]},
+        "grid": {"n": [20, 20, 16]},
+    }
+    with pytest.raises(SpecError, match="load.path: a steady rolling stage .* elastic bodies"):
+        solver.Case.from_dict(table)
