@@ -169,6 +169,12 @@ def build_parser() -> argparse.ArgumentParser:
         "a case past the surface limit) beside Melan's theorem",
     )
     bench.add_argument(
+        "--steady",
+        action="store_true",
+        help="rolling: our steady state solved directly (steady = true stages) instead of the "
+        "transient march, and a 50-point creep curve both ways",
+    )
+    bench.add_argument(
         "--table",
         metavar="FILE",
         help="also write what the run prints to FILE (Markdown), headed by the command, the "
@@ -237,7 +243,7 @@ def main(argv: list[str] | None = None) -> int:
         with recorded(args.table, ["python -m study", *(argv or sys.argv[1:])]):
             return run_benchmark(
                 args.scene, args.sizes, args.peers, args.repeat, args.error, args.periodic,
-                args.incremental,
+                args.incremental, args.steady,
             )  # fmt: skip
 
     from .campaign import CampaignError

@@ -9,7 +9,7 @@ from __future__ import annotations
 import importlib
 
 #: Scene -> (module, runner, the options it takes of ``peers``, ``repeat``, ``error``,
-#: ``periodic`` and ``incremental``).
+#: ``periodic``, ``incremental`` and ``steady``).
 SCENES = {
     "hertz": ("hertz", "run_hertz", ("peers", "repeat")),
     "cattaneo": ("cattaneo", "run_cattaneo", ("peers", "repeat")),
@@ -18,7 +18,7 @@ SCENES = {
     "cycles": ("cycles", "run_cycles", ()),
     "rough": ("rough", "run_rough", ("peers", "periodic")),
     "moving": ("moving", "run_moving", ()),
-    "rolling": ("rolling", "run_rolling", ("peers",)),
+    "rolling": ("rolling", "run_rolling", ("peers", "steady")),
     "shakedown": ("shakedown", "run_shakedown", ("incremental",)),
 }
 
@@ -44,6 +44,7 @@ def run_benchmark(
     error: bool = False,
     periodic: bool = False,
     incremental: bool = False,
+    steady: bool = False,
 ) -> int:
     """Run a benchmark scene, print its table, and return an exit status."""
     module, runner, takes = SCENES[scene]
@@ -54,9 +55,11 @@ def run_benchmark(
     run = getattr(importlib.import_module(f"{__package__}.{module}"), runner)
     if incremental and "incremental" not in takes:
         raise ValueError(f"--incremental: scene {scene!r} has no such run (only shakedown)")
+    if steady and "steady" not in takes:
+        raise ValueError(f"--steady: scene {scene!r} has no steady form (only rolling)")
     options = {
         "peers": peers, "repeat": repeat, "error": error, "periodic": periodic,
-        "incremental": incremental,
+        "incremental": incremental, "steady": steady,
     }  # fmt: skip
     default = DEFAULT_SIZES[f"{scene} --periodic" if periodic else scene]
     return run(sizes or default, **{k: options[k] for k in takes})

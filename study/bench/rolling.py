@@ -23,7 +23,14 @@ CONTACT on 120 elements across (the reference) and from Kalker's table, CPU and 
 memory (ours: growth of the resident set; CONTACT's: its peak resident set),
 tangential-operator applications (ours).
 
-``python -m study bench rolling [--sizes N ...] [--peers]`` (N: cells across, default 32 64).
+``--steady``: ours solved directly (``steady = true`` stages, :mod:`solver.surface.steady`,
+second-order upwind: ``steady``; first order, CONTACT's scheme: ``steady o1``) instead of the
+march, on a grid of 1.25 a either side; then a creep curve of :data:`CURVE_POINTS` creepages
+(xi_n up to 1) both ways: one steady stage of that many increments, and one transient march a
+point, with their CPU and the largest difference between the two curves (of mu W).
+
+``python -m study bench rolling [--sizes N ...] [--peers] [--steady]`` (N: cells across,
+default 32 64).
 """
 
 from __future__ import annotations
@@ -104,6 +111,64 @@ def _ours(across: int, xi: tuple[float, float]) -> dict:
     }  # fmt: skip
 
 
+#: Creepages of the creep curve of ``--steady`` (xi_n from 1/CURVE_POINTS to 1).
+CURVE_POINTS = 50
+
+
+def steady_table(across: int, xi: tuple[float, float], order: int = 2, steps: int = 1) -> dict:
+    """The case table: load, then the steady state at ``xi`` (a ramp of ``steps`` from zero)."""
+    n = round(1.25 * across)  # +-1.25 a in cells of 2 a / across
+    return {
+        "body1": {"behaviour": "elastic", "E": E, "nu": NU, "radius": PAIR_RADIUS},
+        "body2": {"behaviour": "elastic", "E": E, "nu": NU},
+        "friction": {"coefficient": MU},
+        "load": {"path": [
+            {"normal_force": FORCE},
+            {"steady": True, "creepage": list(xi), "steps": steps},
+        ]},
+        "grid": {"n": [n, n], "half_width": 1.25},
+        "solver": {"steady_order": order},
+    }  # fmt: skip
+
+
+def _ours_steady(across: int, xi: tuple[float, float], order: int = 2) -> dict:
+    _, result, wall, cpu, memory = timed_solve(steady_table(across, xi, order))
+    axis = "x" if xi[0] else "y"
+    return {
+        "force": float(result.history[f"tangential_force_{axis}"][-1]), "cpu": cpu,
+        "wall": wall, "memory": memory,
+        "iterations": int(result.history["slip_iterations"].sum()), "status": result.status,
+    }  # fmt: skip
+
+
+def _steady_curve(across: int) -> dict:
+    """One steady stage of CURVE_POINTS increments up to xi_n = 1: forces, CPU."""
+    table = steady_table(across, (creepage(1.0), 0.0), 2, CURVE_POINTS)
+    _, result, wall, cpu, _ = timed_solve(table)
+    forces = [float(f) for f in result.history["tangential_force_x"][1:]]
+    return {"forces": forces, "cpu": cpu, "wall": wall, "status": result.status}
+
+
+def _curve_comparison(across: int) -> list[str]:
+    """The creep curve both ways: CPU of each, the largest difference (of mu W)."""
+    status, steady = isolated(_steady_curve, across, timeout=7200.0)
+    if status != "ok":
+        return [f"creep curve, steady: {steady}"]
+    march_cpu, worst = 0.0, 0.0
+    for k, force in enumerate(steady["forces"], start=1):
+        status, out = isolated(_ours, across, (creepage(k / CURVE_POINTS), 0.0), timeout=7200.0)
+        if status != "ok":
+            return [f"creep curve, transient point {k}: {out}"]
+        march_cpu += out["cpu"]
+        worst = max(worst, abs(out["force"] - force) / (MU * FORCE))
+    return [
+        f"creep curve of {CURVE_POINTS} creepages (xi_n to 1), {across} cells across: steady "
+        f"{steady['cpu']:.2f} s CPU ({steady['status']}), transient marches {march_cpu:.1f} s "
+        f"CPU ({march_cpu / max(steady['cpu'], 1e-9):.0f} x); largest difference "
+        f"{100 * worst:.2f} % of mu W",
+    ]
+
+
 def _contact_input(across: int, xi: tuple[float, float]) -> str:
     """CONTACT's input (module 3, units mm, N, N/mm^2) for steady rolling at ``xi``."""
     elements = round(1.1 * across)  # the potential contact: 1.1 a on each side
@@ -164,7 +229,7 @@ def contact_executable() -> str | None:
     return path if path and os.access(path, os.X_OK) else None
 
 
-def run_rolling(sizes: list[int], peers: bool = False) -> int:
+def run_rolling(sizes: list[int], peers: bool = False, steady: bool = False) -> int:
     """Print the creep-curve and linear-coefficient table; 0 when every row ran."""
     executable = contact_executable() if peers else None
     if peers:
@@ -185,7 +250,7 @@ def run_rolling(sizes: list[int], peers: bool = False) -> int:
         value = out["force"] / unit
         rows.append({
             "code": code, "across": across,
-            "steps_per_a": 2 * across if code == "slipstick" else across // 2,
+            "steps_per_a": {"slipstick": 2 * across, "CONTACT": across // 2}.get(code, "-"),
             "xi_n": label, "F_over_muW_or_C": value,
             "vs_CONTACT_ref_%": None if reference is None else 100 * (value / reference - 1),
             "vs_Kalker_%": None if kalker is None else 100 * (value / kalker - 1),
@@ -201,8 +266,13 @@ def run_rolling(sizes: list[int], peers: bool = False) -> int:
             status, out = isolated(_contact, executable, REFERENCE_ACROSS, xi, timeout=7200.0)
             reference = add("CONTACT", REFERENCE_ACROSS, label, status, out, unit, kalker, None)
         for across in sizes:
-            status, out = isolated(_ours, across, xi, timeout=7200.0)
-            add("slipstick", across, label, status, out, unit, kalker, reference)
+            if steady:
+                for code, order in (("steady", 2), ("steady o1", 1)):
+                    status, out = isolated(_ours_steady, across, xi, order, timeout=7200.0)
+                    add(code, across, label, status, out, unit, kalker, reference)
+            else:
+                status, out = isolated(_ours, across, xi, timeout=7200.0)
+                add("slipstick", across, label, status, out, unit, kalker, reference)
             if executable:
                 status, out = isolated(_contact, executable, across, xi, timeout=7200.0)
                 add("CONTACT", across, label, status, out, unit, kalker, reference)
@@ -212,4 +282,7 @@ def run_rolling(sizes: list[int], peers: bool = False) -> int:
         f"xi_n = {LINEAR:g}; reference: CONTACT at {REFERENCE_ACROSS} across; {machine()}"
     )
     print(format_table(rows))
+    if steady:
+        for line in _curve_comparison(min(sizes)):
+            print(line)
     return 1 if failures else 0
