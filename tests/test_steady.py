@@ -16,7 +16,7 @@ import pytest
 import solver
 from solver import SpecError
 from solver.result import STICK
-from solver.theory.friction import KALKER_CIRCLE_COEFFICIENTS
+from solver.theory.friction import KALKER_CIRCLE_COEFFICIENTS, KALKER_ELLIPSE_COEFFICIENTS
 
 E, NU, MU, W = 210e9, 0.25, 0.3, 1000.0
 G = E / (2 * (1 + NU))
@@ -72,6 +72,61 @@ def test_small_creepage_gives_kalkers_coefficients_and_converges(validation):
         "second order at a/16: " + ", ".join(f"{e:+.2%}" for e in errors)
         + f"; first order C11 {first[0]:+.2%}, {first[1]:+.2%} at a/8, a/16",
     )  # fmt: skip
+
+
+def _ellipsoid(radius_x: float) -> dict:
+    return {"behaviour": "elastic", "E": E, "nu": NU, "radius_x": radius_x, "radius_y": 0.025}
+
+
+def _semi_axes(radius_x: float) -> tuple[float, float]:
+    """Hertz's semi-axes (a along x, b) of body 1 with radii (radius_x, 25 mm) under W."""
+    table = {
+        **BODIES,
+        "body1": _ellipsoid(radius_x),
+        "load": {"normal_force": W},
+        "grid": {"n": [600, 600]},  # fine enough for any ratio tried: only Hertz is read
+    }
+    hertz = solver.Case.from_dict(table).hertz
+    return hertz.semi_axis_x, hertz.semi_axis_y
+
+
+@pytest.mark.validation
+@pytest.mark.parametrize("ratio", [0.5, 2.0])
+def test_elliptical_contacts_give_kalkers_coefficients(ratio, validation):
+    """a/b = 0.5 and 2: C11, C22, C23 (on c = sqrt(ab)) at 8 cells on the smaller semi-axis."""
+    from scipy.optimize import brentq
+
+    radius_x = brentq(
+        lambda r: _semi_axes(r)[0] / _semi_axes(r)[1] - ratio, 0.025 / 50, 0.025 * 50, rtol=1e-10
+    )
+    a, b = _semi_axes(radius_x)
+    c, h = math.sqrt(a * b), min(a, b) / 8
+    n = [round(2.5 * a / h), round(2.5 * b / h)]
+    found = []
+    for stage, component in (
+        ({"creepage": [1e-7, 0.0]}, "x"),
+        ({"creepage": [0.0, 1e-7]}, "y"),
+        ({"spin": 1e-4}, "y"),
+    ):
+        table = {
+            **BODIES,
+            "body1": _ellipsoid(radius_x),
+            "load": {"path": [{"normal_force": W}, {"steady": True, **stage}]},
+            "grid": {"n": n, "size": [n[0] * h, n[1] * h]},
+        }
+        result = solver.solve(solver.Case.from_dict(table))
+        assert result.status == "converged"
+        force = result.history[f"tangential_force_{component}"][-1]
+        found.append(force / (G * c**3 * 1e-4 if "spin" in stage else G * c * c * 1e-7))
+    expected = KALKER_ELLIPSE_COEFFICIENTS[ratio][NU]
+    errors = [f / e - 1.0 for f, e in zip(found, expected, strict=True)]
+    assert max(abs(e) for e in errors) < 0.01
+    validation(
+        f"Steady rolling solved directly, elliptical contact a/b = {ratio:g} "
+        "(solver.surface.steady)",
+        f"Kalker 1990, table E.3: C11, C22, C23 = {', '.join(map(str, expected))} (nu = {NU})",
+        "at 8 cells on the smaller semi-axis: " + ", ".join(f"{e:+.2%}" for e in errors),
+    )
 
 
 def test_the_transient_march_of_one_cell_steps_ends_at_the_first_order_steady_state():

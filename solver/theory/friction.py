@@ -58,6 +58,17 @@ KALKER_CIRCLE_COEFFICIENTS = {
 }
 
 
+#: Kalker's linear creep coefficients (C11, C22, C23) of elliptical contacts of semi-axes a
+#: (along the rolling direction x) and b, per Poisson's ratio, on ``c = sqrt(a b)``:
+#: ``F_x = G c^2 C11 xi``, ``F_y = G c^2 C22 eta + G c^3 C23 phi``.  Kalker (1990), *Three-
+#: dimensional elastic bodies in rolling contact*, table E.3 (as CONTACT's sources tabulate it),
+#: the rows a/b = 0.5 and b/a = 0.5.
+KALKER_ELLIPSE_COEFFICIENTS = {
+    0.5: {0.0: (2.88, 2.88, 0.827), 0.25: (3.62, 3.01, 0.929), 0.5: (4.83, 3.14, 1.07)},
+    2.0: {0.0: (4.37, 4.37, 2.35), 0.25: (5.10, 4.90, 2.62), 0.5: (6.11, 5.56, 2.96)},
+}
+
+
 def kalker_linear_force(
     creepage: tuple[float, float],
     shear_modulus: float,
