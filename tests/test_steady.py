@@ -231,3 +231,19 @@ def test_an_elastic_plastic_body_is_refused_a_steady_stage():
     }
     with pytest.raises(SpecError, match="load.path: a steady rolling stage .* elastic bodies"):
         solver.Case.from_dict(table)
+
+
+def test_a_rounded_flat_punch_rolls_steadily_too():
+    """Any shape the normal solver takes: a flat punch with rounded edges (a profile)."""
+    punch = {"shape": "flat_punch", "radius": 0.3e-3, "edge_radius": 0.02}
+    table = {
+        **BODIES,
+        "body1": {"behaviour": "elastic", "E": E, "nu": NU, "profile": punch},
+        "load": {"path": [{"normal_force": W}, {"steady": True, "creepage": [0.002, 0.0]}]},
+        "grid": {"n": [48, 48], "half_width": 1.3},
+    }
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "converged"
+    assert 0.0 < result.history["tangential_force_x"][-1] < MU * W
+    x, _ = result.grid.mesh()
+    assert x[result.contact_state == STICK].mean() > 0.0  # stick at the leading edge

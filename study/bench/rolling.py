@@ -66,6 +66,14 @@ def creepage(xi_n: float, coefficient: float = C11) -> float:
     return xi_n * 3.0 * MU * FORCE / (SHEAR * RADIUS**2 * coefficient)
 
 
+#: The scene's bodies and friction (a case table's first keys).
+BODIES = {
+    "body1": {"behaviour": "elastic", "E": E, "nu": NU, "radius": PAIR_RADIUS},
+    "body2": {"behaviour": "elastic", "E": E, "nu": NU},
+    "friction": {"coefficient": MU},
+}
+
+
 def start_force(xi: tuple[float, float]) -> list[float]:
     """The tangential force (N) of the Cattaneo start before rolling at ``xi``.
 
@@ -85,9 +93,7 @@ def rolling_table(across: int, xi: tuple[float, float]) -> dict:
     per_radius = 2 * across
     n = (round((TRAVEL + 2.4) * across / 2), round(2.4 * across / 2))
     return {
-        "body1": {"behaviour": "elastic", "E": E, "nu": NU, "radius": PAIR_RADIUS},
-        "body2": {"behaviour": "elastic", "E": E, "nu": NU},
-        "friction": {"coefficient": MU},
+        **BODIES,
         "load": {"path": [
             {"normal_force": FORCE},
             {"tangential_force": start_force(xi), "steps": 4},
@@ -119,9 +125,7 @@ def steady_table(across: int, xi: tuple[float, float], order: int = 2, steps: in
     """The case table: load, then the steady state at ``xi`` (a ramp of ``steps`` from zero)."""
     n = round(1.25 * across)  # +-1.25 a in cells of 2 a / across
     return {
-        "body1": {"behaviour": "elastic", "E": E, "nu": NU, "radius": PAIR_RADIUS},
-        "body2": {"behaviour": "elastic", "E": E, "nu": NU},
-        "friction": {"coefficient": MU},
+        **BODIES,
         "load": {"path": [
             {"normal_force": FORCE},
             {"steady": True, "creepage": list(xi), "steps": steps},
