@@ -50,8 +50,13 @@ from .timing import format_table, isolated, machine, timed_solve
 E, NU, MU = 210e9, 0.25, 0.3
 RADIUS = 1e-3  # m, the contact radius
 PAIR_RADIUS = 0.05  # m: two 100 mm spheres
-#: Kalker's C11, C22 of the scene's nu (placing the creepages; the linear rows compare them)
-C11, C22, _ = KALKER_CIRCLE_COEFFICIENTS[NU]
+#: Kalker's C11, C22, C23 of the scene's nu (placing the creepages; the linear rows compare them)
+C11, C22, C23 = KALKER_CIRCLE_COEFFICIENTS[NU]
+#: Spins of ``--steady``'s spin rows over the spin of Kalker's linear saturation
+#: ``mu W / (G a^3 C23)``.
+PHI_N = (0.3, 1.0, 3.0)
+#: CONTACT's spin CPHI (rad/mm) per our spin (1/m, x turned towards y) times 1e-3.
+SPIN_SIGN = 1.0  # the same sense: checked on the spin rows (both forces +y)
 XI_N = (0.1, 0.3, 0.5, 0.7, 1.0)
 LINEAR = 1e-3
 TRAVEL, AVERAGE = 6.0, 2.0  # contact radii rolled; the last ones averaged
@@ -121,22 +126,29 @@ def _ours(across: int, xi: tuple[float, float]) -> dict:
 CURVE_POINTS = 50
 
 
-def steady_table(across: int, xi: tuple[float, float], order: int = 2, steps: int = 1) -> dict:
-    """The case table: load, then the steady state at ``xi`` (a ramp of ``steps`` from zero)."""
+def steady_table(
+    across: int, xi: tuple[float, float], order: int = 2, steps: int = 1, spin: float = 0.0
+) -> dict:
+    """The case table: load, then the steady state at ``xi`` and ``spin`` (1/m).
+
+    The stage ramps from zero in ``steps`` increments (a creep curve).
+    """
     n = round(1.25 * across)  # +-1.25 a in cells of 2 a / across
+    rigid = {"creepage": list(xi)} if any(xi) else {}
+    rigid.update({"spin": spin} if spin else {})
     return {
         **BODIES,
         "load": {"path": [
             {"normal_force": FORCE},
-            {"steady": True, "creepage": list(xi), "steps": steps},
+            {"steady": True, **rigid, "steps": steps},
         ]},
         "grid": {"n": [n, n], "half_width": 1.25},
         "solver": {"steady_order": order},
     }  # fmt: skip
 
 
-def _ours_steady(across: int, xi: tuple[float, float], order: int = 2) -> dict:
-    _, result, wall, cpu, memory = timed_solve(steady_table(across, xi, order))
+def _ours_steady(across: int, xi: tuple[float, float], order: int = 2, spin: float = 0.0) -> dict:
+    _, result, wall, cpu, memory = timed_solve(steady_table(across, xi, order, spin=spin))
     axis = "x" if xi[0] else "y"
     return {
         "force": float(result.history[f"tangential_force_{axis}"][-1]), "cpu": cpu,
@@ -173,7 +185,7 @@ def _curve_comparison(across: int) -> list[str]:
     ]
 
 
-def _contact_input(across: int, xi: tuple[float, float]) -> str:
+def _contact_input(across: int, xi: tuple[float, float], spin: float = 0.0) -> str:
     """CONTACT's input (module 3, units mm, N, N/mm^2) for steady rolling at ``xi``."""
     elements = round(1.1 * across)  # the potential contact: 1.1 a on each side
     scale, step = elements / across, 2.0 * RADIUS * 1e3 / across
@@ -185,7 +197,8 @@ def _contact_input(across: int, xi: tuple[float, float]) -> str:
         "  022020     L-D-C-M-Z-E",
         " 0000331   H-G-I-A-O-W-R",
         "   999   200    30     1   1e-6    MAXGS, MAXIN, MAXNR, MAXOUT, EPS",
-        f"  {FORCE:.6f}  {xi[0]:.10e}  {xi[1]:.10e}  0.0    FN, CKSI, CETA, CPHI",
+        f"  {FORCE:.6f}  {xi[0]:.10e}  {xi[1]:.10e}  {SPIN_SIGN * spin * 1e-3:.10e}"
+        "    FN, CKSI, CETA, CPHI",
         f"  {MU:.3f}  {MU:.3f}    FSTAT, FKIN",
         f"  0.000  {step:.8f}  1000.0    CHI, DQ, VELOC",
         f"  {NU:.4f}  {NU:.4f}  {shear:.4f}  {shear:.4f}    POISS 1,2, GG 1,2",
@@ -199,12 +212,12 @@ def _contact_input(across: int, xi: tuple[float, float]) -> str:
     return "\n".join(lines)
 
 
-def _contact(executable: str, across: int, xi: tuple[float, float]) -> dict:
+def _contact(executable: str, across: int, xi: tuple[float, float], spin: float = 0.0) -> dict:
     """Run CONTACT on the scene; its force on body 2 (the opposite of its force on body 1)."""
     folder = tempfile.mkdtemp(prefix="contact_")
     try:
         with open(os.path.join(folder, "bench.inp"), "w") as handle:
-            handle.write(_contact_input(across, xi))
+            handle.write(_contact_input(across, xi, spin))
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         start = time.perf_counter()
         done = subprocess.run(
@@ -238,11 +251,16 @@ def run_rolling(sizes: list[int], peers: bool = False, steady: bool = False) -> 
     executable = contact_executable() if peers else None
     if peers:
         print("peers:", f"CONTACT {executable}" if executable else "CONTACT_EXE not set")
-    points = [(f"{x:g}", (creepage(x), 0.0), MU * FORCE, None) for x in XI_N]
+    points = [(f"{x:g}", (creepage(x), 0.0), MU * FORCE, None, 0.0) for x in XI_N]
     for name, axis, kalker in (("C11", 0, C11), ("C22", 1, C22)):
         xi = [0.0, 0.0]
         xi[axis] = creepage(LINEAR, kalker)
-        points.append((name, tuple(xi), SHEAR * RADIUS**2 * xi[axis], kalker))
+        points.append((name, tuple(xi), SHEAR * RADIUS**2 * xi[axis], kalker, 0.0))
+    if steady:  # spin alone: F_y over mu W, and C23 at a spin of LINEAR of saturation's
+        saturation = MU * FORCE / (SHEAR * RADIUS**3 * C23)
+        points += [(f"phi_n {p:g}", (0.0, 0.0), MU * FORCE, None, p * saturation) for p in PHI_N]
+        spin = LINEAR * saturation
+        points.append(("C23", (0.0, 0.0), SHEAR * RADIUS**3 * spin, C23, spin))
     rows, failures = [], 0
 
     def add(code, across, label, status, out, unit, kalker, reference):
@@ -264,21 +282,21 @@ def run_rolling(sizes: list[int], peers: bool = False, steady: bool = False) -> 
         })  # fmt: skip
         return value
 
-    for label, xi, unit, kalker in points:
+    for label, xi, unit, kalker, spin in points:
         reference = None
         if executable:  # CONTACT on its finest grid: the reference of the row's sizes
-            status, out = isolated(_contact, executable, REFERENCE_ACROSS, xi, timeout=7200.0)
+            status, out = isolated(_contact, executable, REFERENCE_ACROSS, xi, spin, timeout=7200.0)
             reference = add("CONTACT", REFERENCE_ACROSS, label, status, out, unit, kalker, None)
         for across in sizes:
             if steady:
                 for code, order in (("steady", 2), ("steady o1", 1)):
-                    status, out = isolated(_ours_steady, across, xi, order, timeout=7200.0)
+                    status, out = isolated(_ours_steady, across, xi, order, spin, timeout=7200.0)
                     add(code, across, label, status, out, unit, kalker, reference)
             else:
                 status, out = isolated(_ours, across, xi, timeout=7200.0)
                 add("slipstick", across, label, status, out, unit, kalker, reference)
             if executable:
-                status, out = isolated(_contact, executable, across, xi, timeout=7200.0)
+                status, out = isolated(_contact, executable, across, xi, spin, timeout=7200.0)
                 add("CONTACT", across, label, status, out, unit, kalker, reference)
     print(
         f"# steady rolling, identical steel bodies (nu = {NU:g}), a = 1 mm, mu = {MU:g}, "
