@@ -4,8 +4,10 @@
 - :mod:`.convolution`: the DC-FFT surface operators built on them;
 - :mod:`.periodic`: the operators of a surface that is one period (Fourier-space forms);
 - :mod:`.normal`: normal contact, conjugate gradient with an active set (the contact CG loop);
-- :mod:`.tangential`: tangential contact at a given pressure, slip and stick.
+- :mod:`.tangential`: tangential contact at a given pressure, slip and stick;
+- :mod:`.steady`: steady rolling at a given pressure (Kalker's steady slip, upwind
+  differences, a semi-smooth Newton method).
 
 Imports: :mod:`solver.bodies`, :mod:`solver.theory`, :mod:`solver.numerics` and the
-declarations.  A new surface solver (a periodic operator, a steady-rolling solver) goes here.
+declarations.  A new surface solver goes here.
 """
