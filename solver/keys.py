@@ -345,9 +345,10 @@ CASE_KEYS: tuple[Key, ...] = (
         "rolling contacts", "Rigid rotation of body 1 relative to body 2 about z per unit "
         "distance rolled, counter-clockwise from x to y, about the contact's centre."),
     Key("load", "steady", "boolean", "", "false",
-        "with creepage and/or spin, no roll or slide, no tangential_force; elastic bodies; "
-        "mu > 0", "steady rolling",
-        "The steady state of rolling along +x at the stage's creepage and spin, solved "
+        "with creepage and/or spin, or tangential_force (|Q| < mu W, no spin); no roll or "
+        "slide; elastic bodies; mu > 0", "steady rolling",
+        "The steady state of rolling along +x at the stage's creepage and spin, or at its "
+        "tangential force (the creepage then a result, histories creepage_x/y), solved "
         "directly (solver.surface.steady: Kalker's steady slip, an upwind difference along "
         "the rolling direction of order solver.steady_order): no travel; each increment of "
         "the ramp is one steady state (a creep curve)."),
@@ -376,7 +377,7 @@ CASE_KEYS: tuple[Key, ...] = (
         f"|spin| a within {MAX_CREEPAGE:g}; roll stages only",
         "rolling contacts", "As load.spin."),
     Key("load.path[i]", "steady", "boolean", "", "false",
-        "with creepage and/or spin; not with roll, slide or tangential_force",
+        "with creepage and/or spin, or tangential_force; not with roll or slide",
         "steady rolling", "As load.steady."),
     Key("load.path[i]", "steps", "integer", "1", "1", f"[1, {MAX_STAGE_STEPS:,}]", "load paths",
         "As load.steps."),

@@ -66,6 +66,14 @@ HISTORIES: dict[str, History] = {
         "m", "rigid tangential shift of body 1 relative to body 2 along y", None
     ),
     "stick_area": History("m2", "stick area"),
+    "creepage_x": History(
+        "1",
+        "creepage xi of a steady rolling step: given, or found for a prescribed force (0 "
+        "outside steady stages)",
+        swap_sign=-1.0,
+    ),
+    "creepage_y": History("1", "creepage eta of a steady rolling step (0 outside them)"),
+    "spin": History("1/m", "spin of a steady rolling step (0 outside them)"),
     "contact_fraction": History(
         "1", "real contact area over the period's nominal area (grid.periodic)", "max"
     ),

@@ -157,6 +157,20 @@ def test_the_transient_march_of_one_cell_steps_ends_at_the_first_order_steady_st
     assert x[result.contact_state == STICK].mean() > 0.0
 
 
+def test_a_prescribed_force_finds_the_creepage_that_gives_it():
+    """The force of a creepage-given steady state, prescribed: the same creepage comes back."""
+    given = solver.solve(_steady({"creepage": [0.002, 0.001], "steps": 2}, 8))
+    force = [float(given.history[f"tangential_force_{c}"][-1]) for c in "xy"]
+    found = solver.solve(_steady({"tangential_force": force, "steps": 2}, 8))
+    assert found.status == "converged"
+    assert found.history["creepage_x"][-1] == pytest.approx(0.002, rel=1e-6)
+    assert found.history["creepage_y"][-1] == pytest.approx(0.001, rel=1e-5)
+    assert found.history["tangential_force_x"][-1] == pytest.approx(force[0], rel=1e-8)
+    assert given.history["creepage_x"][1] == pytest.approx(0.001)  # the ramp's midpoint
+    # half the force needs less than half the creepage (the curve bends over)
+    assert 0.0 < found.history["creepage_x"][1] < 0.5 * 0.002
+
+
 def test_a_creep_curve_rises_to_mu_w():
     case = _steady({"creepage": [0.004, 0.0], "steps": 8}, 8)
     result = solver.solve(case)
@@ -206,7 +220,7 @@ def test_a_contact_at_the_leading_edge_is_told_not_solved():
     [
         ({"roll": [1e-4, 0.0], "creepage": [0.001, 0.0]}, "roll"),
         ({}, "steady"),
-        ({"tangential_force": [10.0, 0.0]}, "tangential_force"),
+        ({"tangential_force": [10.0, 0.0], "spin": 3.0}, "tangential_force"),
         ({"creepage": [0.001, 0.0], "steady": "yes"}, "steady"),
     ],
 )

@@ -45,6 +45,7 @@ from .record import (
     PERIODIC_HISTORY,
     PERIODIC_PLASTIC_HISTORY,
     PLASTIC_HISTORY,
+    STEADY_HISTORY,
     box_faces_reached,
     count_iterations,
     cycle_end,
@@ -317,6 +318,8 @@ def solve(case: Case) -> Result:
     names = CONTACT_HISTORY
     if contact_step is slip_stick_step or (case.moving and case.friction_coefficient > 0):
         names += FRICTION_HISTORY
+    if any(stage.motion == "steady" for stage in case.stages):
+        names += STEADY_HISTORY
     if case.moving:
         names += ("position_x", "position_y")
     if case.grid.periodic:
@@ -450,6 +453,10 @@ def solve(case: Case) -> Result:
         state = outcome.state
         previous_target = target
         record(history, k, outcome, area, case.grid.periodic)
+        if outcome.creepage is not None:
+            history["creepage_x"][k], history["creepage_y"][k], history["spin"][k] = (
+                outcome.creepage
+            )
         if case.grid.periodic:  # every step's spot sizes: the distribution along the path
             step_spots.append(spot_areas(state.pressure > 0, area, periodic=True))
         if case.grid.periodic and state.normal is None:  # unloaded

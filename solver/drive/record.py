@@ -34,6 +34,8 @@ CONTACT_HISTORY = (
 )  # fmt: skip
 
 
+#: Histories of a case with steady rolling stages: the creepage of every step.
+STEADY_HISTORY = ("creepage_x", "creepage_y", "spin")
 FRICTION_HISTORY = (
     "tangential_force_x", "tangential_force_y", "tangential_shift_x", "tangential_shift_y",
     "stick_area", "slip_iterations", "coupling_iterations", "friction_work",

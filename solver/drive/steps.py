@@ -144,6 +144,9 @@ class StepResult:
     friction_work : float
         Energy dissipated by friction in the step (J): ``-sum (q + q_prev)/2 . s dA``, the
         trapezoidal rule in time (0 in a normal step).
+    creepage : (float, float, float) or None
+        (xi, eta, spin) of a steady rolling step: given, or the creepage found for a prescribed
+        force; None in other steps.
     """
 
     state: ContactState
@@ -154,6 +157,7 @@ class StepResult:
     stick: np.ndarray | None = None
     approach: float = 0.0
     friction_work: float = 0.0
+    creepage: tuple[float, float, float] | None = None
 
 
 def position_of(target: tuple) -> tuple[float, float]:
@@ -397,10 +401,13 @@ def steady_step(
     residual: ResidualDisplacement | None = None,
     initial: ContactState | None = None,
     *,
-    creepage: tuple[float, float],
+    creepage: tuple[float, float] | None,
     spin: float = 0.0,
 ) -> StepResult:
     """The steady state of rolling along +x at the given creepage and spin (no travel).
+
+    ``creepage`` None: the target's tangential force (Q_x, Q_y) is prescribed and the
+    creepage found with the tractions (two more unknowns of the steady solve).
 
     The normal problem for the target's force, then the steady tangential problem
     (:func:`solver.surface.steady.solve_steady_tangential`, the slip ``-d_x u + c`` with
@@ -420,8 +427,10 @@ def steady_step(
     beta = case.pair.dundurs_beta
     coupled = beta != 0.0 and not options.goodman
     x, y = surface.grid.mesh()
-    rigid_x = -creepage[0] + spin * (y - position[1])
-    rigid_y = -creepage[1] - spin * (x - position[0])
+    given = creepage if creepage is not None else (0.0, 0.0)
+    prescribed = None if creepage is not None else (target[1], target[2])
+    rigid_x = -given[0] + spin * (y - position[1])
+    rigid_y = -given[1] - spin * (x - position[0])
     zero = np.zeros_like(base_gap)
     pressure = _start_pressure(operators, force, previous)
     qx, qy = previous.shear_x, previous.shear_y
@@ -452,7 +461,7 @@ def steady_step(
         tangential = solve_steady_tangential(
             surface, pressure, case.friction_coefficient,
             (rigid_x + upwind(pxs, dx, order), rigid_y + upwind(pys, dx, order)),
-            order=order, initial=(qx, qy), tolerance=options.slip_tolerance,
+            force=prescribed, order=order, initial=(qx, qy), tolerance=options.slip_tolerance,
             max_iterations=options.slip_max_iterations,
         )  # fmt: skip
         qx, qy = tangential.shear_x, tangential.shear_y
@@ -474,9 +483,10 @@ def steady_step(
         pressure, qx, qy, np.asarray(previous.shift, float), pxs, pys, zero, zero,
         tangential.displacement_x, tangential.displacement_y, force, normal, position,
     )  # fmt: skip
+    found = tangential.creepage if creepage is None else creepage
     return StepResult(
         state, not messages, counts, max(normal.residual, tangential.residual),
-        "; ".join(messages), tangential.stick, normal.approach, 0.0,
+        "; ".join(messages), tangential.stick, normal.approach, 0.0, (*found, spin),
     )  # fmt: skip
 
 

@@ -692,13 +692,19 @@ class Case:
         """((xi, eta), spin) of every increment of a steady stage, None for others, in order.
 
         A steady stage ramps linearly from the previous steady stage's creepage and spin (from
-        zero after any other stage): its increments are the points of a creep curve.
+        zero after any other stage, or after a steady stage at a prescribed force, whose
+        increments give ``(None, 0)``: the creepage is a result): its increments are the
+        points of a creep curve.
         """
         start = ((0.0, 0.0), 0.0)
         for stage in self.stages:
             if stage.motion != "steady":
                 start = ((0.0, 0.0), 0.0)
                 yield from (None for _ in range(stage.steps))
+                continue
+            if stage.creepage is None:  # a prescribed force: the creepage is a result
+                start = ((0.0, 0.0), 0.0)
+                yield from ((None, 0.0) for _ in range(stage.steps))
                 continue
             (xi0, eta0), spin0 = start
             xi1, eta1 = stage.creepage

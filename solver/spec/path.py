@@ -341,14 +341,12 @@ def parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool)
                 "a steady stage has no travel (the steady state of rolling along +x is solved "
                 f"directly): remove {motion}",
             )
-        if "tangential_force" in table:
+        if not {"creepage", "spin", "tangential_force"} & set(table):
             fail(
-                f"{path}.tangential_force",
-                "a steady stage at a prescribed force is not built yet: give the creepage "
-                "(the force is then a result)",
+                f"{path}.steady",
+                "a steady stage rolls at given creepage or spin, or at a given tangential "
+                "force: give them",
             )
-        if "creepage" not in table and "spin" not in table:
-            fail(f"{path}.steady", "a steady stage rolls at given creepage or spin: give them")
         motion = "steady"
         given["steady"] = True
     creepage, spin = _parse_creepage(table, path, previous, motion, given)

@@ -62,6 +62,8 @@ class SteadySolution:
         ``K_t q`` (m).
     stick : ndarray of bool
         Stick cells.
+    creepage : (float, float)
+        The creepage (xi, eta) found for a prescribed force (0, 0 when none is prescribed).
     newton_iterations, iterations : int
         Newton steps, and applications of the tangential operator in all.
     residual : float
@@ -79,6 +81,7 @@ class SteadySolution:
     displacement_x: np.ndarray
     displacement_y: np.ndarray
     stick: np.ndarray
+    creepage: tuple[float, float]
     newton_iterations: int
     iterations: int
     residual: float
@@ -105,8 +108,10 @@ def solve_steady_tangential(
     friction_coefficient: float,
     rigid: tuple[np.ndarray, np.ndarray],
     *,
+    force: tuple[float, float] | None = None,
     order: int = 1,
     initial: tuple[np.ndarray, np.ndarray] | None = None,
+    initial_creepage: tuple[float, float] = (0.0, 0.0),
     tolerance: float = 1e-8,
     max_iterations: int = 5000,
     max_newton: int = 100,
@@ -124,10 +129,16 @@ def solve_steady_tangential(
     rigid : (ndarray, ndarray)
         ``c`` of (1): the rigid slip per unit distance rolled (1), e.g. ``(-xi + phi y,
         -eta - phi x)``, plus any known displacement's upwind difference.
+    force : (float, float), optional
+        A prescribed tangential force (N) on body 2: the creepage (xi, eta) is then two more
+        unknowns, subtracted from ``rigid`` (the force's two equations, as mean tractions over
+        the contact, join the Newton system); ``|force| < mu W``.
     order : int
         1 or 2: the upwind difference's order.
     initial : (ndarray, ndarray), optional
         Starting tractions (Pa), e.g. the previous creepage's.
+    initial_creepage : (float, float)
+        Starting creepage of a prescribed force.
     tolerance : float
         Relative tolerance of ``rms(F) / rms(mu p)``.
     max_iterations : int
@@ -176,48 +187,66 @@ def solve_steady_tangential(
         qx, qy = np.zeros(count), np.zeros(count)
     else:
         qx, qy = initial[0][contact].copy(), initial[1][contact].copy()
+    free = force is not None  # the creepage is two more unknowns
+    creep = np.array(initial_creepage if free else (0.0, 0.0), dtype=float)
+    area = count * operator.grid.cell_area
+    mean_target = np.zeros(2) if force is None else np.asarray(force, dtype=float) / area
 
-    def state(qx, qy):
+    def state(qx, qy, creep):
         ax, ay, ux, uy = apply(qx, qy)
-        sx, sy = ax + cx, ay + cy
+        sx, sy = ax + cx - creep[0], ay + cy - creep[1]
         zx, zy = qx - r * sx, qy - r * sy
         size = np.hypot(zx, zy)
-        scale = np.where(size > bound, bound / np.maximum(size, 1e-300), 1.0)
+        scale = np.divide(bound, size, out=np.ones_like(size), where=size > bound)
         res_x, res_y = qx - scale * zx, qy - scale * zy
-        error = float(np.sqrt(np.mean(res_x * res_x + res_y * res_y))) / norm_bound
-        return (sx, sy, zx, zy, size, res_x, res_y, ux, uy), error
+        res_f = np.array([qx.mean(), qy.mean()]) - mean_target if free else np.zeros(0)
+        total = float(np.sum(res_x * res_x + res_y * res_y) + count * np.sum(res_f * res_f))
+        error = float(np.sqrt(total / count)) / norm_bound
+        return (sx, sy, zx, zy, size, res_x, res_y, res_f, ux, uy), error
 
-    current, error = state(qx, qy)
+    extra = 2 if free else 0
+    current, error = state(qx, qy, creep)
     newton, converged, message = 0, error <= tolerance, ""
     while not converged and newton < max_newton and applications < max_iterations:
         newton += 1
-        sx, sy, zx, zy, size, res_x, res_y, _, _ = current
+        sx, sy, zx, zy, size, res_x, res_y, res_f, _, _ = current
         slip = size > bound
-        ratio = np.where(slip, bound / np.maximum(size, 1e-300), 0.0)
-        hx, hy = zx / np.maximum(size, 1e-300), zy / np.maximum(size, 1e-300)
+        ratio = np.divide(bound, size, out=np.zeros_like(size), where=slip)
+        hx = np.divide(zx, size, out=np.zeros_like(size), where=slip)
+        hy = np.divide(zy, size, out=np.zeros_like(size), where=slip)
 
         def jacobian(v, slip=slip, ratio=ratio, hx=hx, hy=hy):
-            vx, vy = v[:count], v[count:]
+            vx, vy, dc = v[:count], v[count : 2 * count], v[2 * count :]
             ax, ay, _, _ = apply(vx, vy)
             dzx, dzy = vx - r * ax, vy - r * ay
+            if free:  # s = A q + c - creepage: dz = dq - r A dq + r d(creepage)
+                dzx, dzy = dzx + r * dc[0], dzy + r * dc[1]
             along = hx * dzx + hy * dzy
             px = np.where(slip, ratio * (dzx - hx * along), dzx)
             py = np.where(slip, ratio * (dzy - hy * along), dzy)
-            return np.concatenate([vx - px, vy - py])
+            forces = [vx.mean(), vy.mean()] if free else []
+            return np.concatenate([vx - px, vy - py, forces])
 
-        system = LinearOperator((2 * count, 2 * count), matvec=jacobian, dtype=float)
-        rhs = -np.concatenate([res_x, res_y])
+        size_n = 2 * count + extra
+        system = LinearOperator((size_n, size_n), matvec=jacobian, dtype=float)
+        rhs = -np.concatenate([res_x, res_y, res_f])
         budget = max((max_iterations - applications) // GMRES_RESTART, 1)
         step, _ = gmres(
             system, rhs, rtol=GMRES_TOLERANCE, restart=GMRES_RESTART, maxiter=budget, atol=0.0
         )
         t = 1.0
         for _ in range(LINE_SEARCH_HALVINGS):
-            trial, trial_error = state(qx + t * step[:count], qy + t * step[count:])
+            trial, trial_error = state(
+                qx + t * step[:count],
+                qy + t * step[count : 2 * count],
+                creep + t * step[2 * count :] if free else creep,
+            )
             if trial_error < (1.0 - 1e-4 * t) * error:
                 break
             t *= 0.5
-        qx, qy = qx + t * step[:count], qy + t * step[count:]
+        qx, qy = qx + t * step[:count], qy + t * step[count : 2 * count]
+        if free:
+            creep = creep + t * step[2 * count :]
         current, error = trial, trial_error
         converged = error <= tolerance
     if not converged:
@@ -225,7 +254,7 @@ def solve_steady_tangential(
         message = f"not converged: {cap} capped (residual {error:.3g})"
     else:
         message = f"converged in {newton} Newton steps, {applications} applications"
-    sx, sy, zx, zy, size, _, _, ux, uy = current
+    sx, sy, zx, zy, size, _, _, _, ux, uy = current
     stick = np.zeros_like(contact)
     stick[contact] = size <= bound
     out = []
@@ -233,8 +262,9 @@ def solve_steady_tangential(
         full = np.zeros_like(pressure)
         full[contact] = values
         out.append(full)
+    creepage = (float(creep[0]), float(creep[1]))
     return SteadySolution(
-        *out, ux, uy, stick, newton, applications, error, converged, message
+        *out, ux, uy, stick, creepage, newton, applications, error, converged, message
     )  # fmt: skip
 
 
