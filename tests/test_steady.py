@@ -261,3 +261,49 @@ def test_a_rounded_flat_punch_rolls_steadily_too():
     assert 0.0 < result.history["tangential_force_x"][-1] < MU * W
     x, _ = result.grid.mesh()
     assert x[result.contact_state == STICK].mean() > 0.0  # stick at the leading edge
+
+
+STEADY_CAMPAIGN = """
+[campaign]
+name = "steady"
+output = "out"
+
+[base]
+grid = { n = [20, 20], half_width = 1.25 }
+body1 = { behaviour = "elastic", radius = 0.025, E = 210e9, nu = 0.25 }
+body2 = { behaviour = "elastic", E = 210e9, nu = 0.25 }
+friction = { coefficient = 0.3 }
+
+[[base.load.path]]
+normal_force = 1000.0
+
+[[base.load.path]]
+steady = true
+creepage = [0.004, 0.0]
+steps = 6
+
+[sweep]
+"friction.coefficient" = [0.2, 0.4]
+"""
+
+
+def test_a_campaign_of_steady_creep_curves_assembles_and_reports(tmp_path):
+    import xarray as xr
+    from study_fixtures import write
+
+    from study.campaign import load_campaign
+    from study.report import build_report
+    from study.run.assemble import assemble_to_file
+    from study.run.driver import RunOptions, run_campaign
+
+    campaign = load_campaign(write(tmp_path, STEADY_CAMPAIGN))
+    assert run_campaign(campaign, tmp_path / "out", options=RunOptions()).exit_status == 0
+    dataset = assemble_to_file(tmp_path / "out")
+    with xr.open_dataset(dataset) as data:
+        xi = data["creepage_x_history"].sel(friction_coefficient=0.2).values
+        force = data["tangential_force_x_history"].sel(friction_coefficient=0.2).values
+    assert xi[1:] == pytest.approx(0.004 * np.arange(1, 7) / 6)
+    assert np.all(np.diff(force[1:]) > 0.0) and force[-1] <= 0.2 * W * (1 + 1e-9)
+    text = build_report(tmp_path / "out").read_text()
+    assert "## Steady creep curves" in text
+    assert (tmp_path / "out" / "steady_steady_creep_curves.png").exists()

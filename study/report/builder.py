@@ -251,7 +251,7 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
     if "shakedown" in dataset:
         nu = _yielding_poisson_ratio(out)
         lines += shakedown.section(dataset, out, name, plt, figures, nu)
-    if "creep_force_x" in dataset:
+    if "creep_force_x" in dataset or "creepage_x_history" in dataset:
         lines += rolling.section(dataset, out, name, plt, figures)
     if figures:
         lines += ["## Figures", ""]

@@ -8,6 +8,11 @@ For a campaign that sweeps a rolling stage's creepage (an axis whose campaign ke
 - ``<name>_creep_curves.png``: creep force over mu W against the creepage, one line per pass
   and per value of the other axes (the elastic-plastic track's passes beside the elastic
   pair's, say).
+
+For a campaign whose cases have steady rolling stages (``steady = true``: histories
+``creepage_x``, ``tangential_force_x`` per step) each case is a creep curve of its own: a
+table of each case's last point and ``<name>_steady_creep_curves.png``, the creep force over
+mu W against the creepage xi of every steady step, a line per case, with full slip at 1.
 """
 
 from __future__ import annotations
@@ -120,12 +125,94 @@ def plot_curves(dataset, axis: str, path: str | Path) -> Path | None:
     return Path(path)
 
 
+def steady_curves(dataset) -> list[dict]:
+    """Per finished case with steady steps: labels, creepage xi, F_x / (mu W), status."""
+    usable = analysis.finished_mask(dataset)
+    out = []
+    for labels, isel in analysis.sweep_slices(dataset, []):
+        if not bool(usable.isel(isel)):
+            continue
+        case = dataset.isel(isel)
+        xi = case["creepage_x_history"].values
+        steady = np.flatnonzero(np.isfinite(xi) & (xi != 0.0))
+        if steady.size == 0:
+            continue
+        scale = float(case["friction_coefficient"]) * _normal_force(case)
+        out.append({
+            "labels": labels, "creepage": xi[steady],
+            "ratio": case["tangential_force_x_history"].values[steady] / scale,
+            "status": figures.status_of(dataset, isel),
+        })  # fmt: skip
+    return out
+
+
+def plot_steady(dataset, path: str | Path) -> Path | None:
+    """F_x / (mu W) against the creepage of every steady step, a line per case."""
+    found = steady_curves(dataset)
+    if not found:
+        return None
+    plt = figures.pyplot()
+    fig, ax = plt.subplots(figsize=(6.4, 4.5), layout="constrained", dpi=figures.DPI)
+    statuses = [curve["status"] for curve in found]
+    for j, curve in enumerate(found):
+        style = figures.series_style(j, len(found), status=curve["status"])
+        ax.plot(curve["creepage"], curve["ratio"], **style,
+                label=figures.labels_text(curve["labels"]))  # fmt: skip
+    ax.axhline(1.0, color="k", lw=0.8, ls=":", label="full slip: mu W")
+    ax.set_xlabel("creepage xi (1)")
+    ax.set_ylabel("creep force F_x / (mu W) (1)")
+    handles = ax.get_legend_handles_labels()[0] + figures.status_handle(statuses)
+    ax.legend(handles=handles, fontsize=6, loc="lower right")
+    ax.grid(alpha=0.3)
+    figures.suptitle(
+        fig,
+        f"{dataset.attrs.get('campaign', '')}: steady creep curves",
+        "each steady step solved directly",
+        figures.status_note(statuses, "hollow markers"),
+    )
+    figures.save(plt, fig, path)
+    return Path(path)
+
+
+def steady_section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
+    """Markdown lines of the steady creep curves (figure appended to ``shown``)."""
+    found = steady_curves(dataset) if "creepage_x_history" in dataset else []
+    if not found:
+        return []
+    import pandas as pd
+
+    table = pd.DataFrame(
+        [
+            {**c["labels"], "steps": c["creepage"].size, "last xi": c["creepage"][-1],
+             "last F_x/(mu W)": c["ratio"][-1], "status": c["status"]}
+            for c in found
+        ]
+    )  # fmt: skip
+    lines = ["## Steady creep curves", ""]
+    lines += [
+        "Each case's steady rolling steps (`steady = true`): the creep force on body 2 along x",
+        "over mu W against the creepage xi (`creepage_x`); the table gives each curve's last",
+        "point.",
+        "",
+        figures.markdown_table(table),
+        "",
+    ]
+    if plt is None:
+        return lines
+    png = plot_steady(dataset, out / f"{name}_steady_creep_curves.png")
+    if png:
+        shown.append(("Steady creep curves", png, "every finished case"))
+        lines += [f"![steady creep curves]({png.name})", ""]
+    return lines
+
+
 def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
     """Markdown lines of the rolling part of the report (figures appended to ``shown``)."""
+    lines = steady_section(dataset, out, name, plt, shown)
     axis = creepage_axis(dataset)
     if axis is None or "creep_force_x" not in dataset:
-        return []
-    lines = ["## Creep curves", ""]
+        return lines
+    lines += ["## Creep curves", ""]
     lines += [
         "Creep force on body 2 along x over mu W at the end of every pass (`creep_force_x`),",
         f"against the creepage `{axis}`; 1 is full slip.",
