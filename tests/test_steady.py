@@ -157,6 +157,33 @@ def test_the_transient_march_of_one_cell_steps_ends_at_the_first_order_steady_st
     assert x[result.contact_state == STICK].mean() > 0.0
 
 
+@pytest.mark.parametrize("xi_n", [0.1, 0.3, 0.6])
+def test_the_march_rolled_4a_from_a_cattaneo_start_agrees_within_half_a_percent(xi_n):
+    """Acceptance: the transient rolled 4 a and the steady solve within 0.5 % of mu W.
+
+    The march starts shifted to 0.9 of the Johnson-Vermeulen force (deliberately off) and
+    rolls in steps of one cell: its discretisation is the first-order steady scheme's.
+    """
+    a = _steady({"creepage": [1e-7, 0.0]}, 8).hertz.radius
+    xi = xi_n * 3 * MU * W / (G * a * a * KALKER_CIRCLE_COEFFICIENTS[NU][0])
+    steady = _steady({"creepage": [xi, 0.0]}, 8, order=1)
+    force = solver.solve(steady).history["tangential_force_x"][-1]
+    start = 0.9 * (1.0 - (1.0 - xi_n) ** 3) * MU * W
+    travel, dx = 4.0 * a, steady.surface_grid.dx
+    path = [
+        {"normal_force": W},
+        {"tangential_force": [start, 0.0], "steps": 4},
+        {"roll": [travel, 0.0], "creepage": [xi, 0.0], "steps": round(travel / dx)},
+    ]
+    march = solver.Case.from_dict(
+        {**BODIES, "load": {"path": path}, "grid": {"n": [52, 20], "half_width": 1.25}}
+    )
+    assert march.surface_grid.dx == pytest.approx(dx)
+    rolled = solver.solve(march)
+    assert rolled.status == "converged"
+    assert abs(rolled.history["tangential_force_x"][-1] - force) < 0.005 * MU * W
+
+
 def test_a_prescribed_force_finds_the_creepage_that_gives_it():
     """The force of a creepage-given steady state, prescribed: the same creepage comes back."""
     given = solver.solve(_steady({"creepage": [0.002, 0.001], "steps": 2}, 8))
@@ -190,6 +217,10 @@ def test_a_creep_curve_rises_to_mu_w():
         (
             {"creepage": [0.002, 0.0]},
             {"body1": {"behaviour": "rigid", "radius": 0.025}},  # beta = -0.29: coupled
+        ),
+        (
+            {"creepage": [0.002, 0.0]},
+            {"body2": {"behaviour": "rigid"}},  # beta = +0.33: a steel ball on a rigid flat
         ),
     ],
 )
