@@ -43,6 +43,7 @@ from .dataset import (
     closed_forms,
     dundurs_beta,
     finest_index,
+    finished_cases,
     finished_mask,
     friction_coefficient,
     half_width,
@@ -102,6 +103,7 @@ __all__ = [
     "sensitivity_table",
     "sweep_slices",
     "speed_error_table",
+    "finished_cases",
     "finished_mask",
     "with_derived",
 ]

@@ -305,6 +305,14 @@ def finished_mask(dataset):
     return status.isin([STATUS_FLAGS[name] for name in SOLVE_STATUSES])
 
 
+def finished_cases(dataset):
+    """Yield (label dict, isel dict, case) for every finished case (:func:`finished_mask`)."""
+    usable = finished_mask(dataset)
+    for labels, isel in sweep_slices(dataset, []):
+        if bool(usable.isel(isel)):
+            yield labels, isel, dataset.isel(isel)
+
+
 def mesh_sizes(dataset, mesh_dim: str):
     """Refinement size over the axes (DataArray).
 

@@ -127,12 +127,8 @@ def plot_curves(dataset, axis: str, path: str | Path) -> Path | None:
 
 def steady_curves(dataset) -> list[dict]:
     """Per finished case with steady steps: labels, creepage xi, F_x / (mu W), status."""
-    usable = analysis.finished_mask(dataset)
     out = []
-    for labels, isel in analysis.sweep_slices(dataset, []):
-        if not bool(usable.isel(isel)):
-            continue
-        case = dataset.isel(isel)
+    for labels, isel, case in analysis.finished_cases(dataset):
         xi = case["creepage_x_history"].values
         steady = np.flatnonzero(np.isfinite(xi) & (xi != 0.0))
         if steady.size == 0:

@@ -46,12 +46,8 @@ def _cases(dataset) -> list[dict]:
     """One record per finished case: labels, p_0/k, mu, regime, status, cycle gains."""
     regimes = {v: k for k, v in SHAKEDOWN_FLAGS.items()}
     statuses = {v: k for k, v in STATUS_FLAGS.items()}
-    usable = analysis.finished_mask(dataset)
     out = []
-    for labels, isel in analysis.sweep_slices(dataset, []):
-        if not bool(usable.isel(isel)):
-            continue
-        case = dataset.isel(isel)
+    for labels, _, case in analysis.finished_cases(dataset):
         gain = case["plastic_strain_increment"].values
         done = gain[np.isfinite(gain)]
         net = case["net_plastic_strain_increment"].values[: done.size]

@@ -42,12 +42,8 @@ def is_theorem(dataset) -> bool:
 
 def _cases(dataset) -> list[dict]:
     statuses = {v: k for k, v in STATUS_FLAGS.items()}
-    usable = analysis.finished_mask(dataset)
     out = []
-    for labels, isel in analysis.sweep_slices(dataset, []):
-        if not bool(usable.isel(isel)):
-            continue
-        case = dataset.isel(isel)
+    for labels, _, case in analysis.finished_cases(dataset):
         if not np.isfinite(float(case["static_shakedown_limit"])):
             continue  # an incremental case of a mixed campaign
         mu = float(case["friction_coefficient"])
