@@ -94,6 +94,7 @@ FIGURES: tuple[Figure, ...] = (
     _report("paper_load_sweep", "load_curves", "plastic", "a 20-case campaign"),
     _report("paper_load_sweep", "plastic_sections", "plastic", "a 20-case campaign"),
     _report("shakedown_map", "shakedown_map", "shakedown", "the longest campaign"),
+    _report("steady_creep_curves", "steady_creep_curves", "rolling", "a 9-case campaign"),
     _report("periodic_rough", "spot_sizes", "rough", "a 4-case campaign"),
     _report("periodic_rough_plastic", "residual_topography", "rough", "a 4-case campaign"),
 )

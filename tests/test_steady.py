@@ -265,6 +265,13 @@ def test_bad_steady_stages_are_refused_by_name(stage, key):
         solver.Case.from_dict(table)
 
 
+def test_the_steady_order_without_a_steady_stage_is_refused():
+    table = {**BODIES, "load": {"normal_force": W}, "grid": {"n": [20, 20]}}
+    table["solver"] = {"steady_order": 1}
+    with pytest.raises(SpecError, match="solver.steady_order: only a steady stage"):
+        solver.Case.from_dict(table)
+
+
 def test_an_elastic_plastic_body_is_refused_a_steady_stage():
     body = {"behaviour": "elastic-plastic", "E": E, "nu": NU}
     body["hardening"] = {"law": "perfect", "yield_stress": 1e9}

@@ -402,6 +402,11 @@ class Case:
                 "plastic history has a steady state here): roll the elastic-plastic body with "
                 "roll = [dx, dy] instead",
             )
+        if not steady and "steady_order" in table.get("solver", {}):
+            fail(
+                "solver.steady_order",
+                "only a steady stage (steady = true) takes it: leave it out",
+            )
         if steady and grid.periodic:
             fail("grid.periodic", "a steady rolling stage needs a bounded contact: not periodic")
         for key, method in METHOD_KEYS.items():
