@@ -25,6 +25,8 @@ the nonsmooth equation ``F(q) = q - P(q - r s(q)) = 0`` (P the projection onto t
 identity on stick cells and ``(mu p / |z|)(I - z z^T / |z|^2)`` on slip cells; each Newton
 system is solved by GMRES (one tangential convolution a product), the step damped by a
 backtracking line search on ``|F|``.  Stick and slip are the active sets of the last iterate.
+A prescribed tangential force adds the creepage (xi, eta) as two unknowns and the force's two
+equations (as mean tractions over the contact) to the same Newton system.
 
 Convergence: ``rms(F) / rms(mu p)`` over the contact (a relative traction error that vanishes
 exactly at the solution) below the tolerance; the Newton iterations and the operator
