@@ -23,6 +23,7 @@ from pathlib import Path
 PAGES = ("case-keys", "campaign-keys", "dataset", "cli", "api", "layout")
 #: JSON types of the declared kinds (a key whose kind starts so).
 _JSON_TYPES = {
+    'boolean or "y"': {"anyOf": [{"type": "boolean"}, {"const": "y"}]},
     'number or "inf"': {"anyOf": [{"type": "number"}, {"const": "inf"}]},
     "number or [Qx, Qy]": {
         "anyOf": [{"type": "number"}, {"type": "array", "items": {"type": "number"}}]

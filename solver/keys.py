@@ -436,10 +436,11 @@ CASE_KEYS: tuple[Key, ...] = (
         "once per increment; the plasticity iterations run on the window's volume alone.  false: "
         "every increment on the whole track's window (slower; the reference to check it).  "
         "Not with a height map, roughness or two elastic-plastic bodies (the whole track then)."),
-    Key("grid", "periodic", "boolean", "", "false",
-        "true or false; true needs grid.size, flat bodies (no radius or profile), periodic "
-        "heights, body 1 rigid or elastic, no slide or roll",
-        "rough flat surfaces",
+    Key("grid", "periodic", 'boolean or "y"', "", "false",
+        'true, false or "y"; both need grid.size; true: flat bodies (no radius or profile), '
+        'periodic heights, body 1 rigid or elastic, no slide or roll; "y": elastic bodies '
+        "uniform along y (a cylinder: radius_x only), no heights, no slide, roll or spin",
+        "rough flat surfaces; line contacts (a cylinder, Carter's rolling)",
         "The domain grid.size = [Lx, Ly] is one period of a nominally flat surface in x and y: "
         "periodic influence coefficients (Fourier-space forms, solver.surface.periodic), a "
         "roughness generated on the period, a height map used as one period (its opposite "
@@ -448,7 +449,11 @@ CASE_KEYS: tuple[Key, ...] = (
         "laterally periodic (solver.numerics.images), grid.depth in metres, sized from the "
         "period's elastic yield region when not given; a mean pressure whose uniaxial strain "
         "alone yields the body is refused.  Normal loading, and friction with tangential loads "
-        "(the normal-tangential coupling of dissimilar bodies included)."),
+        "(the normal-tangential coupling of dissimilar bodies included).  \"y\": the domain is one "
+        "period along y only and the whole surface along x (solver.surface.periodic, "
+        "YPeriodicSurfaceOperator): a line contact of bodies uniform along y, the normal force "
+        "that on the period's length Ly (the rigid approach is then defined up to a constant, "
+        "the plane-strain displacement's), normal, tangential and steady rolling stages."),
     Key("grid", "depth_body1", "number", "a_H", "depth if given, else body 1's yield depth",
         "as grid.depth", "two different elastic-plastic bodies",
         "Depth of body 1's own volume grid."),

@@ -23,6 +23,7 @@ import numpy as np
 from .numerics.grid import SurfaceGrid
 from .numerics.tensor import COMPONENTS
 from .spec.case import Case
+from .theory.line import hertz_line
 from .theory.shakedown import Shakedown, classify, shakedown_variable
 from .variables import BODY1_SUFFIX, CYCLE_QUANTITIES, FIELDS, HISTORIES
 
@@ -261,9 +262,21 @@ def reference_attrs(case: Case) -> dict[str, float]:
 
     ``hertz_*`` (radius sqrt(a b), semi-axes, peak pressure, approach, force) for quadric
     bodies; ``sneddon_*`` (radius, mean pressure W/(pi a^2), approach, force) with a profile;
-    of the smooth shape under point heights; ``domain_half_width`` (m) for heights only.
+    of the smooth shape under point heights; ``line_*`` (half-width, peak pressure, force per
+    length: :func:`solver.theory.line.hertz_line`) for a line contact; ``domain_half_width`` (m)
+    for heights only.
     """
     reference = case.reference
+    if case.grid.periodic_y:  # a line contact: Hertz's strip
+        grid = case.surface_grid
+        per_length = case.max_normal_force / (grid.ny * grid.dy)
+        radius = 1.0 / case.pair.curvature[0]
+        half_width, pressure = hertz_line(per_length, case.pair.composite_modulus, radius)
+        return {
+            "line_half_width": half_width,
+            "line_pressure": pressure,
+            "line_force_per_length": per_length,
+        }
     if reference is None:  # heights only
         return {"domain_half_width": case.domain_half_widths[0]}
     if case.pair.geometry.hertzian:
@@ -286,9 +299,10 @@ def reference_attrs(case: Case) -> dict[str, float]:
 def length_scale(attrs: dict) -> float:
     """The reference semi-axis along x (m) of a result's attributes.
 
-    Hertz's a_x, Sneddon's contact radius, or the domain's half width (:func:`reference_attrs`).
+    Hertz's a_x, Sneddon's contact radius, a line contact's half-width, or the domain's half
+    width (:func:`reference_attrs`).
     """
-    for name in ("hertz_semi_axis_x", "sneddon_radius", "domain_half_width"):
+    for name in ("hertz_semi_axis_x", "sneddon_radius", "line_half_width", "domain_half_width"):
         if name in attrs:
             return float(attrs[name])
     raise KeyError("no reference length among the attributes")

@@ -479,7 +479,11 @@ def solve(case: Case) -> Result:
                     cycle_profiles.setdefault(name, []).append(values)
         history["residual"][k] = residual
         history["step_converged"][k] = float(step_ok)
-        if not edge_noted and not case.grid.periodic and touches_edge(state.pressure):
+        if (
+            not edge_noted
+            and not case.grid.periodic
+            and touches_edge(state.pressure, case.grid.periodic_y)
+        ):
             edge_noted = True
             notes.append(
                 f"step {k + 1}: the contact reaches the domain's edge (pressure on its outer "

@@ -21,7 +21,7 @@ from ..numerics.grid import SurfaceGrid, VolumeGrid
 from ..spec.case import Case
 from ..spec.options import SolverOptions
 from ..surface.convolution import SurfaceOperator, surface_operator
-from ..surface.periodic import periodic_surface_operator
+from ..surface.periodic import periodic_surface_operator, y_periodic_surface_operator
 from ..volume.eigenstrain import VOLUME_PRECISIONS, EigenstrainOperator
 from ..volume.stress import SubsurfaceStressOperator
 from .theorem import theorem_cost
@@ -147,7 +147,11 @@ class CaseOperators:
         """The bundle a case needs (volume operators only with a volume grid in use)."""
         options = case.solver
         planner = planner_flag(options)
-        build_surface = periodic_surface_operator if case.grid.periodic else surface_operator
+        build_surface = surface_operator
+        if case.grid.periodic or case.grid.periodic_y:
+            build_surface = (
+                periodic_surface_operator if case.grid.periodic else y_periodic_surface_operator
+            )
         surface = build_surface(case.surface_grid, case.pair, options.fft_threads, planner)
         plastic_case = case.plastic_body is not None
         keys = []

@@ -95,11 +95,13 @@ def spot_areas(in_contact: np.ndarray, cell_area: float, periodic: bool = False)
     return np.sort(np.bincount(labels.ravel(), minlength=count + 1)[1:] * cell_area)[::-1]
 
 
-def touches_edge(pressure: np.ndarray) -> bool:
-    """True when any cell of the surface grid's outer ring carries pressure."""
-    return bool(
-        pressure[0].any() or pressure[-1].any() or pressure[:, 0].any() or pressure[:, -1].any()
-    )
+def touches_edge(pressure: np.ndarray, periodic_y: bool = False) -> bool:
+    """True when any cell of the surface grid's outer ring carries pressure.
+
+    ``periodic_y``: the grid is one period along y, its edges along x only.
+    """
+    along_x = pressure[0].any() or pressure[-1].any()
+    return bool(along_x or (not periodic_y and (pressure[:, 0].any() or pressure[:, -1].any())))
 
 
 def axis_value(values: np.ndarray) -> np.ndarray:

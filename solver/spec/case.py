@@ -49,6 +49,7 @@ from ..theory.sneddon import SneddonContact
 from .bodies import body_spec, check_surfaces, parse_body
 from .grid import GridSpec, check_resolution, check_volume, domain_half_widths, parse_grid
 from .notes import (
+    check_line_scene,
     check_periodic_load,
     check_periodic_scene,
     check_periodic_volume,
@@ -172,7 +173,10 @@ class Case:
         pair = Pair(body1, body2)
         kx, ky = pair.curvature
         geometry = pair.geometry
-        if geometry.profiles:
+        grid = parse_grid(table["grid"])
+        if grid.periodic_y:
+            pass  # a line contact: check_line_scene below, with the stages
+        elif geometry.profiles:
             if kx != ky:
                 which = "body1" if body1.profile is None else "body2"
                 fail(
@@ -182,7 +186,11 @@ class Case:
                 )
         elif kx > 0 or ky > 0 or not geometry.surfaces:
             if not (kx > 0 and ky > 0):
-                fail("body1.radius", "both bodies are flat in x or y; give a finite radius")
+                fail(
+                    "body1.radius",
+                    "both bodies are flat in x or y; give a finite radius (a cylinder along y: "
+                    'radius_x with grid.periodic = "y")',
+                )
             if max(kx, ky) / min(kx, ky) > 100:
                 fail("body1.radius_x", "contact ellipse too slender (R_x/R_y beyond 1:100)")
 
@@ -217,7 +225,6 @@ class Case:
                     "lower the tangential force or raise friction.coefficient",
                 )
 
-        grid = parse_grid(table["grid"])
         if geometry.reference_kind is None:
             if grid.size is None:
                 fail(
@@ -258,6 +265,7 @@ class Case:
                     "remove creepage and spin or give a friction coefficient",
                 )
         check_periodic_scene(body1, body2, stages, mu, grid)
+        check_line_scene(body1, body2, stages, paths, grid)
         check_plastic_scene(body1, body2, stages, grid)
         plastics = [b for b in (body2, body1) if b.behaviour == "elastic-plastic"]
         plastic = plastics[0] if plastics else None
@@ -408,7 +416,11 @@ class Case:
                 "only a steady stage (steady = true) takes it: leave it out",
             )
         if steady and grid.periodic:
-            fail("grid.periodic", "a steady rolling stage needs a bounded contact: not periodic")
+            fail(
+                "grid.periodic",
+                "a steady rolling stage needs a contact bounded along x: not periodic (a line "
+                'contact: grid.periodic = "y")',
+            )
         for key, method in METHOD_KEYS.items():
             if solver.method != method and key in table.get("solver", {}):
                 fail(f"solver.{key}", f'only solver.method = "{method}" takes it: leave it out')
@@ -450,6 +462,7 @@ class Case:
                 **({"plastic_half_width": box_key} if box_key is not None else {}),
                 **({"follow_contact": grid.follow_contact} if moving else {}),
                 **({"periodic": True} if grid.periodic else {}),
+                **({"periodic": "y"} if grid.periodic_y else {}),
             },
             # FFT threads and planner are kept (a campaign's cases are solved from this table)
             # but change no result beyond round-off: not in the case id (EXECUTION_KEYS); the
@@ -570,7 +583,8 @@ class Case:
     def hertz(self) -> HertzContact:
         """Hertz reference at the largest normal force of the path (quadric bodies only)."""
         if not self.pair.geometry.hertzian:
-            raise ValueError("a case with a profile has no Hertz reference; use Case.reference")
+            kind = "a line contact" if self.grid.periodic_y else "a profile or heights only"
+            raise ValueError(f"a case with {kind} has no Hertz reference; use Case.reference")
         return self.reference
 
     @property

@@ -41,6 +41,8 @@ class GridSpec:
     :data:`DEFAULT_DEPTH`.
     ``depth_body1``: the depth of body 1's own volume grid when both bodies are elastic-plastic
     and different (same cells; default: ``depth`` when given, else body 1's yield depth).
+    ``periodic``: one period in x and y; ``periodic_y``: one period along y only (a line
+    contact; ``grid.periodic = "y"``).
     """
 
     nx: int
@@ -53,6 +55,7 @@ class GridSpec:
     size: tuple[float, float] | None = None
     follow_contact: bool = True
     periodic: bool = False
+    periodic_y: bool = False
 
 
 def parse_grid(table: Any) -> GridSpec:
@@ -101,9 +104,11 @@ def parse_grid(table: Any) -> GridSpec:
                 f"{size[1] / sizes[1]:.6g} m; make [Lx, Ly] proportional to [nx, ny]",
             )
     periodic = plain(table.get("periodic", False))
-    if not isinstance(periodic, bool):
-        fail("grid.periodic", f"must be true or false, got {periodic!r}")
-    if periodic and size is None:
+    periodic_y = periodic == "y"
+    if not (isinstance(periodic, bool) or periodic_y):
+        fail("grid.periodic", f'must be true, false or "y" (along y only), got {periodic!r}')
+    periodic = periodic is True
+    if (periodic or periodic_y) and size is None:
         fail("grid.periodic", "the period is the domain: give its sides, grid.size = [Lx, Ly] (m)")
     depths = {}
     for key in ("depth", "depth_body1"):
@@ -162,6 +167,7 @@ def parse_grid(table: Any) -> GridSpec:
         size,
         follow,
         periodic,
+        periodic_y,
     )
 
 

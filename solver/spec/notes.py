@@ -81,6 +81,55 @@ def check_periodic_scene(
         fail("load.path", "a periodic case is pressed, not slid or rolled: remove slide and roll")
 
 
+def check_line_scene(body1: Body, body2: Body, stages, paths, grid: GridSpec) -> None:
+    """Refuse what a line contact (``grid.periodic = "y"``) does not solve in this release.
+
+    Solved: elastic (or one rigid) bodies uniform along y, a cylinder along y (``radius_x``),
+    under normal force, tangential forces and steady rolling at creepage.  Refused, naming the
+    key: a radius along y or a profile (not uniform along y), height maps and roughness, an
+    elastic-plastic body, a volume grid, sliding or transient rolling stages, and spin (its
+    slip grows along y: not periodic).
+    """
+    if not grid.periodic_y:
+        return
+    for name, body in (("body1", body1), ("body2", body2)):
+        if math.isfinite(body.radius_y) or body.profile is not None:
+            fail(
+                f"{name}.radius_y" if body.profile is None else f"{name}.profile",
+                'with grid.periodic = "y" the bodies are uniform along y: a cylinder along y '
+                'has radius_x only (radius_y = "inf"), and no profile',
+            )
+        if body.surface is not None or body.roughness is not None:
+            fail(
+                f"{name}.surface" if body.surface is not None else f"{name}.roughness",
+                'heights are not built for a line contact (grid.periodic = "y") in this '
+                "release: leave them out",
+            )
+        if body.behaviour == "elastic-plastic":
+            fail(
+                f"{name}.behaviour",
+                'a line contact (grid.periodic = "y") is built for elastic bodies in this '
+                "release: make the body elastic",
+            )
+    if not math.isfinite(body1.radius_x) and not math.isfinite(body2.radius_x):
+        fail("body1.radius_x", "a line contact needs a cylinder: give body 1 radius_x (m)")
+    if grid.nz:
+        fail("grid.n", 'a line contact (grid.periodic = "y") has no volume grid: give [nx, ny]')
+    for stage, path in zip(stages, paths, strict=True):
+        if stage.motion in ("slide", "roll"):
+            fail(
+                path,
+                'a line contact (grid.periodic = "y") is pressed, sheared or rolled steadily '
+                "(steady = true) in this release: remove slide and roll",
+            )
+        if stage.spin:
+            fail(
+                f"{path}.spin",
+                "spin makes a slip that grows along y, which a line contact (periodic along y) "
+                "cannot have: remove spin",
+            )
+
+
 def check_periodic_load(body: Body, mean_pressure: float) -> None:
     """Refuse a mean pressure that yields a periodic elastic-plastic body at every depth.
 

@@ -2,6 +2,7 @@
 
 - :mod:`.hertz`: Hertz contact (circular, elliptic), its subsurface yield and first yield;
 - :mod:`.friction`: Cattaneo-Mindlin, Mindlin-Deresiewicz, Kalker's linear creep;
+- :mod:`.line`: line contact (plane strain): Hertz's cylinder, Carter's steady rolling;
 - :mod:`.sneddon`: frictionless axisymmetric profiles (Sneddon 1965);
 - :mod:`.half_space`: half-space stresses of surface loads: Love's rectangle, Boussinesq and
   Cerruti point forces, Hamilton's sliding Hertz contact;
