@@ -89,6 +89,7 @@ FIGURES: tuple[Figure, ...] = (
     _example("plastic_indentation"),
     _example("fretting_loop"),
     _example("creep_curve"),
+    _example("steady_rolling"),
     _example("your_surface"),
     _report("convergence_hertz", "convergence_grid_n", "elastic", "a small campaign"),
     _report("paper_load_sweep", "load_curves", "plastic", "a 20-case campaign"),
