@@ -345,3 +345,76 @@ def test_a_campaign_of_steady_creep_curves_assembles_and_reports(tmp_path):
     text = build_report(tmp_path / "out").read_text()
     assert "## Steady creep curves" in text
     assert (tmp_path / "out" / "steady_steady_creep_curves.png").exists()
+
+
+def _small_operator(cells: int, size: float):
+    """A surface operator of the scene's pair on ``cells`` x ``cells`` cells of ``size`` (m)."""
+    from solver.bodies.materials import Body, Pair
+    from solver.numerics.grid import SurfaceGrid
+    from solver.surface.convolution import SurfaceOperator
+
+    steel = Body("elastic", E=E, nu=NU)
+    grid = SurfaceGrid.centred(cells, cells, 0.5 * size * cells, 0.5 * size * cells)
+    return SurfaceOperator(grid, Pair(steel, steel))
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_undo_upwind_inverts_the_upwind_difference(order):
+    from solver.surface.steady import undo_upwind, upwind
+
+    rng = np.random.default_rng(3)
+    u = rng.standard_normal((30, 7))
+    u[-order:] = 0.0  # zero ahead of the grid's leading rows
+    assert np.allclose(undo_upwind(upwind(u, 0.1, order), 0.1, order), u, atol=1e-12)
+
+
+def _stick_iterations(cells: int) -> tuple[int, int]:
+    """GMRES applications of a stick-only steady system ``A q = c`` on a circle of ``cells``
+    across, plain and right-preconditioned by the whole plane's inverse of ``A``."""
+    from solver.surface.steady import gmres, undo_upwind, upwind
+
+    operator = _small_operator(round(1.25 * cells), 1e-3 / cells)
+    x, y = operator.grid.mesh()
+    contact = np.hypot(x, y) < 0.5e-3
+    dx, n = operator.grid.dx, int(contact.sum())
+    field = np.zeros((2, *contact.shape))
+
+    def spread(v):
+        field[...] = 0.0
+        field[0][contact], field[1][contact] = v[:n], v[n:]
+        return field
+
+    def steady(v):
+        u = operator.tangential(*spread(v))
+        return np.concatenate([upwind(c, dx, 2)[contact] for c in u])
+
+    def inverse(v):
+        q = operator.inverse_tangential(*(undo_upwind(f, dx, 2) for f in spread(v)))
+        return np.concatenate([c[contact] for c in q])
+
+    rhs = np.concatenate([np.ones(n), np.zeros(n)])
+    plain = gmres(steady, rhs, 1e-6, 60, 5000)[1]
+    solution, preconditioned = gmres(lambda v: steady(inverse(v)), rhs, 1e-6, 60, 5000)
+    assert np.linalg.norm(steady(inverse(solution)) - rhs) < 1e-6 * np.linalg.norm(rhs)
+    return plain, preconditioned
+
+
+def test_the_preconditioner_keeps_the_iterations_from_growing_with_the_mesh():
+    (plain16, pre16), (plain32, pre32) = _stick_iterations(16), _stick_iterations(32)
+    assert plain32 > 1.5 * plain16  # plain: they grow with the mesh
+    assert pre32 < 1.4 * pre16 and pre32 < 0.25 * plain32, (plain16, pre16, plain32, pre32)
+
+
+def test_gmres_solves_a_nonsymmetric_system_within_its_tolerance_and_budget():
+    from solver.surface.steady import gmres
+
+    rng = np.random.default_rng(5)
+    n = 80
+    matrix = np.eye(n) + 0.3 * rng.standard_normal((n, n)) / np.sqrt(n)
+    matrix[np.triu_indices(n, 1)] *= 2.0  # not symmetric
+    rhs = rng.standard_normal(n)
+    x, products = gmres(lambda v: matrix @ v, rhs, 1e-10, 15, 1000)  # restarted
+    assert np.linalg.norm(matrix @ x - rhs) <= 1e-10 * np.linalg.norm(rhs) * (1 + 1e-6)
+    assert products < 200
+    x, products = gmres(lambda v: matrix @ v, rhs, 1e-14, 10, 7)  # the budget caps it
+    assert products == 7
