@@ -10,6 +10,7 @@ formulas; the error shrinks with the mesh.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -164,3 +165,35 @@ def test_a_line_contact_is_its_own_case():
     del table["grid"]["periodic"]
     with pytest.raises(SpecError, match="body1.radius"):  # a cylinder needs the line contact
         solver.Case.from_dict(table)
+
+
+def test_the_shipped_line_contact_campaign_reports_carters_traction(tmp_path):
+    """campaigns/carter_cylinder.toml (its friction axis cut to one value) runs, assembles,
+    and its report draws the traction beside Carter's instead of a Kalker slope."""
+    import xarray as xr
+
+    from study.campaign import load_campaign
+    from study.report import build_report
+    from study.run.assemble import assemble_to_file
+    from study.run.driver import RunOptions, run_campaign
+
+    text = (Path(__file__).parent.parent / "campaigns" / "carter_cylinder.toml").read_text()
+    sweep = '"friction.coefficient" = [0.2, 0.3, 0.4]'
+    assert sweep in text
+    (tmp_path / "carter.toml").write_text(text.replace(sweep, '"friction.coefficient" = [0.3]'))
+    campaign = load_campaign(tmp_path / "carter.toml")
+    assert run_campaign(campaign, tmp_path / "out", options=RunOptions()).exit_status == 0
+    with xr.open_dataset(assemble_to_file(tmp_path / "out")) as data:
+        half_width = float(data["line_half_width"].values.ravel()[0])
+        xi = data["creepage_x_history"].values.ravel()
+        force = data["tangential_force_x_history"].values.ravel()
+        per_length = float(data["line_force_per_length"].values.ravel()[0])
+        mu_w = 0.3 * np.nanmax(data["normal_force_history"].values)
+    assert half_width == pytest.approx(HALF_WIDTH, rel=1e-4)  # the file's scene: b = 1 mm
+    assert per_length == pytest.approx(PER_LENGTH, rel=1e-4)
+    steady = np.isfinite(xi) & (xi > 0)
+    expected = [carter_force_ratio(v, 0.3, half_width, R) for v in xi[steady]]
+    assert np.abs(force[steady] / mu_w - expected).max() < 0.005  # 64 cells across
+    text = build_report(tmp_path / "out").read_text()
+    assert "a line contact: Carter's closed form" in text
+    assert (tmp_path / "out" / f"{campaign.name}_steady_tractions.png").exists()

@@ -245,7 +245,9 @@ def closed_forms(dataset) -> dict:
         )
         ok = ok_b & (mu_b > 0) & (q_b < mu_b * w_b) & (abs(beta) < 1e-12)
         ratio = xr.apply_ufunc(
-            np.vectorize(lambda qq, mm, ww: cattaneo_stick_ratio(qq, mm, ww) if mm > 0 else np.nan),
+            np.vectorize(
+                lambda qq, mm, ww: cattaneo_stick_ratio(qq, mm, ww) if qq < mm * ww else np.nan
+            ),
             q_b,
             mu_b,
             w_b,
