@@ -267,3 +267,15 @@ def test_small_campaign_cost_is_reference_seconds(tmp_path):
         assert case.cost == pytest.approx(cost.reference_seconds(case.case()))
     cattaneo = copy.deepcopy(CATTANEO_BASE)
     assert "tangential_force" in cattaneo
+
+
+@pytest.mark.parametrize("across", [16, 48])
+def test_a_steady_creep_curve_is_priced_by_its_own_applications(across):
+    """The predicted tangential applications of a steady stage (its own count, not a static
+    increment's) within a factor 2 of what the solver records."""
+    from study.bench.rolling import creepage, steady_table
+
+    case = solver.Case.from_dict(steady_table(across, (creepage(1.0), 0.0), 2, 12))
+    predicted = cost.count(case).slip
+    measured = float(solver.solve(case).history["slip_iterations"].sum())
+    assert 0.5 < predicted / measured < 2.0, (predicted, measured)

@@ -69,6 +69,12 @@ COUNTS = {
     # increment / n^0.7
     "m_cg": 14.8,
     "m_slip": 1.8,
+    # elastic, steady rolling states solved directly: tangential applications per steady
+    # state = s_slip n^s_slip_lnn (the preconditioned Newton-GMRES of solver.surface.steady;
+    # measured on creep curves of 1-25 states, 16-64 cells across, 2026-11-27: 32, 49, 71 per
+    # state at n = 20, 40, 80); CG iterations as a static increment
+    "s_slip": 5.8,
+    "s_slip_lnn": 0.57,
     # plasticity iterations per increment (load sub-steps included): exp(p0 + p_lnr
     # ln(p_max / sigma_ref) + p_mu mu + p_lnsteps ln(increments) + p_slide, p_roll, p_tang x
     # the share of such increments (p_slide with friction, p_slide_dry without) + p_repeat x
@@ -174,7 +180,8 @@ def features(case: solver.Case) -> dict:
     dict
         Grid (``nx``, ``ny``, ``nz``, plastic ``box``, the ``window`` (nx, ny) that follows a
         moving contact or None), ``steps`` and their kinds
-        (``tangential_steps``, ``sliding_steps``, ``rolling_steps``, ``cycles``,
+        (``tangential_steps``, ``sliding_steps``, ``rolling_steps``, ``steady_steps``: steady
+        rolling states solved directly, ``cycles``,
         ``load_ratio``: the largest ``|Q| / (mu W)`` of the path, ``creep_ratio``: the
         largest Kalker linear creep force over ``mu W`` of a rolling stage), friction
         (``mu``, ``beta``,
@@ -207,7 +214,7 @@ def features(case: solver.Case) -> dict:
         bx, by, bz = box.shape if box is not None else (grid.nx, grid.ny, grid.nz)
     else:
         bx = by = bz = 0
-    tangential = sliding = rolling = 0
+    tangential = sliding = rolling = steady = 0
     load_ratio = 0.0  # largest |Q| / (mu W) of a tangential stage
     creep_ratio = 0.0  # largest Kalker creep force G a^2 C11 |xi| / (mu W) of a rolling stage
     for stage in case.stages:
@@ -228,6 +235,8 @@ def features(case: solver.Case) -> dict:
             load_ratio = max(load_ratio, q / (case.friction_coefficient * stage.normal_force))
         if stage.motion == "slide":
             sliding += stage.steps
+        elif stage.motion == "steady":
+            steady += stage.steps
         elif stage.motion:
             rolling += stage.steps
         elif any(stage.tangential_force) or stage.creepage is not None:
@@ -246,6 +255,7 @@ def features(case: solver.Case) -> dict:
         "tangential_steps": tangential,
         "sliding_steps": sliding,
         "rolling_steps": rolling,
+        "steady_steps": steady,
         "load_ratio": min(load_ratio, 1.0),
         "creep_ratio": creep_ratio,
         "plastic_max_iterations": int(case.solver.plastic_max_iterations),
@@ -294,6 +304,7 @@ def count_features(f: dict, counts: dict | None = None) -> Work:
     n = math.sqrt(f["nx"] * f["ny"])
     friction = f["slip_stick"]
     moving = f["sliding_steps"] + f["rolling_steps"]
+    steady = f.get("steady_steps", 0)
     normal = slip = coupling = plastic = 0.0
     if f["plastic_bodies"]:
         exponent = (
@@ -330,7 +341,7 @@ def count_features(f: dict, counts: dict | None = None) -> Work:
         normal, slip = k["ec_cg"] * coupling, k["ec_slip"] * coupling
     elif friction:
         tangential = f["tangential_steps"]
-        still = max(steps - tangential - moving, 0)
+        still = max(steps - tangential - moving - steady, 0)
         normal = k["cg"] * still + k["t_cg"] * tangential + k["m_cg"] * moving
         if tangential:
             slip = math.exp(
@@ -343,6 +354,10 @@ def count_features(f: dict, counts: dict | None = None) -> Work:
         coupling = tangential + moving
     else:
         normal = k["cg"] * steps
+    if steady and not f["plastic_bodies"]:  # steady states solved directly (GMRES-Newton)
+        slip += k["s_slip"] * steady * n ** k["s_slip_lnn"]
+        if not f["coupled"]:
+            normal += k["cg"] * steady
     bx, by, bz = f["box"]
     surface_cells = 4 * f["nx"] * f["ny"]
     volume_cells = 8 * bx * by * bz if f["plastic_bodies"] else 0
