@@ -175,6 +175,13 @@ def build_parser() -> argparse.ArgumentParser:
         "transient march, and a 50-point creep curve both ways",
     )
     bench.add_argument(
+        "--shapes",
+        type=float,
+        nargs="+",
+        metavar="A_OVER_B",
+        help="rolling --steady: the contacts' semi-axis ratios a/b (default 1 0.5 2)",
+    )
+    bench.add_argument(
         "--table",
         metavar="FILE",
         help="also write what the run prints to FILE (Markdown), headed by the command, the "
@@ -243,7 +250,7 @@ def main(argv: list[str] | None = None) -> int:
         with recorded(args.table, ["python -m study", *(argv or sys.argv[1:])]):
             return run_benchmark(
                 args.scene, args.sizes, args.peers, args.repeat, args.error, args.periodic,
-                args.incremental, args.steady,
+                args.incremental, args.steady, args.shapes,
             )  # fmt: skip
 
     from .campaign import CampaignError

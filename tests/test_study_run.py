@@ -241,6 +241,7 @@ def test_reserved_names_cover_the_results():
     inputs |= {"hertz_approach", "composite_modulus", "dundurs_beta", "friction_coefficient"}
     inputs |= {"shear_yield_stress"}
     inputs |= {f"sneddon_{n}" for n in ("radius", "mean_pressure", "normal_force", "approach")}
+    inputs |= {f"line_{n}" for n in ("half_width", "pressure", "force_per_length")}
     assert set(SCALARS) - inputs <= RESERVED_NAMES
 
 

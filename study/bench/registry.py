@@ -9,7 +9,7 @@ from __future__ import annotations
 import importlib
 
 #: Scene -> (module, runner, the options it takes of ``peers``, ``repeat``, ``error``,
-#: ``periodic``, ``incremental`` and ``steady``).
+#: ``periodic``, ``incremental``, ``steady`` and ``shapes``).
 SCENES = {
     "hertz": ("hertz", "run_hertz", ("peers", "repeat")),
     "cattaneo": ("cattaneo", "run_cattaneo", ("peers", "repeat")),
@@ -18,7 +18,7 @@ SCENES = {
     "cycles": ("cycles", "run_cycles", ()),
     "rough": ("rough", "run_rough", ("peers", "periodic")),
     "moving": ("moving", "run_moving", ()),
-    "rolling": ("rolling", "run_rolling", ("peers", "steady")),
+    "rolling": ("rolling", "run_rolling", ("peers", "steady", "shapes")),
     "shakedown": ("shakedown", "run_shakedown", ("incremental",)),
 }
 
@@ -45,6 +45,7 @@ def run_benchmark(
     periodic: bool = False,
     incremental: bool = False,
     steady: bool = False,
+    shapes: list[float] | None = None,
 ) -> int:
     """Run a benchmark scene, print its table, and return an exit status."""
     module, runner, takes = SCENES[scene]
@@ -57,9 +58,11 @@ def run_benchmark(
         raise ValueError(f"--incremental: scene {scene!r} has no such run (only shakedown)")
     if steady and "steady" not in takes:
         raise ValueError(f"--steady: scene {scene!r} has no steady form (only rolling)")
+    if shapes and "shapes" not in takes:
+        raise ValueError(f"--shapes: scene {scene!r} has one contact (only rolling has more)")
     options = {
         "peers": peers, "repeat": repeat, "error": error, "periodic": periodic,
-        "incremental": incremental, "steady": steady,
+        "incremental": incremental, "steady": steady, "shapes": shapes,
     }  # fmt: skip
     default = DEFAULT_SIZES[f"{scene} --periodic" if periodic else scene]
     return run(sizes or default, **{k: options[k] for k in takes})

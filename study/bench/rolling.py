@@ -16,25 +16,38 @@ is about full slip), rolling along +x, no spin.
   rolling mode (``T = 3``, Hertzian semi-axes prescribed, ``n`` elements across the contact,
   rolling step one element), one input file per creepage, run in the same process tree.
 
-The linear rows (``xi_n = 1e-3``, along x and along y) give C11 and C22 beside Kalker's table
-(:data:`solver.theory.friction.KALKER_CIRCLE_COEFFICIENTS`).  Columns: code, cells across, steps a
-radius, creepage, creep force over mu W (the linear rows: the coefficient), its difference from
-CONTACT on 120 elements across (the reference) and from Kalker's table, CPU and wall time, peak
-memory (ours: growth of the resident set; CONTACT's: its peak resident set),
+``--steady`` adds elliptic contacts (:data:`SHAPES`: semi-axes a along the rolling direction x,
+b along y, a/b = 0.5 and 2) under the same W: body 1 of radii ``R_x``, ``R_y`` (geometric mean
+50 mm, body 2 flat) whose Hertz ellipse has that ratio (:func:`shape`: a root find on Hertz's
+semi-axes; a/b = 0.5: a = 0.697 mm, b = 1.394 mm), ``xi = xi_n 3 mu W / (G a b C11)`` with
+Kalker's C11 of the ellipse (:data:`solver.theory.friction.KALKER_ELLIPSE_COEFFICIENTS`);
+CONTACT given the same semi-axes (``AA``, ``BB``).  For every shape ``n`` (cells, CONTACT's
+elements) counts across the smaller axis, 2 min(a, b), in square cells.
+
+The linear rows (``xi_n = 1e-3``, along x and along y) give C11 and C22 (on ``c^2 = a b``)
+beside Kalker's tables (:data:`solver.theory.friction.KALKER_CIRCLE_COEFFICIENTS`, the
+ellipses'). Columns: code, a/b (1: the circle), cells across, steps a radius, creepage, creep
+force over mu W (the linear rows: the coefficient), its difference from CONTACT on
+:data:`REFERENCE_ACROSS` elements across (the reference) and from Kalker's table, CPU and
+wall time, peak memory (ours: growth of the resident set; CONTACT's: its peak resident set),
 tangential-operator applications (ours).
 
 ``--steady``: ours solved directly (``steady = true`` stages, :mod:`solver.surface.steady`,
 second-order upwind: ``steady``; first order, CONTACT's scheme: ``steady o1``) instead of the
-march, on a grid of 1.25 a either side; then a creep curve of :data:`CURVE_POINTS` creepages
-(xi_n up to 1) both ways: one steady stage of that many increments, and one transient march a
-point, with their CPU and the largest difference between the two curves (of mu W).
+march, on a grid of 1.25 semi-axes either side (:func:`steady_grid`), CONTACT's potential
+contact 1.1 semi-axes either side; the circle's spin rows (``phi_n``, C23); then a creep curve
+of :data:`CURVE_POINTS` creepages (xi_n up to 1, the circle) both ways: one steady stage of
+that many increments, and one transient march a point, with their CPU and the largest
+difference between the two curves (of mu W).
 
 ``python -m study bench rolling [--sizes N ...] [--peers] [--steady]`` (N: cells across,
-default 32 64).
+default 32 64); :func:`run_rolling`'s ``shapes`` (a/b of :data:`SHAPES`) limits the rows to
+those contacts.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import resource
@@ -42,8 +55,10 @@ import shutil
 import subprocess
 import tempfile
 import time
+from dataclasses import dataclass
 
-from solver.theory.friction import KALKER_CIRCLE_COEFFICIENTS
+from solver.theory.friction import KALKER_CIRCLE_COEFFICIENTS, KALKER_ELLIPSE_COEFFICIENTS
+from solver.theory.hertz import hertz
 
 from .timing import format_table, isolated, machine, timed_solve
 
@@ -60,15 +75,121 @@ SPIN_SIGN = 1.0  # the same sense: checked on the spin rows (both forces +y)
 XI_N = (0.1, 0.3, 0.5, 0.7, 1.0)
 LINEAR = 1e-3
 TRAVEL, AVERAGE = 6.0, 2.0  # contact radii rolled; the last ones averaged
-#: CONTACT's elements across the contact of the reference rows
-REFERENCE_ACROSS = 120
+#: CONTACT's elements across the contact (its smaller axis) of the reference rows, by a/b: an
+#: ellipse's larger axis takes twice as many (its 120 cost 3-4 min CPU a row)
+REFERENCE_ACROSS = {1.0: 120, 0.5: 80, 2.0: 80}
 SHEAR = E / (2 * (1 + NU))
 FORCE = 4.0 * E / (2 * (1 - NU * NU)) * RADIUS**3 / (3.0 * PAIR_RADIUS)
 
 
-def creepage(xi_n: float, coefficient: float = C11) -> float:
-    """The creepage of a normalised creepage ``xi_n`` (1: about full slip)."""
-    return xi_n * 3.0 * MU * FORCE / (SHEAR * RADIUS**2 * coefficient)
+#: The composite modulus E* of the pair (1/E* = 2 (1 - nu^2) / E).
+E_STAR = E / (2 * (1 - NU * NU))
+#: Contact shapes of ``--steady``: the Hertz semi-axis ratio a/b (a along the rolling direction
+#: x, b along y); 1 the circle, the others rows of
+#: :data:`solver.theory.friction.KALKER_ELLIPSE_COEFFICIENTS`.
+SHAPES = (1.0, 0.5, 2.0)
+
+
+def creepage(xi_n: float, coefficient: float = C11, area: float = RADIUS**2) -> float:
+    """The creepage of a normalised creepage ``xi_n`` (1: about full slip).
+
+    Parameters
+    ----------
+    xi_n : float
+        ``G c^2 C xi / (3 mu W)``.
+    coefficient : float
+        Kalker's linear coefficient C of the shape along the creepage.
+    area : float
+        ``c^2 = a b`` (m^2): the contact's semi-axes multiplied (a^2 for the circle).
+    """
+    return xi_n * 3.0 * MU * FORCE / (SHEAR * area * coefficient)
+
+
+@dataclass(frozen=True)
+class Shape:
+    """One contact of the scene: body 1's radii and the Hertz ellipse under :data:`FORCE`.
+
+    Attributes
+    ----------
+    a_over_b : float
+        The semi-axis ratio asked for (a along x, the rolling direction).
+    radius_x, radius_y : float
+        Body 1's radii (m); body 2 is flat.
+    semi_x, semi_y : float
+        Hertz's semi-axes a, b (m) of the contact of those radii.
+    c11, c22, c23 : float
+        Kalker's linear coefficients of the shape (on ``c = sqrt(a b)``).
+    """
+
+    a_over_b: float
+    radius_x: float
+    radius_y: float
+    semi_x: float
+    semi_y: float
+    c11: float
+    c22: float
+    c23: float
+
+    @property
+    def area(self) -> float:
+        """``c^2 = a b`` (m^2), the area of Kalker's normalisation."""
+        return self.semi_x * self.semi_y
+
+    @property
+    def semi_min(self) -> float:
+        """The smaller semi-axis (m): the cells across it are the row's size."""
+        return min(self.semi_x, self.semi_y)
+
+    @property
+    def body1(self) -> dict:
+        """Body 1's table (its radii)."""
+        radii = (
+            {"radius": self.radius_x}
+            if self.radius_x == self.radius_y
+            else {"radius_x": self.radius_x, "radius_y": self.radius_y}
+        )
+        return {"behaviour": "elastic", "E": E, "nu": NU, **radii}
+
+
+@functools.lru_cache(maxsize=8)
+def shape(a_over_b: float = 1.0) -> Shape:
+    """The scene's contact of semi-axis ratio ``a_over_b`` under :data:`FORCE`.
+
+    The circle: two spheres of :data:`PAIR_RADIUS` (a = :data:`RADIUS`).  An ellipse: body 1's
+    radii ``R_x = PAIR_RADIUS sqrt(t)``, ``R_y = PAIR_RADIUS / sqrt(t)`` (body 2 flat), ``t``
+    found by bisection (in log t) on the Hertz semi-axis ratio
+    (:func:`solver.theory.hertz.hertz`) at the same normal force.
+    """
+    if a_over_b == 1.0:
+        contact = hertz(FORCE, E_STAR, (1.0 / PAIR_RADIUS, 1.0 / PAIR_RADIUS))
+        return Shape(1.0, PAIR_RADIUS, PAIR_RADIUS, contact.semi_axis_x, contact.semi_axis_y, *(
+            KALKER_CIRCLE_COEFFICIENTS[NU]))  # fmt: skip
+    if a_over_b not in KALKER_ELLIPSE_COEFFICIENTS:  # (and within the bracket below)
+        raise ValueError(
+            f"a/b = {a_over_b:g}: Kalker's table here has a/b in "
+            f"{sorted([1.0, *KALKER_ELLIPSE_COEFFICIENTS])}"
+        )
+
+    def ratio(log_t: float):
+        radius_x, radius_y = (
+            PAIR_RADIUS * math.exp(0.5 * log_t),
+            PAIR_RADIUS * math.exp(-0.5 * log_t),
+        )
+        contact = hertz(FORCE, E_STAR, (1.0 / radius_x, 1.0 / radius_y))
+        return contact.semi_axis_x / contact.semi_axis_y, radius_x, radius_y, contact
+
+    low, high = -math.log(4.0), math.log(4.0)  # R_x / R_y: a / b from 0.4 to 2.5
+    while high - low > 1e-13:
+        middle = 0.5 * (low + high)
+        if ratio(middle)[0] < a_over_b:
+            low = middle
+        else:
+            high = middle
+    _, radius_x, radius_y, contact = ratio(0.5 * (low + high))
+    return Shape(
+        a_over_b, radius_x, radius_y, contact.semi_axis_x, contact.semi_axis_y,
+        *KALKER_ELLIPSE_COEFFICIENTS[a_over_b][NU],
+    )  # fmt: skip
 
 
 #: The scene's bodies and friction (a case table's first keys).
@@ -126,29 +247,57 @@ def _ours(across: int, xi: tuple[float, float]) -> dict:
 CURVE_POINTS = 50
 
 
+def steady_grid(across: int, a_over_b: float = 1.0) -> dict:
+    """The ``[grid]`` of ``--steady``: square cells, ``across`` of them on the smaller axis.
+
+    Cells of ``h = 2 min(a, b) / across``; ``round(1.25 across a / min(a, b))`` of them along
+    x and likewise along y (1.25 semi-axes either side of the centre), given as
+    ``grid.size`` (m): for the circle the grid of ``half_width = 1.25``.
+    """
+    contact = shape(a_over_b)
+    cell = 2.0 * contact.semi_min / across
+    n = [
+        round(1.25 * across * semi / contact.semi_min) for semi in (contact.semi_x, contact.semi_y)
+    ]
+    return {"n": n, "size": [count * cell for count in n]}
+
+
 def steady_table(
-    across: int, xi: tuple[float, float], order: int = 2, steps: int = 1, spin: float = 0.0
+    across: int,
+    xi: tuple[float, float],
+    order: int = 2,
+    steps: int = 1,
+    spin: float = 0.0,
+    a_over_b: float = 1.0,
 ) -> dict:
     """The case table: load, then the steady state at ``xi`` and ``spin`` (1/m).
 
-    The stage ramps from zero in ``steps`` increments (a creep curve).
+    The stage ramps from zero in ``steps`` increments (a creep curve); the contact is
+    :func:`shape` ``(a_over_b)`` on :func:`steady_grid`.
     """
-    n = round(1.25 * across)  # +-1.25 a in cells of 2 a / across
     rigid = {"creepage": list(xi)} if any(xi) else {}
     rigid.update({"spin": spin} if spin else {})
     return {
         **BODIES,
+        "body1": shape(a_over_b).body1,
         "load": {"path": [
             {"normal_force": FORCE},
             {"steady": True, **rigid, "steps": steps},
         ]},
-        "grid": {"n": [n, n], "half_width": 1.25},
+        "grid": steady_grid(across, a_over_b),
         "solver": {"steady_order": order},
     }  # fmt: skip
 
 
-def _ours_steady(across: int, xi: tuple[float, float], order: int = 2, spin: float = 0.0) -> dict:
-    _, result, wall, cpu, memory = timed_solve(steady_table(across, xi, order, spin=spin))
+def _ours_steady(
+    across: int,
+    xi: tuple[float, float],
+    order: int = 2,
+    spin: float = 0.0,
+    a_over_b: float = 1.0,
+) -> dict:
+    table = steady_table(across, xi, order, spin=spin, a_over_b=a_over_b)
+    _, result, wall, cpu, memory = timed_solve(table)
     axis = "x" if xi[0] else "y"
     return {
         "force": float(result.history[f"tangential_force_{axis}"][-1]), "cpu": cpu,
@@ -185,13 +334,43 @@ def _curve_comparison(across: int) -> list[str]:
     ]
 
 
-def _contact_input(across: int, xi: tuple[float, float], spin: float = 0.0) -> str:
-    """CONTACT's input (module 3, units mm, N, N/mm^2) for steady rolling at ``xi``."""
-    elements = round(1.1 * across)  # the potential contact: 1.1 a on each side
-    scale, step = elements / across, 2.0 * RADIUS * 1e3 / across
+def contact_elements(across: int, a_over_b: float = 1.0) -> tuple[int, int, float]:
+    """CONTACT's elements ``MX, MY`` and ``SCALE`` for ``across`` on the smaller axis.
+
+    Its potential contact is ``[-AA s, AA s] x [-BB s, BB s]`` (``s = SCALE``) in ``MX`` by
+    ``MY`` elements: ``round(1.1 across)`` across the smaller axis (1.1 of it), one more when
+    that count's parity differs from :func:`steady_grid`'s (so that the elements' centres are
+    our cells' centres: 35 elements against our 40 cells, at 32 across, put CONTACT's centres
+    half a cell off ours, 1 % on C11), ``s`` from that, and the larger axis in as many as keep
+    the elements square (the ratio 2: exactly twice), each of the size of :func:`steady_grid`'s
+    cells.
+    """
+    contact = shape(a_over_b)
+    elements = round(1.1 * across)  # the potential contact: 1.1 semi-axes on each side
+    elements += (elements - round(1.25 * across)) % 2  # centred like our grid
+    scale = elements / across
+    mx, my = (
+        round(scale * across * s / contact.semi_min) for s in (contact.semi_x, contact.semi_y)
+    )
+    return mx, my, scale
+
+
+def _contact_input(
+    across: int, xi: tuple[float, float], spin: float = 0.0, a_over_b: float = 1.0
+) -> str:
+    """CONTACT's input (module 3, units mm, N, N/mm^2) for steady rolling at ``xi``.
+
+    Hertzian semi-axes ``AA`` (x, rolling) and ``BB`` (y) of :func:`shape` prescribed
+    (``IPOTCN = -3``), :func:`contact_elements`; the rolling step ``DQ`` one element along x.
+    """
+    contact = shape(a_over_b)
+    mx, my, scale = contact_elements(across, a_over_b)
+    aa, bb = contact.semi_x * 1e3, contact.semi_y * 1e3  # mm
+    step = 2.0 * aa * scale / mx
     shear = SHEAR * 1e-6
     lines = [
-        "% slipstick bench rolling: steady rolling, Hertzian circle a = 1 mm",
+        f"% slipstick bench rolling: steady rolling, Hertzian ellipse a = {aa:.4f} mm, "
+        f"b = {bb:.4f} mm",
         " 3  MODULE",
         "  203100     P-B-T-N-F-S",  # steady rolling (T = 3), Hertzian normal problem
         "  022020     L-D-C-M-Z-E",
@@ -203,8 +382,7 @@ def _contact_input(across: int, xi: tuple[float, float], spin: float = 0.0) -> s
         f"  0.000  {step:.8f}  1000.0    CHI, DQ, VELOC",
         f"  {NU:.4f}  {NU:.4f}  {shear:.4f}  {shear:.4f}    POISS 1,2, GG 1,2",
         "   -3    IPOTCN",
-        f"  {elements}  {elements}  {RADIUS * 1e3:.4f}  {RADIUS * 1e3:.4f}  {scale:.8f}"
-        "    MX, MY, AA, BB, SCALE",
+        f"  {mx}  {my}  {aa:.8f}  {bb:.8f}  {scale:.8f}    MX, MY, AA, BB, SCALE",
         "",
         " 0  MODULE",
         "",
@@ -212,12 +390,18 @@ def _contact_input(across: int, xi: tuple[float, float], spin: float = 0.0) -> s
     return "\n".join(lines)
 
 
-def _contact(executable: str, across: int, xi: tuple[float, float], spin: float = 0.0) -> dict:
+def _contact(
+    executable: str,
+    across: int,
+    xi: tuple[float, float],
+    spin: float = 0.0,
+    a_over_b: float = 1.0,
+) -> dict:
     """Run CONTACT on the scene; its force on body 2 (the opposite of its force on body 1)."""
     folder = tempfile.mkdtemp(prefix="contact_")
     try:
         with open(os.path.join(folder, "bench.inp"), "w") as handle:
-            handle.write(_contact_input(across, xi, spin))
+            handle.write(_contact_input(across, xi, spin, a_over_b))
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         start = time.perf_counter()
         done = subprocess.run(
@@ -246,32 +430,75 @@ def contact_executable() -> str | None:
     return path if path and os.access(path, os.X_OK) else None
 
 
-def run_rolling(sizes: list[int], peers: bool = False, steady: bool = False) -> int:
-    """Print the creep-curve and linear-coefficient table; 0 when every row ran."""
-    executable = contact_executable() if peers else None
-    if peers:
-        print("peers:", f"CONTACT {executable}" if executable else "CONTACT_EXE not set")
-    points = [(f"{x:g}", (creepage(x), 0.0), MU * FORCE, None, 0.0) for x in XI_N]
-    for name, axis, kalker in (("C11", 0, C11), ("C22", 1, C22)):
+def _points(contact: Shape, steady: bool) -> list[tuple]:
+    """The rows of one shape: ``(label, xi, unit, Kalker's value, spin)``.
+
+    The creep curve's :data:`XI_N` (force over mu W), C11 and C22 at ``xi_n =``
+    :data:`LINEAR` (force over ``G a b xi``); with ``steady`` and the circle, the spin rows
+    (:data:`PHI_N`, F_y over mu W) and C23.
+    """
+    area = contact.area
+    points = [
+        (f"{x:g}", (creepage(x, contact.c11, area), 0.0), MU * FORCE, None, 0.0) for x in XI_N
+    ]
+    for name, axis, kalker in (("C11", 0, contact.c11), ("C22", 1, contact.c22)):
         xi = [0.0, 0.0]
-        xi[axis] = creepage(LINEAR, kalker)
-        points.append((name, tuple(xi), SHEAR * RADIUS**2 * xi[axis], kalker, 0.0))
-    if steady:  # spin alone: F_y over mu W, and C23 at a spin of LINEAR of saturation's
-        saturation = MU * FORCE / (SHEAR * RADIUS**3 * C23)
+        xi[axis] = creepage(LINEAR, kalker, area)
+        points.append((name, tuple(xi), SHEAR * area * xi[axis], kalker, 0.0))
+    if steady and contact.a_over_b == 1.0:  # spin alone: F_y over mu W, and C23 at a spin of
+        saturation = MU * FORCE / (SHEAR * RADIUS**3 * C23)  # LINEAR of saturation's
         points += [(f"phi_n {p:g}", (0.0, 0.0), MU * FORCE, None, p * saturation) for p in PHI_N]
         spin = LINEAR * saturation
         points.append(("C23", (0.0, 0.0), SHEAR * RADIUS**3 * spin, C23, spin))
+    return points
+
+
+def run_rolling(
+    sizes: list[int],
+    peers: bool = False,
+    steady: bool = False,
+    shapes: list[float] | None = None,
+) -> int:
+    """Print the creep-curve and linear-coefficient table; 0 when every row ran.
+
+    Parameters
+    ----------
+    sizes : list of int
+        Cells across the contact (the smaller axis of an ellipse).
+    peers : bool
+        Also run CONTACT (``CONTACT_EXE``): on each size and on :data:`REFERENCE_ACROSS`
+        of the shape.
+    steady : bool
+        Ours solved directly (both orders) instead of the transient march.
+    shapes : list of float, optional
+        The contacts' a/b of :data:`SHAPES` (default: all with ``steady``, the circle
+        without: the march is the circle's only); the creep curve of ``--steady`` runs with
+        the circle.
+    """
+    if shapes is None:
+        shapes = list(SHAPES) if steady else [1.0]
+    shapes = [float(q) for q in shapes]
+    if any(q not in SHAPES for q in shapes):
+        raise ValueError(f"--shapes: a/b must be among {list(SHAPES)}, got {shapes}")
+    if not steady and shapes != [1.0]:
+        raise ValueError("--shapes: the transient march rolls the circle only; add --steady")
+    executable = contact_executable() if peers else None
+    if peers:
+        print("peers:", f"CONTACT {executable}" if executable else "CONTACT_EXE not set")
     rows, failures = [], 0
 
-    def add(code, across, label, status, out, unit, kalker, reference):
+    def add(code, a_over_b, across, label, status, out, unit, kalker, reference):
         nonlocal failures
         if status != "ok":
             failures += 1
-            rows.append({"code": code, "across": across, "xi_n": label, "status": out})
+            rows.append({
+                "code": code, "a_over_b": a_over_b, "across": across, "xi_n": label,
+                "status": out,
+            })  # fmt: skip
             return None
         value = out["force"] / unit
         rows.append({
-            "code": code, "across": across,
+            "code": code, "a_over_b": a_over_b, "across": across,
             "steps_per_a": {"slipstick": 2 * across, "CONTACT": across // 2}.get(code, "-"),
             "xi_n": label, "F_over_muW_or_C": value,
             "vs_CONTACT_ref_%": None if reference is None else 100 * (value / reference - 1),
@@ -282,29 +509,48 @@ def run_rolling(sizes: list[int], peers: bool = False, steady: bool = False) -> 
         })  # fmt: skip
         return value
 
-    for label, xi, unit, kalker, spin in points:
-        reference = None
-        if executable:  # CONTACT on its finest grid: the reference of the row's sizes
-            status, out = isolated(_contact, executable, REFERENCE_ACROSS, xi, spin, timeout=7200.0)
-            reference = add("CONTACT", REFERENCE_ACROSS, label, status, out, unit, kalker, None)
-        for across in sizes:
-            if steady:
-                for code, order in (("steady", 2), ("steady o1", 1)):
-                    status, out = isolated(_ours_steady, across, xi, order, spin, timeout=7200.0)
-                    add(code, across, label, status, out, unit, kalker, reference)
-            else:
-                status, out = isolated(_ours, across, xi, timeout=7200.0)
-                add("slipstick", across, label, status, out, unit, kalker, reference)
-            if executable:
-                status, out = isolated(_contact, executable, across, xi, spin, timeout=7200.0)
-                add("CONTACT", across, label, status, out, unit, kalker, reference)
+    for a_over_b in shapes:
+        contact, q = shape(a_over_b), f"{a_over_b:g}"
+        for label, xi, unit, kalker, spin in _points(contact, steady):
+            reference = None
+            if executable:  # CONTACT on its finest grid: the reference of the row's sizes
+                finest = REFERENCE_ACROSS[a_over_b]
+                status, out = isolated(
+                    _contact, executable, finest, xi, spin, a_over_b, timeout=7200.0
+                )
+                reference = add("CONTACT", q, finest, label, status, out, unit, kalker, None)
+            for across in sizes:
+                if steady:
+                    for code, order in (("steady", 2), ("steady o1", 1)):
+                        status, out = isolated(
+                            _ours_steady, across, xi, order, spin, a_over_b, timeout=7200.0
+                        )
+                        add(code, q, across, label, status, out, unit, kalker, reference)
+                else:
+                    status, out = isolated(_ours, across, xi, timeout=7200.0)
+                    add("slipstick", q, across, label, status, out, unit, kalker, reference)
+                if executable:
+                    status, out = isolated(
+                        _contact, executable, across, xi, spin, a_over_b, timeout=7200.0
+                    )
+                    add("CONTACT", q, across, label, status, out, unit, kalker, reference)
     print(
-        f"# steady rolling, identical steel bodies (nu = {NU:g}), a = 1 mm, mu = {MU:g}, "
-        f"W = {FORCE:.1f} N; xi_n = G a^2 C11 xi / (3 mu W); C11/C22 rows: the coefficient at "
-        f"xi_n = {LINEAR:g}; reference: CONTACT at {REFERENCE_ACROSS} across; {machine()}"
+        f"# steady rolling, identical steel bodies (nu = {NU:g}), mu = {MU:g}, "
+        f"W = {FORCE:.1f} N; xi_n = G a b C11 xi / (3 mu W) (C11 Kalker's of the shape); C11/C22 "
+        f"rows: the coefficient (on c^2 = a b) at xi_n = {LINEAR:g}; across: cells (CONTACT: "
+        f"elements) across the smaller axis; reference: CONTACT at "
+        f"{', '.join(f'{n} across (a/b = {q:g})' for q, n in REFERENCE_ACROSS.items())}; "
+        f"{machine()}"
     )
+    for a_over_b in shapes:
+        c = shape(a_over_b)
+        print(
+            f"# a/b = {a_over_b:g}: body 1 R_x = {1e3 * c.radius_x:.4g} mm, R_y = "
+            f"{1e3 * c.radius_y:.4g} mm (body 2 flat); Hertz a = {1e3 * c.semi_x:.4f} mm (x, "
+            f"rolling), b = {1e3 * c.semi_y:.4f} mm; Kalker C11, C22 = {c.c11:g}, {c.c22:g}"
+        )
     print(format_table(rows))
-    if steady:
+    if steady and 1.0 in shapes:
         for line in _curve_comparison(min(sizes)):
             print(line)
     return 1 if failures else 0
