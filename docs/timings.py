@@ -66,6 +66,7 @@ COMMANDS: tuple[Command, ...] = (
     _example("plastic_indentation", "plastic indentation at 24^3"),
     _example("fretting_loop", "3 fretting cycles"),
     _example("creep_curve", "the creep curve of a rolling ball"),
+    _example("steady_rolling", "steady creep curves: Carter's cylinder, a worn rail"),
     _example("your_surface", "two height maps pressed"),
     _campaign("convergence_hertz", "mesh convergence against Hertz, 20 cases up to 768^2"),
     _campaign("convergence_cattaneo", "mesh convergence of Cattaneo-Mindlin, 28 cases"),

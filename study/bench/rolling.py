@@ -28,8 +28,9 @@ The linear rows (``xi_n = 1e-3``, along x and along y) give C11 and C22 (on ``c^
 beside Kalker's tables (:data:`solver.theory.friction.KALKER_CIRCLE_COEFFICIENTS`, the
 ellipses'). Columns: code, a/b (1: the circle), cells across, steps a radius, creepage, creep
 force over mu W (the linear rows: the coefficient), its difference from CONTACT on
-:data:`REFERENCE_ACROSS` elements across (the reference) and from Kalker's table, CPU and
-wall time, peak memory (ours: growth of the resident set; CONTACT's: its peak resident set),
+:data:`REFERENCE_ACROSS` elements across (the reference), from CONTACT's mesh limit
+(:func:`extrapolate`, with the peers) and from Kalker's table, CPU and wall time, peak
+memory (ours: growth of the resident set; CONTACT's: its peak resident set),
 tangential-operator applications (ours).
 
 ``--steady``: ours solved directly (``steady = true`` stages, :mod:`solver.surface.steady`,
@@ -453,6 +454,29 @@ def _points(contact: Shape, steady: bool) -> list[tuple]:
     return points
 
 
+def extrapolate(rows: list[dict], largest: int) -> None:
+    """Fill ``vs_CONTACT_extrapolated_%``: each row against CONTACT's mesh limit.
+
+    CONTACT's scheme is first order in the element (its forces approach the limit as 1/n, the
+    rows show): the limit from its reference ``N`` and its largest benchmarked size ``n`` is
+    ``(N F_N - n F_n) / (N - n)`` (Richardson), per shape and creepage row.
+    """
+    found = {}
+    for row in rows:
+        if row["code"] == "CONTACT" and "F_over_muW_or_C" in row:
+            found[(row["a_over_b"], row["xi_n"], row["across"])] = row["F_over_muW_or_C"]
+    for row in rows:
+        key = (row["a_over_b"], row["xi_n"])
+        fine = REFERENCE_ACROSS[float(row["a_over_b"])]
+        if "F_over_muW_or_C" not in row or fine == largest:
+            continue
+        pair = (found.get((*key, fine)), found.get((*key, largest)))
+        if None in pair:
+            continue
+        limit = (fine * pair[0] - largest * pair[1]) / (fine - largest)
+        row["vs_CONTACT_extrapolated_%"] = 100 * (row["F_over_muW_or_C"] / limit - 1)
+
+
 def run_rolling(
     sizes: list[int],
     peers: bool = False,
@@ -502,8 +526,9 @@ def run_rolling(
             "steps_per_a": {"slipstick": 2 * across, "CONTACT": across // 2}.get(code, "-"),
             "xi_n": label, "F_over_muW_or_C": value,
             "vs_CONTACT_ref_%": None if reference is None else 100 * (value / reference - 1),
+            "vs_CONTACT_extrapolated_%": None,
             "vs_Kalker_%": None if kalker is None else 100 * (value / kalker - 1),
-            "cpu_s": round(out["cpu"], 2), "wall_s": round(out["wall"], 2),
+            "cpu_s": round(out["cpu"], 3), "wall_s": round(out["wall"], 3),
             "peak_MB": round(out["memory"]), "iterations": out["iterations"],
             "status": out["status"],
         })  # fmt: skip
@@ -549,6 +574,7 @@ def run_rolling(
             f"{1e3 * c.radius_y:.4g} mm (body 2 flat); Hertz a = {1e3 * c.semi_x:.4f} mm (x, "
             f"rolling), b = {1e3 * c.semi_y:.4f} mm; Kalker C11, C22 = {c.c11:g}, {c.c22:g}"
         )
+    extrapolate(rows, max(sizes))
     print(format_table(rows))
     if steady and 1.0 in shapes:
         for line in _curve_comparison(min(sizes)):
