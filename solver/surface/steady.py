@@ -106,13 +106,16 @@ class SteadySolution:
 def upwind(u: np.ndarray, dx: float, order: int = 1) -> np.ndarray:
     """``-d_x u`` by the upwind difference along +x rolling (the leading edge at large x).
 
-    The last row (and the last two for ``order = 2``) keep the lower order there, or zero on
-    the last row: the contact must not touch the grid's leading edge.
+    Along the last axis but one (x of an ``(..., nx, ny)`` field).  The last row (and the last
+    two for ``order = 2``) keep the lower order there, or zero on the last row: the contact
+    must not touch the grid's leading edge.
     """
     out = np.zeros_like(u)
-    out[:-1] = (u[:-1] - u[1:]) / dx
+    out[..., :-1, :] = (u[..., :-1, :] - u[..., 1:, :]) / dx
     if order == 2:
-        out[:-2] = (3.0 * u[:-2] - 4.0 * u[1:-1] + u[2:]) / (2.0 * dx)
+        out[..., :-2, :] = (3.0 * u[..., :-2, :] - 4.0 * u[..., 1:-1, :] + u[..., 2:, :]) / (
+            2.0 * dx
+        )
     return out
 
 
@@ -121,12 +124,13 @@ def undo_upwind(s: np.ndarray, dx: float, order: int = 1) -> np.ndarray:
 
     First order: the sum from the leading edge, ``u_i = dx sum_{j >= i} s_j``; second order
     the recursion ``u_i = (4 u_{i+1} - u_{i+2} + 2 dx s_i) / 3`` from it (a stable filter: its
-    roots are 1 and 1/3), both along x towards the trailing edge.
+    roots are 1 and 1/3), both along x (the last axis but one) towards the trailing edge.
     """
-    backwards = s[::-1]
+    backwards = s[..., ::-1, :]
     if order == 1:
-        return dx * np.cumsum(backwards, axis=0)[::-1]
-    return lfilter([2.0 * dx / 3.0], [1.0, -4.0 / 3.0, 1.0 / 3.0], backwards, axis=0)[::-1]
+        return dx * np.cumsum(backwards, axis=-2)[..., ::-1, :]
+    filtered = lfilter([2.0 * dx / 3.0], [1.0, -4.0 / 3.0, 1.0 / 3.0], backwards, axis=-2)
+    return filtered[..., ::-1, :]
 
 
 def gmres(matvec, rhs: np.ndarray, tolerance: float, restart: int, budget: int):
@@ -255,7 +259,8 @@ def solve_steady_tangential(
     cx, cy = cx[contact], cy[contact]
     count = int(contact.sum())
     applications = 0
-    fx, fy = np.zeros_like(pressure), np.zeros_like(pressure)
+    field = np.zeros((2, *pressure.shape))  # (x, y) components, zero off the contact
+    fx, fy = field
 
     def apply(vx, vy):
         """``A v`` on the contact cells: ``-d_x K_t v`` (v zero outside)."""
@@ -263,7 +268,8 @@ def solve_steady_tangential(
         applications += 1
         fx[contact], fy[contact] = vx, vy
         ux, uy = operator.tangential(fx, fy)
-        return upwind(ux, dx, order)[contact], upwind(uy, dx, order)[contact], ux, uy
+        sx, sy = upwind(np.array((ux, uy)), dx, order)
+        return sx[contact], sy[contact], ux, uy
 
     # the scaling r: the inverse of the operator's diagonal, from one impulse at the centre
     probe = np.zeros_like(pressure)
@@ -278,10 +284,9 @@ def solve_steady_tangential(
 
         The upwind difference undone from the leading edge, then ``K_t^-1`` (periodic FFTs).
         """
-        fx[...], fy[...] = 0.0, 0.0
+        field[...] = 0.0
         fx[contact], fy[contact] = vx, vy
-        ux, uy = undo_upwind(fx, dx, order), undo_upwind(fy, dx, order)
-        qx, qy = operator.inverse_tangential(ux, uy)
+        qx, qy = operator.inverse_tangential(*undo_upwind(field, dx, order))
         return qx[contact], qy[contact]
 
     free = force is not None  # the creepage is two more unknowns
