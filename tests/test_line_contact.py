@@ -63,6 +63,7 @@ def _displacement_errors(pair: Pair, cells: int) -> dict[str, float]:
     }
 
 
+@pytest.mark.validation
 @pytest.mark.parametrize("pair", [Pair(STEEL, STEEL), Pair(ALUMINIUM, STEEL)], ids=["same", "al"])
 def test_the_y_periodic_kernels_are_plane_strain_under_a_uniform_load(pair, validation):
     errors = [_displacement_errors(pair, cells) for cells in (32, 64, 128)]
@@ -121,6 +122,7 @@ def _carter_errors(cells: int) -> tuple[float, float]:
     return force_error, traction_error
 
 
+@pytest.mark.validation
 def test_steady_rolling_of_a_cylinder_is_carters(validation):
     sizes = (16, 32, 64, 128)
     errors = {cells: _carter_errors(cells) for cells in sizes}
