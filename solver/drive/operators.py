@@ -147,11 +147,13 @@ class CaseOperators:
         """The bundle a case needs (volume operators only with a volume grid in use)."""
         options = case.solver
         planner = planner_flag(options)
-        build_surface = surface_operator
-        if case.grid.periodic or case.grid.periodic_y:
-            build_surface = (
-                periodic_surface_operator if case.grid.periodic else y_periodic_surface_operator
-            )
+        build_surface = (
+            periodic_surface_operator
+            if case.grid.periodic
+            else y_periodic_surface_operator
+            if case.grid.periodic_y
+            else surface_operator
+        )
         surface = build_surface(case.surface_grid, case.pair, options.fft_threads, planner)
         plastic_case = case.plastic_body is not None
         keys = []

@@ -24,6 +24,10 @@ approach of a contact solve takes up their mean.  These symbols are those of poi
 continuous solution; the non-periodic operator's cell-integrated coefficients summed over the
 lattice of periods (:mod:`.convolution` on a tiled domain) agree with them to a difference that
 shrinks with the cell size, the coupling's sign included (``tests/test_periodic.py``).
+
+:class:`YPeriodicSurfaceOperator` is periodic along y only (a line contact,
+``grid.periodic = "y"``): the same forms on a long x period, cut back to the grid's offsets
+along x (``tests/test_line_contact.py``: Hertz's plane-strain strip and Carter's rolling).
 """
 
 from __future__ import annotations
@@ -126,9 +130,6 @@ class YPeriodicSurfaceOperator(SurfaceOperator):
     logarithmic; here it has zero mean over its long period): the rigid approach of a contact
     solve takes it up.
     """
-
-    #: True: the grid is one period along y (and the whole surface along x).
-    periodic_y = True
 
     def kernel_spectrum(self, name: str) -> np.ndarray:
         """Normalised spectrum of kernel block ``name``: zz, xx, yy, xy, xp, yp (all made once)."""
