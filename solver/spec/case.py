@@ -55,6 +55,7 @@ from .notes import (
     check_periodic_volume,
     check_plastic_scene,
     check_static_shakedown,
+    check_steady_scene,
     layer_note,
     narrow_window_note,
     plastic_regime,
@@ -402,25 +403,7 @@ class Case:
                 "static_shakedown follows no load path: the theorem takes the unchanging "
                 "surface of the classical theorems; leave the key out",
             )
-        steady = [i for i, stage in enumerate(stages) if stage.motion == "steady"]
-        if steady and plastic is not None:
-            fail(
-                "load.path",
-                "a steady rolling stage (steady = true) is built for elastic bodies (no "
-                "plastic history has a steady state here): roll the elastic-plastic body with "
-                "roll = [dx, dy] instead",
-            )
-        if not steady and "steady_order" in table.get("solver", {}):
-            fail(
-                "solver.steady_order",
-                "only a steady stage (steady = true) takes it: leave it out",
-            )
-        if steady and grid.periodic:
-            fail(
-                "grid.periodic",
-                "a steady rolling stage needs a contact bounded along x: not periodic (a line "
-                'contact: grid.periodic = "y")',
-            )
+        check_steady_scene(stages, plastic, grid, "steady_order" in table.get("solver", {}))
         for key, method in METHOD_KEYS.items():
             if solver.method != method and key in table.get("solver", {}):
                 fail(f"solver.{key}", f'only solver.method = "{method}" takes it: leave it out')

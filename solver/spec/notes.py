@@ -130,6 +130,31 @@ def check_line_scene(body1: Body, body2: Body, stages, paths, grid: GridSpec) ->
             )
 
 
+def check_steady_scene(stages, plastic: Body | None, grid: GridSpec, order_given: bool) -> None:
+    """Refuse what a steady rolling stage (``steady = true``) does not solve in this release.
+
+    Refused, naming the key: a steady stage with an elastic-plastic body, on a doubly periodic
+    grid (a line contact, periodic along y only, is solved), and ``solver.steady_order``
+    (``order_given``) without a steady stage.
+    """
+    steady = any(stage.motion == "steady" for stage in stages)
+    if steady and plastic is not None:
+        fail(
+            "load.path",
+            "a steady rolling stage (steady = true) is built for elastic bodies (no plastic "
+            "history has a steady state here): roll the elastic-plastic body with roll = "
+            "[dx, dy] instead",
+        )
+    if not steady and order_given:
+        fail("solver.steady_order", "only a steady stage (steady = true) takes it: leave it out")
+    if steady and grid.periodic:
+        fail(
+            "grid.periodic",
+            "a steady rolling stage needs a contact bounded along x: not periodic (a line "
+            'contact: grid.periodic = "y")',
+        )
+
+
 def check_periodic_load(body: Body, mean_pressure: float) -> None:
     """Refuse a mean pressure that yields a periodic elastic-plastic body at every depth.
 
