@@ -199,3 +199,11 @@ def test_the_shipped_line_contact_campaign_reports_carters_traction(tmp_path):
     text = build_report(tmp_path / "out").read_text()
     assert "a line contact: Carter's closed form" in text
     assert (tmp_path / "out" / f"{campaign.name}_steady_tractions.png").exists()
+
+
+def test_a_coarse_line_contact_is_told_by_its_width_along_x():
+    """The mesh note measures a strip by its width along x, not as a disc of its area."""
+    fine = solver.solve(_line_case(16, [{"steady": True, "creepage": [1e-3, 0.0]}]))
+    assert not any("cells across" in note for note in fine.notes)
+    coarse = solver.solve(_line_case(8, [{"steady": True, "creepage": [1e-3, 0.0]}], order=1))
+    assert any("8 cells across" in n and "width along x" in n for n in coarse.notes), coarse.notes

@@ -516,11 +516,16 @@ def solve(case: Case) -> Result:
     notes.extend(failure_notes(failures))
     notes.extend(path_dependence_notes(case) if coupled else [])
     if case.reference is None and not case.grid.periodic:  # heights only: the mesh check
-        across = 2.0 * math.sqrt(history["contact_area"].max() / math.pi) / max(grid.dx, grid.dy)
+        largest = history["contact_area"].max()
+        if case.grid.periodic_y:  # a line contact: the strip's width along x
+            across, measure = largest / (grid.ny * grid.dy) / grid.dx, "width along x"
+        else:
+            across = 2.0 * math.sqrt(largest / math.pi) / max(grid.dx, grid.dy)
+            measure = "equivalent diameter"
         if across < MIN_CELLS_ACROSS:
             notes.append(
-                f"the contact spans {across:.3g} cells across at its largest (equivalent "
-                f"diameter), fewer than {MIN_CELLS_ACROSS}: refine the grid or shrink grid.size"
+                f"the contact spans {across:.3g} cells across at its largest ({measure}), "
+                f"fewer than {MIN_CELLS_ACROSS}: refine the grid or shrink grid.size"
             )
     if not case.moving and any(stage.cycle and stage.steps == 1 for stage in case.stages):
         notes.append(
