@@ -245,13 +245,18 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     if args.command == "bench":
         from .bench import run_benchmark
+        from .bench.registry import BenchOptionError
         from .bench.timing import recorded
 
-        with recorded(args.table, ["python -m study", *(argv or sys.argv[1:])]):
-            return run_benchmark(
-                args.scene, args.sizes, args.peers, args.repeat, args.error, args.periodic,
-                args.incremental, args.steady, args.shapes,
-            )  # fmt: skip
+        try:
+            with recorded(args.table, ["python -m study", *(argv or sys.argv[1:])]):
+                return run_benchmark(
+                    args.scene, args.sizes, args.peers, args.repeat, args.error, args.periodic,
+                    args.incremental, args.steady, args.shapes,
+                )  # fmt: skip
+        except BenchOptionError as error:
+            print(f"error: {error}", file=sys.stderr)
+            return 2
 
     from .campaign import CampaignError
     from .report import main as report_main

@@ -30,3 +30,19 @@ def test_the_shakedown_scene_solves_its_campaign_case_by_the_theorem():
     assert bench_shakedown._verdict(p0k, out) == "elastic"
     assert bench_shakedown._verdict(3.0, out) == "shakes down"  # between first yield and 4.68
     assert bench_shakedown._verdict(5.0, out) == "does not shake down"
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["bench", "rolling", "--steady", "--shapes", "7", "--sizes", "4"],
+        ["bench", "rolling", "--shapes", "0.5", "--sizes", "4"],
+        ["bench", "hertz", "--shapes", "0.5"],
+    ],
+)
+def test_an_option_a_scene_does_not_take_is_one_line_and_status_2(argv, capsys):
+    from study.cli import main
+
+    assert main(argv) == 2
+    error = capsys.readouterr().err
+    assert error.startswith("error: --shapes") and error.count("\n") == 1

@@ -22,6 +22,11 @@ SCENES = {
     "shakedown": ("shakedown", "run_shakedown", ("incremental",)),
 }
 
+
+class BenchOptionError(ValueError):
+    """An option the scene does not take (told as one line by ``python -m study bench``)."""
+
+
 DEFAULT_SIZES = {
     "hertz": [64, 128, 256, 512],
     "cattaneo": [64, 128, 256],
@@ -50,16 +55,16 @@ def run_benchmark(
     """Run a benchmark scene, print its table, and return an exit status."""
     module, runner, takes = SCENES[scene]
     if error and "error" not in takes:
-        raise ValueError(f"--error: scene {scene!r} has no error table (only plastic)")
+        raise BenchOptionError(f"--error: scene {scene!r} has no error table (only plastic)")
     if periodic and "periodic" not in takes:
-        raise ValueError(f"--periodic: scene {scene!r} has no periodic form (only rough)")
+        raise BenchOptionError(f"--periodic: scene {scene!r} has no periodic form (only rough)")
     run = getattr(importlib.import_module(f"{__package__}.{module}"), runner)
     if incremental and "incremental" not in takes:
-        raise ValueError(f"--incremental: scene {scene!r} has no such run (only shakedown)")
+        raise BenchOptionError(f"--incremental: scene {scene!r} has no such run (only shakedown)")
     if steady and "steady" not in takes:
-        raise ValueError(f"--steady: scene {scene!r} has no steady form (only rolling)")
+        raise BenchOptionError(f"--steady: scene {scene!r} has no steady form (only rolling)")
     if shapes and "shapes" not in takes:
-        raise ValueError(f"--shapes: scene {scene!r} has one contact (only rolling has more)")
+        raise BenchOptionError(f"--shapes: scene {scene!r} has one contact (only rolling has more)")
     options = {
         "peers": peers, "repeat": repeat, "error": error, "periodic": periodic,
         "incremental": incremental, "steady": steady, "shapes": shapes,

@@ -61,6 +61,7 @@ from dataclasses import dataclass
 from solver.theory.friction import KALKER_CIRCLE_COEFFICIENTS, KALKER_ELLIPSE_COEFFICIENTS
 from solver.theory.hertz import hertz
 
+from .registry import BenchOptionError
 from .timing import format_table, isolated, machine, timed_solve
 
 E, NU, MU = 210e9, 0.25, 0.3
@@ -503,9 +504,9 @@ def run_rolling(
         shapes = list(SHAPES) if steady else [1.0]
     shapes = [float(q) for q in shapes]
     if any(q not in SHAPES for q in shapes):
-        raise ValueError(f"--shapes: a/b must be among {list(SHAPES)}, got {shapes}")
+        raise BenchOptionError(f"--shapes: a/b must be among {list(SHAPES)}, got {shapes}")
     if not steady and shapes != [1.0]:
-        raise ValueError("--shapes: the transient march rolls the circle only; add --steady")
+        raise BenchOptionError("--shapes: the transient march rolls the circle only; add --steady")
     executable = contact_executable() if peers else None
     if peers:
         print("peers:", f"CONTACT {executable}" if executable else "CONTACT_EXE not set")
