@@ -122,6 +122,18 @@ class Pair:
         return self.body1.shear_compliance + self.body2.shear_compliance
 
     @property
+    def rolling_shear_modulus(self) -> float:
+        """Kalker's combined shear modulus G (Pa), 2/G = 1/G1 + 1/G2 (a rigid body adds 0)."""
+        return 2.0 / (1.0 / self.body1.shear_modulus + 1.0 / self.body2.shear_modulus)
+
+    @property
+    def rolling_poisson_ratio(self) -> float:
+        """Kalker's combined Poisson's ratio nu (1), nu/G = (nu1/G1 + nu2/G2) / 2."""
+        bodies = (self.body1, self.body2)
+        weighted = sum(body.nu / body.shear_modulus for body in bodies)
+        return 0.5 * self.rolling_shear_modulus * weighted
+
+    @property
     def curvature(self) -> tuple[float, float]:
         """Composite curvatures (1/R_x, 1/R_y) (1/m) of the initial gap."""
         return (

@@ -220,11 +220,7 @@ def features(case: solver.Case) -> dict:
     for stage in case.stages:
         if stage.creepage is not None and stage.normal_force > 0 and case.friction_coefficient:
             try:
-                shear = 2.0 / sum(
-                    2.0 * (1.0 + body.nu) / body.E
-                    for body in (case.body1, case.body2)
-                    if body.behaviour != "rigid"
-                )
+                shear = case.pair.rolling_shear_modulus
                 force = shear * case.reference.radius**2 * 4.1 * math.hypot(*stage.creepage)
                 creep = force / (case.friction_coefficient * stage.normal_force)
                 creep_ratio = max(creep_ratio, creep)

@@ -189,10 +189,7 @@ def kalker_slope(spec: dict) -> dict:
         pair, hertz = case.pair, case.hertz
     except ValueError as error:  # a table this version refuses, a profile (no Hertz contact)
         return {**out, "reason": f"no Hertz contact of the case's table ({error})"}
-    bodies = (pair.body1, pair.body2)
-    flexibility = sum(1.0 / body.shear_modulus for body in bodies)
-    shear_modulus = 2.0 / flexibility
-    nu = 0.5 * shear_modulus * sum(body.nu / body.shear_modulus for body in bodies)
+    shear_modulus, nu = pair.rolling_shear_modulus, pair.rolling_poisson_ratio
     a, b = hertz.semi_axis_x, hertz.semi_axis_y
     out.update({"G": shear_modulus, "nu": nu, "a": a, "b": b, "reason": ""})
     if abs(pair.dundurs_beta) > 1e-9:
