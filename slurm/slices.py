@@ -30,7 +30,7 @@ SLICES_DIR = "slices"
 
 def slice_cases(campaign, index: int, count: int) -> tuple:
     """The cases of slice ``index`` of ``count`` (costliest-first round robin), in case order."""
-    ordered = sorted(campaign.cases, key=lambda c: (-c.cost, c.number))
+    ordered = sorted(campaign.distinct_cases(), key=lambda c: (-c.cost, c.number))
     return tuple(sorted(ordered[index::count], key=lambda c: c.number))
 
 

@@ -20,8 +20,9 @@ closed form
     in addition ``mu > 0`` and ``0 <= Q < mu W``.
 
 The package: :mod:`.dataset` (axes, mesh coordinates, case inputs, closed forms) at the
-bottom; :mod:`.convergence`, :mod:`.sensitivity`, :mod:`.realisations` and :mod:`.speed_error`
-on it;
+bottom; :mod:`.convergence`, :mod:`.sensitivity` (local, along a swept axis),
+:mod:`.global_sensitivity` (Sobol' and Morris over a sampled design), :mod:`.realisations`
+and :mod:`.speed_error` on it;
 :mod:`.fields` (the lazy 3-D field loader) beside them.  The names below are re-exported here:
 ``from study import analysis; analysis.convergence_table(ds, ...)``.
 """
@@ -58,6 +59,13 @@ from .dataset import (
     sweep_slices,
     with_derived,
 )
+from .global_sensitivity import (
+    design_method,
+    morris_indices,
+    result_quantities,
+    sampled_inputs,
+    sobol_indices,
+)
 from .realisations import (
     realisation_axes,
     realisation_statistics,
@@ -72,6 +80,11 @@ from .speed_error import (
 )
 
 __all__ = [
+    "design_method",
+    "morris_indices",
+    "result_quantities",
+    "sampled_inputs",
+    "sobol_indices",
     "ConvergenceFit",
     "MESH_KEYS",
     "ORDER_RANGE",

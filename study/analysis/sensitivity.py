@@ -69,8 +69,11 @@ def sensitivity_table(dataset, quantity: str, axis: str):
 
 
 def sensitivity_axes(dataset) -> list[str]:
-    """Numeric sweep dimensions that are not mesh or realisation axes, with two values or more."""
-    skip = set(mesh_axes(dataset)) | set(realisation_axes(dataset))
+    """Numeric sweep dimensions that are not mesh, realisation or sampled axes, with 2+ values.
+
+    A design's ``sample`` rows have their global sensitivity (:mod:`.global_sensitivity`).
+    """
+    skip = set(mesh_axes(dataset)) | set(realisation_axes(dataset)) | {"sample"}
     return [
         d
         for d in axis_dims(dataset)

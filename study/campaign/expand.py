@@ -28,6 +28,7 @@ from .model import (
     Progress,
 )
 from .naming import _NAME, RESERVED_NAMES, _is_inf, _meta, default_name, format_value
+from .sample import SAMPLE_DIM, Design
 from .surfaces import absolute_surfaces, read_surface
 from .validate import (
     _apply_beta,
@@ -56,17 +57,17 @@ def _all_keys(entries: list[_Entry]):
             yield key, written
 
 
-def _parse_axes(sweep: Any, zipped: Any) -> list[_Entry]:
-    if sweep is None and zipped is None:
+def _parse_axes(sweep: Any, zipped: Any, design: Design | None = None) -> list[_Entry]:
+    if sweep is None and zipped is None and design is None:
         raise CampaignError(
-            "nothing to sweep: add a [sweep] table (or [zip]); for a single case sweep one "
-            'value, e.g. "friction.coefficient" = [0.1]'
+            "nothing to sweep: add a [sweep] table (or [zip], or [sample]); for a single case "
+            'sweep one value, e.g. "friction.coefficient" = [0.1]'
         )
     entries: list[_Entry] = []
     if sweep is not None:
         if not isinstance(sweep, Mapping):
             raise CampaignError("[sweep]: must be a table of dotted keys = [values]")
-        if not sweep and zipped is None:
+        if not sweep and zipped is None and design is None:
             raise CampaignError('[sweep]: empty; give at least one key, e.g. "grid.n" = [32, 64]')
         for written, values in _flatten_keys(sweep, "[sweep]"):
             key = normalise_key(written, "[sweep]")
@@ -94,7 +95,15 @@ def _parse_axes(sweep: Any, zipped: Any) -> list[_Entry]:
                     f"[zip.{group}]: the group name is a dimension name and must be an "
                     "identifier (letters, digits, _)"
                 )
+            if group == SAMPLE_DIM:
+                raise CampaignError(
+                    f"[zip.{group}]: {SAMPLE_DIM} is the dimension of a [sample] design; "
+                    "name the group otherwise"
+                )
             entries.append(_zip_entry(members, group, f"[zip.{group}]"))
+    if design is not None:  # the design's rows: one zipped axis, rows may repeat
+        members = list(zip(design.keys, design.keys, design.values(), strict=True))
+        entries.append(_Entry(members, SAMPLE_DIM, True))
     seen: dict[str, str] = {}
     for key, written in _all_keys(entries):
         if key in seen:
@@ -184,7 +193,8 @@ def _build_axes(entries: list[_Entry], aliases: dict[str, str]) -> tuple[Axis, .
         for c in axis.coordinates:
             labels.setdefault(c.name, c.key)
         for label, source in labels.items():
-            if label in RESERVED_NAMES or label.endswith(("_history", "_profile")):
+            design = label == SAMPLE_DIM and axis.name == SAMPLE_DIM  # [zip.sample] is refused
+            if (label in RESERVED_NAMES and not design) or label.endswith(("_history", "_profile")):
                 raise CampaignError(
                     f'axis name "{label}" ({source}) is reserved by the campaign dataset; '
                     "choose another in [alias]"
@@ -196,6 +206,13 @@ def _build_axes(entries: list[_Entry], aliases: dict[str, str]) -> tuple[Axis, .
                 )
             owner[label] = source
     return tuple(axes)
+
+
+def _repeated_row(index: tuple, other: tuple, axes: tuple[Axis, ...]) -> bool:
+    """True when two cases differ in their ``sample`` row only (a design's repeated point)."""
+    return all(
+        i == j or axis.name == SAMPLE_DIM for i, j, axis in zip(index, other, axes, strict=True)
+    )
 
 
 def _keep_volume_depth(base: dict, keys: set[str]) -> dict:
@@ -235,6 +252,7 @@ def _expand_cases(
         return f"case {number + 1} of {total} ({label})"
 
     coords_of: dict[int, dict] = {}
+    indices: dict[int, tuple] = {}
     for number, index in enumerate(itertools.product(*(range(axis.size) for axis in axes))):
         if progress is not None and number and number % PROGRESS_EVERY == 0:
             progress(number, total)
@@ -262,14 +280,14 @@ def _expand_cases(
             failures.append((where(number, coords), f"{type(error).__name__}: {error}"))
             continue
         case_id = case.case_id
-        if case_id in seen:
+        if case_id in seen and not _repeated_row(index, indices[seen[case_id]], axes):
             first = seen[case_id]
             raise CampaignError(
                 f"{where(number, coords)} is the same case as {where(first, coords_of[first])} "
                 f"(case id {case_id}); an axis has no effect there, remove the duplicate values"
             )
-        seen[case_id] = number
-        coords_of[number] = coords
+        seen.setdefault(case_id, number)
+        coords_of[number], indices[number] = coords, index
         cases.append(
             CampaignCase(
                 number=number,

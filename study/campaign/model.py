@@ -8,11 +8,13 @@ from dataclasses import dataclass, field
 import solver
 from solver.keys import Key
 
+from .naming import CampaignError as CampaignError  # defined there, re-exported
 from .naming import _is_inf, _is_number, format_value
+from .sample import DISTRIBUTIONS, METHODS, SAMPLE_DIM, Design
 from .surfaces import read_surface
 
 #: Top-level tables of a campaign file.
-TOP_LEVEL = ("campaign", "base", "sweep", "zip", "alias", "define")
+TOP_LEVEL = ("campaign", "base", "sweep", "zip", "sample", "alias", "define")
 #: First segments of a swept key.
 CASE_TABLES = ("body1", "body2", "load", "friction", "grid", "solver", "output", "materials")
 #: The pseudo-key that sweeps Dundurs' beta.
@@ -32,16 +34,34 @@ CAMPAIGN_KEYS: tuple[Key, ...] = (
         "Name, output folder and run settings."),
     Key("", "base", "table", "", "required", "a case table (the case keys)", "every campaign",
         "The case every point of the sweep starts from."),
-    Key("", "sweep", "table", "", "one of sweep / zip", '"dotted.key" = [values]',
+    Key("", "sweep", "table", "", "one of sweep / zip / sample", '"dotted.key" = [values]',
         "every campaign", "One axis per key; the cases are the product of the axes."),
-    Key("", "zip", "table", "", "one of sweep / zip", '[zip.NAME] "key" = [values], ...',
+    Key("", "zip", "table", "", "one of sweep / zip / sample", '[zip.NAME] "key" = [values], ...',
         "campaigns that vary keys together", "One axis per group, its keys stepping together."),
+    Key("", "sample", "table", "", "one of sweep / zip / sample",
+        '"dotted.key" = { distribution = ..., ... }, method, count, seed', "sampled designs",
+        "A design's rows: one dimension, sample, with the sampled keys as its coordinates."),
     Key("", "alias", "table", "", "optional", '"dotted.key" = "name"', "every campaign",
         "Names of the dataset coordinates (default: the key with _ for .)."),
     Key("", "define", "table", "", "optional", "[define.NAME] tables", "sweeps of whole tables",
         'Named tables a sweep of "body1", "load", ... picks by name.'),
     Key("[sweep]", BETA_KEY, "number", "1", "", "what body 1's constants can reach",
         "two deforming bodies", "Dundurs' beta, set by body 1's E and nu at fixed E*."),
+    Key("sample", "method", "string", "", "required", ", ".join(METHODS), "sampled designs",
+        "lhs, sobol: space filling; saltelli: Sobol' indices; morris: elementary effects."),
+    Key("sample", "count", "integer", "1", "required", "lhs, morris: >= 1; sobol, saltelli: a "
+        "power of 2", "sampled designs", "Points (lhs, sobol), base samples N (saltelli: "
+        "N (D + 2) cases, N (2 D + 2) with second_order), trajectories r (morris: r (D + 1))."),
+    Key("sample", "seed", "integer", "1", "0", ">= 0", "sampled designs",
+        "Seed of the design (the same seed, the same rows)."),
+    Key("sample", "second_order", "boolean", "", "false", "true, false", "saltelli",
+        "Add the rows of the second-order indices."),
+    Key("sample", "levels", "integer", "1", "4", "even, >= 2", "morris",
+        "Levels of Morris' grid in the unit interval."),
+    Key("sample", '"dotted.key"', "table", "", "", ", ".join(
+        f"{name}: {', '.join(fields)}" for name, fields in DISTRIBUTIONS.items()),
+        "sampled designs", "A sampled key's distribution (normal: bounds truncate it; "
+        "discrete: equally likely values)."),
     Key("campaign", "name", "string", "", "the file's name", "letters, digits, _ . -",
         "every campaign", "Campaign name: the dataset is OUT/<name>.nc."),
     Key("campaign", "output", "string", "", '"out/<name>"', "a folder path", "every campaign",
@@ -67,10 +87,6 @@ CAMPAIGN_KEYS: tuple[Key, ...] = (
 Progress = Callable[[int, int], None]
 #: Cases between two calls of a progress callback.
 PROGRESS_EVERY = 2000
-
-
-class CampaignError(ValueError):
-    """A bad campaign file: the message names the key or case, the field, and what to change."""
 
 
 # -- data ----------------------------------------------------------------------------------------
@@ -212,6 +228,10 @@ class Campaign:
         Every case, in C order over the axes.
     source : str
         The campaign file it was read from ("" for a table).
+    base : dict
+        The ``[base]`` table.
+    design : Design, optional
+        The ``[sample]`` design, whose rows are the ``sample`` axis.
     """
 
     settings: Settings
@@ -219,6 +239,7 @@ class Campaign:
     cases: tuple[CampaignCase, ...]
     source: str = ""
     base: dict = field(default_factory=dict, compare=False)
+    design: Design | None = None
 
     @property
     def name(self) -> str:
@@ -235,9 +256,45 @@ class Campaign:
         """Dimension sizes."""
         return tuple(axis.size for axis in self.axes)
 
+    def distinct_cases(self) -> tuple[CampaignCase, ...]:
+        """The cases with distinct case ids, the first of each, in case order.
+
+        A design's repeated rows are one case, computed once.
+        """
+        return tuple(self.by_id().values())
+
     def by_id(self) -> dict[str, CampaignCase]:
-        """Cases by case id."""
-        return {case.case_id: case for case in self.cases}
+        """Cases by case id (of a repeated id, its first case)."""
+        found: dict[str, CampaignCase] = {}
+        for case in self.cases:
+            found.setdefault(case.case_id, case)
+        return found
+
+    def axes_dicts(self, values: bool = True) -> list[dict]:
+        """The axes in JSON-able form.
+
+        Without ``values``, a sampled axis's values are left out (the dataset's coordinates
+        hold them).
+        """
+        return [
+            {
+                "name": axis.name,
+                "zipped": axis.zipped,
+                "coordinates": [
+                    {
+                        "key": c.key,
+                        "name": c.name,
+                        "values": list(c.values)
+                        if values or self.design is None or axis.name != SAMPLE_DIM
+                        else f"{axis.size} rows (the coordinate {c.name})",
+                        "units": c.units,
+                        "long_name": c.long_name,
+                    }
+                    for c in axis.coordinates
+                ],
+            }
+            for axis in self.axes
+        ]
 
     def to_dict(self) -> dict:
         """JSON-able form (what ``OUT/campaign.json`` holds)."""
@@ -258,23 +315,8 @@ class Campaign:
                 "case_timeout": self.settings.case_timeout,
             },
             "base": self.base,
-            "axes": [
-                {
-                    "name": axis.name,
-                    "zipped": axis.zipped,
-                    "coordinates": [
-                        {
-                            "key": c.key,
-                            "name": c.name,
-                            "values": list(c.values),
-                            "units": c.units,
-                            "long_name": c.long_name,
-                        }
-                        for c in axis.coordinates
-                    ],
-                }
-                for axis in self.axes
-            ],
+            "design": None if self.design is None else self.design.to_dict(),
+            "axes": self.axes_dicts(),
             "cases": [
                 {
                     "number": case.number,
@@ -334,4 +376,5 @@ class Campaign:
             cases=cases,
             source=data.get("source", ""),
             base=data.get("base", {}),
+            design=Design.from_dict(data["design"]) if data.get("design") else None,
         )

@@ -40,10 +40,20 @@ RESERVED_NAMES = frozenset(
         "shakedown_reason",
         "notes",
         "loops",
+        "sample",
+        "sample_input",
+        "sample_design",
+        "sample_distribution",
     }
     | set(reduced_scalars())
     | set(CYCLE_QUANTITIES)
 )
+
+
+class CampaignError(ValueError):
+    """A bad campaign file: the message names the key or case, the field, and what to change."""
+
+
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _CAMPAIGN_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]*$")
 

@@ -24,7 +24,8 @@ from .model import (
     Settings,
 )
 from .naming import _CAMPAIGN_NAME, _NAME, _is_int, _is_number
-from .validate import _check_paths
+from .sample import parse_sample
+from .validate import _check_paths, normalise_key
 
 
 # -- reading -------------------------------------------------------------------------------------
@@ -109,14 +110,15 @@ def expand_campaign(
     if not isinstance(base, Mapping):
         raise CampaignError("[base]: must be a table")
     settings = _parse_settings(table.get("campaign", {}), name)
-    entries = _parse_axes(table.get("sweep"), table.get("zip"))
+    design = None if "sample" not in table else parse_sample(table["sample"], normalise_key)
+    entries = _parse_axes(table.get("sweep"), table.get("zip"), design)
     defined = _parse_defined(table.get("define", {}), entries)
     aliases = _parse_aliases(table.get("alias", {}), [key for key, _ in _all_keys(entries)])
     axes = _build_axes(entries, aliases)
     _check_paths(base, axes, defined)
     folder = Path(source).resolve().parent if source else Path.cwd()  # of relative map files
     cases = _expand_cases(dict(base), axes, progress, defined, folder)
-    return Campaign(settings, axes, cases, source, base=copy.deepcopy(dict(base)))
+    return Campaign(settings, axes, cases, source, base=copy.deepcopy(dict(base)), design=design)
 
 
 def _parse_defined(raw: Any, entries: list[_Entry]) -> dict[str, dict]:

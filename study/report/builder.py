@@ -21,7 +21,7 @@ import numpy as np
 from solver.result import STATUS_FLAGS
 
 from .. import analysis
-from . import cycles, plastic, rolling, rough, shakedown, theorem
+from . import cycles, global_sensitivity, plastic, rolling, rough, shakedown, theorem
 from .elastic import (
     _convergence_note,
     plot_convergence,
@@ -33,6 +33,9 @@ from .elastic import (
     stick_slip_panels,
 )
 from .figures import fmt, markdown_table, pyplot, units_of
+
+#: Most cases the speed-versus-error table lists one by one (beyond: their statistics).
+MAX_CASE_ROWS = 200
 
 
 def _sha256(path: Path) -> str:
@@ -209,7 +212,12 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
         speed = speed.drop(columns=["error_basis", "error", "pareto"], errors="ignore")
         speed = speed.dropna(axis=1, how="all")
         lines += [f"No closed form applies and no mesh axis refines: no error.  {cost}", ""]
-    lines.append(markdown_table(speed))
+    if len(speed) > MAX_CASE_ROWS:  # a sampled design: its statistics, not every case
+        lines += [f"Over the {len(speed)} cases (count, mean, quantiles):", ""]
+        numbers = speed.select_dtypes("number").drop(columns=["pareto"], errors="ignore")
+        lines.append(markdown_table(numbers.describe().reset_index()))
+    else:
+        lines.append(markdown_table(speed))
     if plt is not None:
         png = plot_speed_error(speed, name, out / f"{name}_speed_error.png") if has_error else None
         if png:
@@ -251,6 +259,8 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
     if "shakedown" in dataset:
         nu = _yielding_poisson_ratio(out)
         lines += shakedown.section(dataset, out, name, plt, figures, nu)
+    if "sample_design" in dataset:
+        lines += global_sensitivity.section(dataset, out, name, plt, figures)
     if "creep_force_x" in dataset or "creepage_x_history" in dataset:
         lines += rolling.section(dataset, out, name, plt, figures)
     if figures:
@@ -280,6 +290,8 @@ def _yielding_poisson_ratio(out: Path) -> float | None:
 
 
 def _values(dataset, dim: str) -> str:
+    if dim == "sample" and "sample_design" in dataset:
+        return f"rows of a {dataset.attrs['sample_method']} design"
     values = dataset[dim].values if dim in dataset.coords else range(dataset.sizes[dim])
     return ", ".join(fmt(v.item() if hasattr(v, "item") else v) for v in values)
 

@@ -51,6 +51,7 @@ from solver.theory.shakedown import SHAKEDOWN_FLAGS, shakedown_variable
 from solver.variables import CYCLE_QUANTITIES, HISTORIES, reduced_scalars
 
 from ..campaign import Axis, Campaign
+from ..campaign.sample import SAMPLE_DIM
 from . import storage
 
 if TYPE_CHECKING:
@@ -431,12 +432,55 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
         ),
         "campaign": campaign.name,
         "campaign_source": campaign.source,
-        "campaign_axes": json.dumps(campaign.to_dict()["axes"]),
+        "campaign_axes": json.dumps(campaign.axes_dicts(values=False)),
         "campaign_base": json.dumps(campaign.base),
         "cases_total": len(campaign.cases),
         **{f"cases_{flag}": count for flag, count in counts.items()},
     }
+    if campaign.design is not None:
+        design_coords, design_vars, design_attrs = design_variables(campaign)
+        coords.update(design_coords)
+        data_vars.update(design_vars)
+        attrs.update(design_attrs)
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def design_variables(campaign: Campaign) -> tuple[dict, dict, dict]:
+    """Coordinates, variables and attributes of a sampled design (:mod:`study.campaign.sample`).
+
+    ``sample_design`` (sample, sample_input): the rows in the unit hypercube (each input's
+    quantile level); ``sample_distribution`` (sample_input): each input's distribution; the
+    attributes ``sample_method``, ``sample_count``, ``sample_seed``, ``sample_second_order``,
+    ``sample_levels`` and ``sample_block`` (rows that belong together: a Saltelli block, a Morris
+    trajectory).
+    """
+    design = campaign.design
+    axis = next(axis for axis in campaign.axes if axis.name == SAMPLE_DIM)
+    names = {c.key: c.name for c in axis.coordinates}
+    inputs = [names[key] for key in design.keys]
+    meaning = {"long_name": "sampled input (a coordinate of sample)"}
+    coords = {"sample_input": ("sample_input", np.array(inputs), meaning)}
+    data_vars = {
+        "sample_design": (
+            (SAMPLE_DIM, "sample_input"),
+            np.asarray(design.unit, dtype=float),
+            {"units": "1", "long_name": "the design's rows in the unit cube (quantile levels)"},
+        ),
+        "sample_distribution": (
+            "sample_input",
+            np.array([d.describe() for d in design.distributions]),
+            {"long_name": "distribution of the sampled input"},
+        ),
+    }
+    attrs = {
+        "sample_method": design.method,
+        "sample_count": design.count,
+        "sample_seed": design.seed,
+        "sample_second_order": int(design.second_order),
+        "sample_levels": design.levels,
+        "sample_block": design.block,
+    }
+    return coords, data_vars, attrs
 
 
 def assemble_to_file(out: str | Path, campaign: Campaign | None = None) -> Path:

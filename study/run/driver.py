@@ -590,13 +590,14 @@ def run_campaign(
             storage.prepare_output(out, campaign, replace=options.replace)
             _quarantine_corrupt(campaign, out, logger)
             finished = storage.finished_ids(out)
-            todo = [c for c in campaign.cases if c.case_id not in finished]
+            todo = [c for c in campaign.distinct_cases() if c.case_id not in finished]
             scheduler = _Scheduler(todo, options, k, logger)
+            distinct = len(campaign.distinct_cases())
             logger.info(
                 "campaign %s: %d cases, %d finished earlier, %d to run on %d rank(s)%s -> %s",
                 campaign.name,
-                len(campaign.cases),
-                len(campaign.cases) - len(todo),
+                distinct,
+                distinct - len(todo),
                 len(todo),
                 size,
                 "" if size == 1 or options.root_computes else " (rank 0 dispatches only)",
@@ -783,8 +784,8 @@ def _summarise(campaign: Campaign, out: Path, scheduler: _Scheduler, elapsed: fl
     return RunSummary(
         campaign=campaign.name,
         out=str(out),
-        total=len(campaign.cases),
-        skipped=len(campaign.cases) - scheduler.progress.total,
+        total=len(ids),
+        skipped=len(ids) - scheduler.progress.total,
         converged=sum(r["status"] == "converged" for r in reports),
         not_converged=sum(r["status"] == "not_converged" for r in reports),
         truncated=sum(r["status"] == "truncated" for r in reports),

@@ -1,0 +1,199 @@
+"""Global sensitivity of a sampled campaign: Sobol' indices and Morris' elementary effects.
+
+A campaign with a ``[sample]`` design (:mod:`study.campaign.sample`) has the dimension
+``sample``, the sampled inputs as its coordinates, and the design's rows in the unit hypercube
+(``sample_design``).  The estimators are SALib's: Sobol' first-order and total indices (Saltelli
+2010, Jansen) with bootstrap confidence intervals from Saltelli's design, Morris' ``mu``,
+``mu*`` and ``sigma`` (Campolongo 2007) from Morris' trajectories, the latter in units of the
+quantity per unit of the input's quantile level (the unit hypercube).
+
+Cases that did not finish break the blocks they belong to (a Saltelli block of ``D + 2``
+rows, a Morris trajectory of ``D + 1``): such blocks are left out whole, which keeps the
+estimators unbiased on fewer samples, and the tables say how many were used and left out.
+Other dimensions of the campaign (a swept key beside the design) give one set of indices per
+combination of their values.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .dataset import finished_mask, quantities, sweep_slices
+
+SAMPLE_DIM = "sample"
+#: Bootstrap resamples of the confidence intervals, and their level.
+RESAMPLES, CONFIDENCE = 1000, 0.95
+
+
+def design_method(dataset) -> str | None:
+    """The sampling method of a campaign dataset (``"saltelli"``, ``"morris"``...), or None."""
+    return dataset.attrs.get("sample_method") if "sample_design" in dataset else None
+
+
+def sampled_inputs(dataset) -> list[str]:
+    """Names of the sampled inputs (coordinates of ``sample``), in the design's column order."""
+    return [str(name) for name in dataset["sample_input"].values]
+
+
+def result_quantities(dataset) -> list[str]:
+    """The report's quantities (:func:`~.dataset.quantities`) that vary over the finished cases."""
+    found = []
+    for name in quantities(dataset):
+        values = np.asarray(dataset[name].where(finished_mask(dataset)).values, dtype=float)
+        finite = values[np.isfinite(values)]
+        if finite.size > 1 and np.ptp(finite) > 1e-12 * np.max(np.abs(finite)):
+            found.append(name)
+    return found
+
+
+def _outputs(dataset, quantity: str, log: bool):
+    """The quantity masked to finished cases (``ln`` of it with ``log``)."""
+    values = dataset[quantity].where(finished_mask(dataset)).astype(float)
+    if log:
+        if bool((values <= 0).any()):
+            raise ValueError(f"{quantity}: log needs positive values; it has some <= 0")
+        values = np.log(values)
+    return values
+
+
+def _complete_blocks(y: np.ndarray, block: int) -> tuple[np.ndarray, int, int]:
+    """The rows of the blocks with every value finite; (rows, blocks kept, blocks left out)."""
+    blocks = y.reshape(-1, block)
+    keep = np.all(np.isfinite(blocks), axis=1)
+    return np.flatnonzero(np.repeat(keep, block)), int(keep.sum()), int((~keep).sum())
+
+
+def _check(dataset, method: str) -> None:
+    found = design_method(dataset)
+    if found != method:
+        wanted = {"saltelli": "Sobol' indices", "morris": "Morris' elementary effects"}[method]
+        raise ValueError(
+            f"{wanted} need a [sample] design with method = {method!r}; this campaign's is "
+            f"{found!r}" + ("" if found else " (no [sample] design)")
+        )
+
+
+def sobol_indices(
+    dataset,
+    quantity: str,
+    *,
+    log: bool = False,
+    resamples: int = RESAMPLES,
+    confidence: float = CONFIDENCE,
+    seed: int = 0,
+):
+    """Sobol' first-order and total indices of ``quantity`` over the sampled inputs.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        A campaign dataset with a Saltelli design.
+    quantity : str
+        A per-case variable.
+    log : bool
+        Indices of ``ln(quantity)`` (positive quantities).
+    resamples : int
+        Bootstrap resamples of the confidence intervals.
+    confidence : float
+        Level of the intervals (their half-widths are ``S1_conf``, ``ST_conf``).
+    seed : int
+        Of the bootstrap.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per input (and per combination of the other dimensions' values): ``input``,
+        ``S1``, ``S1_conf``, ``ST``, ``ST_conf`` (dimensionless), ``samples`` (complete
+        base samples used), ``left_out`` (base samples with a case not finished).
+    """
+    import pandas as pd
+    from SALib.analyze import sobol
+
+    from ..campaign.sample import salib_problem
+
+    _check(dataset, "saltelli")
+    names = sampled_inputs(dataset)
+    block = int(dataset.attrs["sample_block"])
+    second = bool(dataset.attrs["sample_second_order"])
+    values = _outputs(dataset, quantity, log)
+    rows = []
+    for labels, isel in sweep_slices(dataset, [SAMPLE_DIM]):
+        y = np.asarray(values.isel(isel).values, dtype=float)
+        kept, used, dropped = _complete_blocks(y, block)
+        result = {"S1": [np.nan] * len(names), "S1_conf": [np.nan] * len(names)}
+        result |= {"ST": result["S1"], "ST_conf": result["S1"]}
+        if used > 1 and np.ptp(y[kept]) > 0:
+            result = sobol.analyze(
+                salib_problem(names), y[kept], calc_second_order=second,
+                num_resamples=resamples, conf_level=confidence, seed=seed,
+            )  # fmt: skip
+        for j, name in enumerate(names):
+            rows.append({
+                **labels, "input": name,
+                **{k: float(result[k][j]) for k in ("S1", "S1_conf", "ST", "ST_conf")},
+                "samples": used, "left_out": dropped,
+            })  # fmt: skip
+    return pd.DataFrame(rows)
+
+
+def morris_indices(
+    dataset,
+    quantity: str,
+    *,
+    log: bool = False,
+    resamples: int = RESAMPLES,
+    confidence: float = CONFIDENCE,
+    seed: int = 0,
+):
+    """Morris' screening measures of ``quantity`` over the sampled inputs.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        A campaign dataset with a Morris design.
+    quantity : str
+        A per-case variable.
+    log : bool
+        Of ``ln(quantity)`` (positive quantities).
+    resamples : int
+        Bootstrap resamples of the interval of ``mu_star``.
+    confidence : float
+        Level of that interval (its half-width is ``mu_star_conf``).
+    seed : int
+        Of the bootstrap.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per input (and combination of the other dimensions' values): ``input``, ``mu``,
+        ``mu_star``, ``sigma``, ``mu_star_conf`` (units of the quantity, or 1 with ``log``,
+        per unit quantile level), ``trajectories`` used, ``left_out``.
+    """
+    import pandas as pd
+    from SALib.analyze import morris
+
+    from ..campaign.sample import salib_problem
+
+    _check(dataset, "morris")
+    names = sampled_inputs(dataset)
+    block = int(dataset.attrs["sample_block"])
+    levels = int(dataset.attrs["sample_levels"])
+    design = np.asarray(dataset["sample_design"].values, dtype=float)
+    values = _outputs(dataset, quantity, log)
+    rows = []
+    for labels, isel in sweep_slices(dataset, [SAMPLE_DIM]):
+        y = np.asarray(values.isel(isel).values, dtype=float)
+        kept, used, dropped = _complete_blocks(y, block)
+        keys = ("mu", "mu_star", "sigma", "mu_star_conf")
+        result = {k: [np.nan] * len(names) for k in keys}
+        if used > 1:
+            result = morris.analyze(
+                salib_problem(names), design[kept], y[kept], num_resamples=resamples,
+                conf_level=confidence, num_levels=levels, seed=seed,
+            )  # fmt: skip
+        for j, name in enumerate(names):
+            rows.append({
+                **labels, "input": name, **{k: float(result[k][j]) for k in keys},
+                "trajectories": used, "left_out": dropped,
+            })  # fmt: skip
+    return pd.DataFrame(rows)
