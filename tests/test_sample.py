@@ -272,12 +272,16 @@ def test_unfinished_cases_leave_their_blocks_out(tmp_path):
 
 
 @pytest.mark.parametrize("method", ["saltelli", "lhs"])
-def test_report_draws_the_design_section(tmp_path, method):
+def test_report_draws_the_design_section(tmp_path, method, monkeypatch):
+    from study.report import builder
+
+    monkeypatch.setattr(builder, "MAX_CASE_ROWS", 30)  # past it: statistics, not every case
     count = 8 if method == "saltelli" else 12
     campaign = _campaign({"method": method, "count": count, "seed": 3, **_log_uniform()})
     out = tmp_path / campaign.name
     run_campaign(campaign, out)
     text = build_report(out).read_text()
+    assert ("Over the 40 cases" in text) == (method == "saltelli")  # 12 lhs cases: one by one
     assert "## Global sensitivity" in text and "log-uniform [10, 1000]" in text
     assert ("S1_conf" in text) == (method == "saltelli")
     assert ("gives no indices" in text) == (method == "lhs")

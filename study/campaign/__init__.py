@@ -24,6 +24,11 @@ A campaign file is declarative TOML::
     "grid.n" = [32, 64, 128]
     "solver.normal_tolerance" = [1e-6, 1e-7, 1e-8]
 
+    [sample]                          # a sampled design: ONE dimension "sample" (.sample)
+    method = "saltelli"               # lhs, sobol, saltelli (Sobol' indices), morris
+    count = 256
+    "load.normal_force" = { distribution = "log-uniform", range = [10.0, 1000.0] }
+
     [alias]                           # dimension / coordinate names (default: dots -> "_")
     "friction.coefficient" = "mu"
 
@@ -58,8 +63,9 @@ base's nz, also when the base gives it in ``grid.n``).
 the field.  This module imports no MPI and writes no files.
 
 The package by job: :mod:`.naming` (coordinate names, units, values as text) at the bottom,
-:mod:`.model` (the frozen campaign, its axes and cases), :mod:`.validate` (keys, values and
-the paths they set), :mod:`.expand` (axes from ``[sweep]``/``[zip]``, cases from the axes) and
+:mod:`.sample` (``[sample]`` designs and their distributions), :mod:`.model` (the frozen
+campaign, its axes and cases), :mod:`.validate` (keys, values and the paths they set),
+:mod:`.expand` (axes from ``[sweep]``/``[zip]``/``[sample]``, cases from the axes) and
 :mod:`.read` (files, ``[campaign]`` settings, ``[define]``) on top.
 """
 
