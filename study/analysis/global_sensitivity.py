@@ -63,7 +63,16 @@ def _complete_blocks(y: np.ndarray, block: int) -> tuple[np.ndarray, int, int]:
     return np.flatnonzero(np.repeat(keep, block)), int(keep.sum()), int((~keep).sum())
 
 
-def _check(dataset, method: str) -> None:
+def _indices(dataset, quantity: str, method: str, log: bool, keys: tuple, counted: str, analyse):
+    """One row per input and slice of the other dimensions: ``keys`` from ``analyse``.
+
+    ``analyse(problem, rows, y)``: SALib's analysis of the complete blocks' ``rows`` (indices
+    into the design) and their outputs ``y``.
+    """
+    import pandas as pd
+
+    from ..campaign.sample import salib_problem
+
     found = design_method(dataset)
     if found != method:
         wanted = {"saltelli": "Sobol' indices", "morris": "Morris' elementary effects"}[method]
@@ -71,6 +80,22 @@ def _check(dataset, method: str) -> None:
             f"{wanted} need a [sample] design with method = {method!r}; this campaign's is "
             f"{found!r}" + ("" if found else " (no [sample] design)")
         )
+    names = sampled_inputs(dataset)
+    block = int(dataset.attrs["sample_block"])
+    values = _outputs(dataset, quantity, log)
+    rows = []
+    for labels, isel in sweep_slices(dataset, [SAMPLE_DIM]):
+        y = np.asarray(values.isel(isel).values, dtype=float)
+        kept, used, dropped = _complete_blocks(y, block)
+        result = {key: [np.nan] * len(names) for key in keys}
+        if used > 1 and np.ptp(y[kept]) > 0:  # a constant quantity has no indices
+            result = analyse(salib_problem(names), kept, y[kept])
+        for j, name in enumerate(names):
+            rows.append({
+                **labels, "input": name, **{key: float(result[key][j]) for key in keys},
+                counted: used, "left_out": dropped,
+            })  # fmt: skip
+    return pd.DataFrame(rows)
 
 
 def sobol_indices(
@@ -104,36 +129,21 @@ def sobol_indices(
     pandas.DataFrame
         One row per input (and per combination of the other dimensions' values): ``input``,
         ``S1``, ``S1_conf``, ``ST``, ``ST_conf`` (dimensionless), ``samples`` (complete
-        base samples used), ``left_out`` (base samples with a case not finished).
+        base samples used), ``left_out`` (base samples with a case not finished); NaN for a
+        quantity that does not vary.
     """
-    import pandas as pd
     from SALib.analyze import sobol
 
-    from ..campaign.sample import salib_problem
+    second = bool(dataset.attrs.get("sample_second_order", 0))
 
-    _check(dataset, "saltelli")
-    names = sampled_inputs(dataset)
-    block = int(dataset.attrs["sample_block"])
-    second = bool(dataset.attrs["sample_second_order"])
-    values = _outputs(dataset, quantity, log)
-    rows = []
-    for labels, isel in sweep_slices(dataset, [SAMPLE_DIM]):
-        y = np.asarray(values.isel(isel).values, dtype=float)
-        kept, used, dropped = _complete_blocks(y, block)
-        result = {"S1": [np.nan] * len(names), "S1_conf": [np.nan] * len(names)}
-        result |= {"ST": result["S1"], "ST_conf": result["S1"]}
-        if used > 1 and np.ptp(y[kept]) > 0:
-            result = sobol.analyze(
-                salib_problem(names), y[kept], calc_second_order=second,
-                num_resamples=resamples, conf_level=confidence, seed=seed,
-            )  # fmt: skip
-        for j, name in enumerate(names):
-            rows.append({
-                **labels, "input": name,
-                **{k: float(result[k][j]) for k in ("S1", "S1_conf", "ST", "ST_conf")},
-                "samples": used, "left_out": dropped,
-            })  # fmt: skip
-    return pd.DataFrame(rows)
+    def analyse(problem, rows, y):
+        return sobol.analyze(
+            problem, y, calc_second_order=second, num_resamples=resamples,
+            conf_level=confidence, seed=seed,
+        )  # fmt: skip
+
+    keys = ("S1", "S1_conf", "ST", "ST_conf")
+    return _indices(dataset, quantity, "saltelli", log, keys, "samples", analyse)
 
 
 def morris_indices(
@@ -167,33 +177,19 @@ def morris_indices(
     pandas.DataFrame
         One row per input (and combination of the other dimensions' values): ``input``, ``mu``,
         ``mu_star``, ``sigma``, ``mu_star_conf`` (units of the quantity, or 1 with ``log``,
-        per unit quantile level), ``trajectories`` used, ``left_out``.
+        per unit quantile level), ``trajectories`` used, ``left_out``; NaN for a quantity that
+        does not vary.
     """
-    import pandas as pd
     from SALib.analyze import morris
 
-    from ..campaign.sample import salib_problem
-
-    _check(dataset, "morris")
-    names = sampled_inputs(dataset)
-    block = int(dataset.attrs["sample_block"])
-    levels = int(dataset.attrs["sample_levels"])
     design = np.asarray(dataset["sample_design"].values, dtype=float)
-    values = _outputs(dataset, quantity, log)
-    rows = []
-    for labels, isel in sweep_slices(dataset, [SAMPLE_DIM]):
-        y = np.asarray(values.isel(isel).values, dtype=float)
-        kept, used, dropped = _complete_blocks(y, block)
-        keys = ("mu", "mu_star", "sigma", "mu_star_conf")
-        result = {k: [np.nan] * len(names) for k in keys}
-        if used > 1:
-            result = morris.analyze(
-                salib_problem(names), design[kept], y[kept], num_resamples=resamples,
-                conf_level=confidence, num_levels=levels, seed=seed,
-            )  # fmt: skip
-        for j, name in enumerate(names):
-            rows.append({
-                **labels, "input": name, **{k: float(result[k][j]) for k in keys},
-                "trajectories": used, "left_out": dropped,
-            })  # fmt: skip
-    return pd.DataFrame(rows)
+    levels = int(dataset.attrs.get("sample_levels", 4))
+
+    def analyse(problem, rows, y):
+        return morris.analyze(
+            problem, design[rows], y, num_resamples=resamples, conf_level=confidence,
+            num_levels=levels, seed=seed,
+        )  # fmt: skip
+
+    keys = ("mu", "mu_star", "sigma", "mu_star_conf")
+    return _indices(dataset, quantity, "morris", log, keys, "trajectories", analyse)
