@@ -590,6 +590,7 @@ def describe_campaign(
         The summary; seconds are CPU seconds of one core of the calibrated machine.
     """
     from .campaign import cost, format_value
+    from .campaign.sample import SAMPLE_DIM
     from .run import calibration as machine
 
     cases = campaign.cases
@@ -598,11 +599,17 @@ def describe_campaign(
         f"shape {' x '.join(map(str, campaign.shape))}, output {campaign.settings.output}",
         "axes:",
     ]
+    design = campaign.design
+    spread = {} if design is None else dict(zip(design.keys, design.distributions, strict=True))
     for axis in campaign.axes:
         kind = "zip" if axis.zipped else "sweep"
+        if axis.name == SAMPLE_DIM and design is not None:
+            kind = f"{design.method} design, count {design.count}, seed {design.seed}"
         lines.append(f"  {axis.name} ({kind}, {axis.size} values)")
         for c in axis.coordinates:
             values = ", ".join(format_value(v) for v in c.values)
+            if axis.name == SAMPLE_DIM and c.key in spread:
+                values = spread[c.key].describe()
             units = f" [{c.units}]" if c.units else ""
             lines.append(f"    {c.name} = {c.key}{units}: {values}")
     calibration = calibration or machine.calibration()

@@ -287,3 +287,28 @@ def test_report_draws_the_design_section(tmp_path, method, monkeypatch):
     assert ("gives no indices" in text) == (method == "lhs")
     assert (out / f"sampled_{method}.png").is_file()
     assert "## Sensitivities" not in text  # no finite differences along the sample rows
+
+
+def test_validate_shows_the_design_not_its_rows(tmp_path, capsys):
+    from study.cli import main
+
+    path = tmp_path / "design.toml"
+    path.write_text(
+        """
+[base]
+body1 = { behaviour = "elastic", radius = 0.01, E = 210e9, nu = 0.3 }
+body2 = { behaviour = "rigid" }
+load = { normal_force = 100.0 }
+grid = { n = [16, 16] }
+
+[sample]
+method = "morris"
+count = 5
+"load.normal_force" = { distribution = "log-uniform", range = [10.0, 1000.0] }
+"body1.radius" = { distribution = "discrete", values = [0.005, 0.01] }
+"""
+    )
+    assert main(["validate", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert "sample (morris design, count 5, seed 0, 15 values)" in text
+    assert "log-uniform [10, 1000]" in text and "discrete 0.005, 0.01" in text
