@@ -117,6 +117,14 @@ def _exact_shares() -> np.ndarray:
             },
             "mixed value types",
         ),  # fmt: skip
+        (
+            {
+                "method": "lhs",
+                "count": 4,
+                "load.normal_force": {"distribution": "log-uniform", "range": [5e-324, 1e300]},
+            },
+            "overflows",
+        ),  # fmt: skip
         ({"method": "lhs", "count": 4, "second_order": True}, "second_order"),
         ({"method": "lhs", "count": 4, "levels": 4}, "sample.levels"),
         ({"method": "lhs", "count": 4}, "no key to sample"),

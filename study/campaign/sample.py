@@ -266,6 +266,8 @@ def _distribution(spec: Any, where: str) -> Distribution:
     low, high = _pair(spec["range"], f"{where}.range")
     if kind == "log-uniform" and low <= 0:
         raise CampaignError(f"{where}.range: a log-uniform range must be positive, got {low:g}")
+    if not math.isfinite(high / low if kind == "log-uniform" else high - low):
+        raise CampaignError(f"{where}.range: [{low:g}, {high:g}] overflows; narrow it")
     return Distribution(kind, low, high)
 
 
