@@ -108,7 +108,12 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def merge(campaign, out: str | Path) -> dict[str, int]:
-    """Link the finished cases of every slice into ``out``; returns counts by state."""
+    """Link the files of every slice that hold cases ``out`` lacks; returns counts by state.
+
+    A slice's bundles (and the per-case files of older versions) are hard-linked into
+    ``OUT/cases`` under their own names (copied where links are not possible), each
+    atomically; ``linked`` counts the cases they add.
+    """
     from study.run import storage
 
     out = Path(out)
@@ -117,25 +122,26 @@ def merge(campaign, out: str | Path) -> dict[str, int]:
     target = storage.cases_dir(out)
     linked = 0
     for folder in sorted((out / SLICES_DIR).glob("*")):
-        source = storage.cases_dir(folder)
-        if not source.is_dir():
+        if not storage.cases_dir(folder).is_dir():
             continue
-        for case_id in sorted(storage.finished_ids(folder) & wanted):
-            final = storage.case_path(out, case_id)
+        have = storage.case_index(out)
+        index = storage.case_index(folder)
+        new = (set(index.results) & wanted) - set(have.results)
+        failed = (set(index.failures) & wanted) - set(have.results) - set(have.failures)
+        files = {index.results[i][0].path for i in new} | {index.failures[i].path for i in failed}
+        for source in sorted(files):
+            final = target / source.name
             if final.exists():
                 continue
             temporary = target / f"{final.name}.tmp{os.getpid()}"
             try:
-                os.link(storage.case_path(folder, case_id), temporary)
+                os.link(source, temporary)
             except OSError:
-                shutil.copy2(storage.case_path(folder, case_id), temporary)
+                shutil.copy2(source, temporary)
             os.replace(temporary, final)
-            linked += 1
-        for case_id in sorted(storage.failed_ids(folder) & wanted):
-            if not storage.case_path(out, case_id).exists():
-                shutil.copy2(storage.failure_path(folder, case_id), target / f"{case_id}.tmp")
-                os.replace(target / f"{case_id}.tmp", storage.failure_path(out, case_id))
-    finished, failed = storage.finished_ids(out) & wanted, storage.failed_ids(out) & wanted
+        linked += len(new)
+    index = storage.case_index(out)
+    finished, failed = set(index.results) & wanted, set(index.failures) & wanted
     return {
         "linked": linked,
         "finished": len(finished),
@@ -152,7 +158,7 @@ def _merge(args: argparse.Namespace) -> int:
     counts = merge(campaign, args.out)
     path = assemble_to_file(args.out, campaign)
     print(
-        f"merged {counts['linked']} new case file(s) into {args.out}: {counts['finished']}/"
+        f"merged {counts['linked']} new case(s) into {args.out}: {counts['finished']}/"
         f"{len(campaign.cases)} finished, {counts['failed']} failed, {counts['pending']} pending;"
         f" assembled {path}"
     )

@@ -252,7 +252,8 @@ CASE_KEYS: tuple[Key, ...] = (
         "is taken from the campaign file's folder in a campaign, else from the working "
         "folder); not part of the case id."),
     Key("bodyN.surface", "case", "string", "", "one of file / case",
-        "a converged elastic-plastic case file (OUT/cases/<id>.nc)", "dents",
+        "a converged elastic-plastic case: OUT/cases/<case id>, or a case's own .nc file",
+        "dents",
         "An earlier case whose residual print (residual_displacement_z) is the surface: a "
         "second indentation on or beside a dent.  Its geometry only: the material starts "
         "virgin (no residual stress or hardening carried over)."),

@@ -177,6 +177,18 @@ class Result:
         """The result as an :class:`xarray.Dataset` with CF attributes (SI units)."""
         import xarray as xr
 
+        coords, data, attrs = self.variables()
+        return xr.Dataset(data, coords=coords, attrs=attrs)
+
+    def variables(self) -> tuple[dict, dict, dict]:
+        """The dataset's parts without xarray: coordinates, variables, global attributes.
+
+        Returns
+        -------
+        (dict, dict, dict)
+            ``{name: (dims, values, attrs)}`` for the coordinates and the data variables, and
+            the global attributes (what :meth:`to_xarray` wraps).
+        """
         case = self.case
         pair = case.pair
         steps = np.arange(1, len(self.history["normal_force"]) + 1)
@@ -254,7 +266,7 @@ class Result:
             "notes": "; ".join(self.notes),
             "wall_time": self.wall_time,
         }
-        return xr.Dataset(data, coords=coords, attrs=attrs)
+        return coords, data, attrs
 
 
 def reference_attrs(case: Case) -> dict[str, float]:

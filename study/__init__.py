@@ -1,9 +1,10 @@
 """slipstick study framework: campaigns of cases, MPI driver, storage, analysis, command line.
 
-The parts, each a sub-package, each importing only those listed before it:
+The parts, each importing only those listed before it:
 
+- :mod:`study.bundle`: the file that holds many finished cases (layout, index, reader);
 - :mod:`study.campaign`: campaign files read, expanded into cases, validated and named;
-- :mod:`study.run`: the MPI driver, per-case storage, the campaign dataset, progress logging;
+- :mod:`study.run`: the MPI driver, stored cases, the campaign dataset, progress logging;
 - :mod:`study.analysis`: convergence, sensitivity, speed against error, lazy 3-D fields;
 - :mod:`study.report`: figure helpers, the elastic, plastic and cyclic sections, the builder;
 - :mod:`study.bench`: timing helpers, one module per scene, the peer adapters, the registry;
@@ -16,7 +17,7 @@ threads before numpy loads.
 __all__ = ["PARTS", "__version__"]
 #: The parts from the bottom up, as listed above: each imports only those before it (and
 #: :mod:`solver`); ``tests/test_layout.py`` checks it.
-PARTS = ("campaign", "run", "analysis", "report", "bench", "cli", "__main__")
+PARTS = ("bundle", "campaign", "run", "analysis", "report", "bench", "cli", "__main__")
 
 
 def __getattr__(name: str):

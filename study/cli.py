@@ -38,6 +38,8 @@ def _single_threaded_blas() -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``python -m study``."""
+    from .run.writer import BUNDLE_SECONDS
+
     parser = argparse.ArgumentParser(
         prog="python -m study", description="slipstick parametric studies and benchmarks"
     )
@@ -47,10 +49,12 @@ def build_parser() -> argparse.ArgumentParser:
         "run",
         help="run a campaign (serially, or under mpiexec/srun)",
         description="Run every unfinished case of a campaign, then assemble the dataset. "
-        "Finished cases are skipped and failed ones retried, so re-running resumes; a corrupt "
-        "case file (one that does not open or lacks its completion marker) is moved aside to "
-        "cases/<id>.nc.corrupt and recomputed.  An output folder belongs to one campaign "
-        "(by name): running another campaign into it is refused unless --replace is given. "
+        "Each rank writes its finished cases as one bundle (cases/*.bundle.h5) every few "
+        "seconds.  Finished cases are skipped and failed ones retried, so re-running resumes; "
+        "a corrupt bundle or case file (one that does not open or lacks its completion marker) "
+        "is moved aside to <file>.corrupt and its cases computed again.  An output folder "
+        "belongs to one campaign (by name): running another campaign into it is refused "
+        "unless --replace is given. "
         "Exit status 0 done, 1 failed cases, 2 bad campaign, 3 time limit left cases pending.",
     )
     run.add_argument("campaign", help="campaign file (.toml)")
@@ -69,6 +73,15 @@ def build_parser() -> argparse.ArgumentParser:
         default=10.0,
         metavar="SECONDS",
         help="seconds kept free before the time limit (default 10)",
+    )
+    run.add_argument(
+        "--bundle-seconds",
+        type=float,
+        default=BUNDLE_SECONDS,
+        metavar="SECONDS",
+        help="a rank writes its finished cases as one bundle at least this often: a crash "
+        f"loses at most this much finished work per rank (default {BUNDLE_SECONDS:g}; 0: every "
+        "case at once)",
     )
     run.add_argument(
         "--case-timeout",
@@ -233,6 +246,7 @@ def run_options(args: argparse.Namespace) -> RunOptions:
         max_initial_failures=args.max_initial_failures,
         time_limit=args.time_limit,
         time_reserve=args.time_reserve,
+        bundle_seconds=getattr(args, "bundle_seconds", RunOptions.bundle_seconds),
         root_computes=not getattr(args, "dedicated_root", False),
         replace=getattr(args, "replace", False),
         solve=_test_solve(),
@@ -376,6 +390,7 @@ def _assemble_or_say_why(out, campaign, logger):
 
 def _check_options(args: argparse.Namespace) -> None:
     from .campaign import CampaignError
+    from .run.writer import MAX_BUNDLE_SECONDS
 
     if args.fft_threads is not None and not 1 <= args.fft_threads <= 256:
         raise CampaignError(f"--fft-threads must be 1..256, got {args.fft_threads}")
@@ -387,6 +402,11 @@ def _check_options(args: argparse.Namespace) -> None:
         check_case_timeout(args.case_timeout, "--case-timeout")
     if args.time_reserve < 0:
         raise CampaignError(f"--time-reserve must be >= 0 seconds, got {args.time_reserve}")
+    seconds = getattr(args, "bundle_seconds", 0.0)
+    if not 0 <= seconds <= MAX_BUNDLE_SECONDS:
+        raise CampaignError(
+            f"--bundle-seconds must be in [0, {MAX_BUNDLE_SECONDS:g}] seconds, got {seconds}"
+        )
     if args.max_initial_failures is not None and args.max_initial_failures < 0:
         raise CampaignError(f"--max-initial-failures must be >= 0, got {args.max_initial_failures}")
 
@@ -617,7 +637,7 @@ def describe_campaign(
     seconds = {}
     for c in cases:
         try:
-            seconds[c.number] = cost.case_seconds(c.case(), calibration)
+            seconds[c.number] = cost.seconds(c.estimated_work(), calibration)
         except Exception:  # noqa: BLE001 - a case the model cannot read: its reference cost
             seconds[c.number] = float(c.cost)
     times = list(seconds.values())
@@ -629,7 +649,7 @@ def describe_campaign(
         f"a count of solves and iterations x calibrated unit costs): min {min(times):.3g} s, "
         f"max {max(times):.3g} s, total {_seconds(total)}"
     )
-    wisdom = any(c.case().solver.fft_planner == "wisdom" for c in cases)
+    wisdom = any(c.spec["solver"]["fft_planner"] == "wisdom" for c in cases)
     lines.append(
         f"estimated campaign time on {ranks} rank(s): {_seconds(wall)} (costliest first onto "
         "the least-loaded rank, rank 0 computing too; MPI start-up and the dataset's assembly "
@@ -677,8 +697,10 @@ def _status(args: argparse.Namespace) -> int:
 
     campaign, out = _resolve(args)
     storage.remove_temporaries(out)  # of processes that are gone; live ones are left alone
-    states = storage.case_states(out, campaign)
-    corrupt = storage.corrupt_ids(out)
+    index = storage.case_index(out)
+    states = storage.case_states(out, campaign, index)
+    corrupt = index.corrupt
+    failures = storage.read_failures(out, [i for i, s in states.items() if s == "failed"], index)
     from solver.result import SOLVE_STATUSES, STATUS_FLAGS
 
     counts = dict.fromkeys(STATUS_FLAGS, 0)
@@ -696,6 +718,12 @@ def _status(args: argparse.Namespace) -> int:
         f"campaign {campaign.name} in {out}: {done}/{total} finished ({finished}), "
         f"{counts['failed']} failed, {counts['pending']} pending"
     )
+    for name, problem in sorted(corrupt.items()):
+        if name.endswith(storage.bundle.SUFFIX):
+            print(
+                f"  corrupt bundle cases/{name}: {problem}; its cases count as pending (run "
+                "moves it aside and computes them again)"
+            )
     for case in campaign.cases:
         if states[case.case_id] == "corrupt":
             print(
@@ -703,7 +731,7 @@ def _status(args: argparse.Namespace) -> int:
                 f"{corrupt.get(case.case_id, 'is damaged')}; run moves it aside and recomputes it"
             )
         elif states[case.case_id] == "failed":
-            record = storage.read_failure(out, case.case_id)
+            record = failures.get(case.case_id, {})
             print(
                 f"  failed {case.case_id} [{case.label}] on rank {record.get('rank', '?')} "
                 f"({record.get('host', '?')}): {record.get('error', '?').splitlines()[0]}"
@@ -747,7 +775,8 @@ def _report(report_main):
             campaign = storage.read_campaign(out)
             storage.remove_temporaries(out)
             ids = {case.case_id for case in campaign.cases}
-            if set(storage.corrupt_ids(out)) & ids:
+            corrupt = storage.corrupt_ids(out)
+            if set(corrupt) & ids or any(n.endswith(storage.bundle.SUFFIX) for n in corrupt):
                 if _assemble_or_say_why(out, campaign, logger) is None:
                     return 1
         try:

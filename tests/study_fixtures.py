@@ -107,3 +107,22 @@ def pair_campaign(base: str, hardening: str, extra: str = "") -> str:
         '[zip.pair]\nbody1 = ["steel", "steel", "swift"]\nbody2 = ["steel", "swift", "swift"]\n'
         f"\n{extra}"
     )
+
+
+def copy_cases(out: Path, copy: Path, keep) -> Path:
+    """A copy of an output folder holding only the finished cases whose id is in ``keep``.
+
+    The kept cases go into one new bundle (as a run writes them); ``campaign.json`` is copied.
+    """
+    from study import bundle
+    from study.run import storage
+
+    (copy / "cases").mkdir(parents=True)
+    (copy / "campaign.json").write_bytes((Path(out) / "campaign.json").read_bytes())
+    index = storage.case_index(out)
+    entries = [
+        bundle.Entry(case_id, status, record=storage.read_record(out, case_id, index))
+        for case_id, (_, status) in sorted(index.results.items())
+        if case_id in keep
+    ]
+    return bundle.write_bundle(copy / "cases" / f"copy{bundle.SUFFIX}", entries, {})

@@ -13,7 +13,8 @@ import solver
 from study.campaign import cost
 from study.cli import load_campaign_file, main
 from study.run import calibration as machine
-from study.run.driver import RunOptions, _Scheduler
+from study.run.driver import RunOptions
+from study.run.scheduler import Scheduler
 from study.run.wisdom import machine_key
 
 #: Made-up unit costs: what a fake calibration returns (no solves in most tests).
@@ -225,7 +226,7 @@ def test_validate_prints_seconds_and_the_campaign_time(cache, tmp_path, capsys):
 
 def test_scheduler_orders_by_estimated_seconds(cache, tmp_path):
     campaign = load_campaign_file(write(tmp_path, MIXED, "frictions.toml"))
-    scheduler = _Scheduler(list(campaign.cases), RunOptions(), 0, logging.getLogger("test"))
+    scheduler = Scheduler(list(campaign.cases), RunOptions(), 0, logging.getLogger("test"))
     expected = {c.number: cost.case_seconds(c.case(), FAKE) for c in campaign.cases}
     assert scheduler.seconds == pytest.approx(expected)
     order = [c.number for c in scheduler.queue]
@@ -239,11 +240,11 @@ def test_time_limit_uses_seconds_before_any_case(cache, tmp_path):
     seconds = {c.number: cost.case_seconds(c.case(), FAKE) for c in cases}
     cheapest = min(seconds.values())
     options = RunOptions(time_limit=0.5 * cheapest, time_reserve=0.0, use_slurm_end_time=False)
-    scheduler = _Scheduler(cases, options, 0, logging.getLogger("test"))
+    scheduler = Scheduler(cases, options, 0, logging.getLogger("test"))
     assert scheduler.next_task(0) is None and scheduler.stopped.startswith("time limit")
     # with room for the cheapest case only, that one starts first
     options = RunOptions(time_limit=1e4, time_reserve=0.0, use_slurm_end_time=False)
-    scheduler = _Scheduler(cases, options, 0, logging.getLogger("test"))
+    scheduler = Scheduler(cases, options, 0, logging.getLogger("test"))
     scheduler.deadline = None
     first = scheduler.next_task(0)
     assert seconds[first.number] == max(seconds.values())

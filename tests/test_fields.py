@@ -5,8 +5,7 @@ import tracemalloc
 import dask
 import numpy as np
 import pytest
-import xarray as xr
-from study_fixtures import pair_campaign, write
+from study_fixtures import copy_cases, pair_campaign, write
 
 from study.analysis.fields import MISSING_FLAG, open_fields
 from study.campaign import load_campaign
@@ -56,7 +55,7 @@ def test_fields_equal_the_case_files_and_stay_lazy(loads):
     assert fields.plastic_strain.dims == ("p_h", "x_over_a", "y_over_a", "z_over_a")
     assert fields.residual_stress.dims[:2] == ("p_h", "component")
     for case in campaign.cases:
-        with xr.open_dataset(storage.case_path(out, case.case_id)) as data:
+        with storage.open_case(out, case.case_id) as data:
             a = float(data.attrs["hertz_semi_axis_x"])
             one = fields.sel(p_h=case.coords["p_h"])
             for name in (*VOLUME, "pressure", "contact_state"):
@@ -95,13 +94,8 @@ def test_missing_cases_hold_nan_and_selection_drops_the_axis(loads, tmp_path):
     campaign, out = loads
     # a copy of the output without the middle case (pending)
     copy = tmp_path / "out"
-    (copy / "cases").mkdir(parents=True)
-    (copy / "campaign.json").write_bytes((out / "campaign.json").read_bytes())
     middle = campaign.cases[3].case_id
-    for case in campaign.cases:
-        if case.case_id != middle:
-            path = storage.case_path(out, case.case_id)
-            (copy / "cases" / path.name).write_bytes(path.read_bytes())
+    copy_cases(out, copy, {case.case_id for case in campaign.cases} - {middle})
     fields = open_fields(copy)
     assert np.isnan(fields.plastic_strain.sel(p_h=5e9).values).all()
     assert (fields.contact_state.sel(p_h=5e9).values == MISSING_FLAG).all()
@@ -180,7 +174,7 @@ def test_box_depths_that_line_up_share_the_union_of_their_cells(tmp_path):
     fields.load().close()  # the case files closed before they are opened below
     depths = []
     for k, case in enumerate(campaign.cases):
-        with xr.open_dataset(storage.case_path(out, case.case_id)) as data:
+        with storage.open_case(out, case.case_id) as data:
             depths.append(data.z.size)
             at = {d: _on_grid(fields[d].values, data[d].values) for d in ("x", "y", "z")}
             one = fields.isel(box=k)
@@ -218,7 +212,7 @@ def test_a_load_sweep_lays_each_case_on_the_finest_cells_in_metres(sized_by_load
     grid = {d: fields[d].values for d in ("x", "y", "z")}
     spacing, reach = [], []
     for case in campaign.cases:
-        with xr.open_dataset(storage.case_path(out, case.case_id)) as data:
+        with storage.open_case(out, case.case_id) as data:
             data.load()  # in memory: point selections on the file are slow
             step = {d: float(np.diff(data[d].values).mean()) for d in grid}
             spacing.append(step)

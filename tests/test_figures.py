@@ -20,6 +20,7 @@ from study import report
 from study.campaign import load_campaign
 from study.report import figures
 from study.report import plastic as report_plastic
+from study.run import storage
 from study.run.driver import RunOptions, run_campaign
 
 pytest.importorskip("matplotlib")
@@ -162,8 +163,9 @@ P_H = [3e9, 4e9, 5e9]
 def plastic_dataset(folder: Path, statuses=None) -> xr.Dataset:
     """A plastic load x friction sweep where mu = 0.3 and mu = 0.5 give the same answers.
 
-    The per-case files (contact state along the surface, plastic strain in the volume) are
-    written to ``folder``.
+    The cases' results (contact state along the surface, plastic strain in the volume) are
+    written to the output folder ``folder`` as per-case files (``folder/cases/<id>.nc``, the
+    layout before bundles, still read by :func:`study.run.storage.open_case`).
     """
     shape = (len(MU), len(P_H))
     p_h = np.broadcast_to(np.array(P_H)[None, :], shape)
@@ -204,6 +206,7 @@ def plastic_dataset(folder: Path, statuses=None) -> xr.Dataset:
     x = y = (np.arange(16) - 7.5) / 8 * 1.5
     z = (np.arange(8) + 0.5) / 8 * 1.5
     xx, yy, zz = np.meshgrid(x, y, z, indexing="ij")
+    storage.cases_dir(folder).mkdir(parents=True, exist_ok=True)
     for (i, mu), (j, load) in itertools.product(enumerate(MU), enumerate(P_H)):
         rr = np.hypot(xx[..., 0], yy[..., 0])
         state = np.where(rr < 0.5 if mu else rr < 0, 1, np.where(rr < 1, 2, 0))
@@ -214,8 +217,8 @@ def plastic_dataset(folder: Path, statuses=None) -> xr.Dataset:
                 "plastic_strain": (("x", "y", "z"), strain),
             },
             coords={"x": x * 4e-4, "y": y * 4e-4, "z": z * 4e-4},
-            attrs={"hertz_semi_axis_x": 4e-4},
-        ).to_netcdf(folder / f"c{i}{j}.nc")
+            attrs={"hertz_semi_axis_x": 4e-4, storage.COMPLETE_ATTR: 1},
+        ).to_netcdf(storage.cases_dir(folder) / f"c{i}{j}.nc")
     return dataset
 
 

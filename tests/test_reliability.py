@@ -11,12 +11,15 @@ import os
 import subprocess
 import sys
 
+import h5py
+import netCDF4
 import numpy as np
 import pytest
 import xarray as xr
 from study_fixtures import small_campaign, write
 
 import solver
+from study import bundle
 from study.campaign import CampaignError, load_campaign
 from study.cli import main
 from study.run import storage
@@ -36,11 +39,11 @@ def _restore_study_logger():
 
 @pytest.fixture
 def small_run(tmp_path):
-    """The 4-case campaign, run once (about half a second)."""
+    """The 4-case campaign, run once, each case written as its own bundle (about 0.5 s)."""
     path = small_campaign(tmp_path)
     campaign = load_campaign(path)
     out = tmp_path / "out"
-    assert run_campaign(campaign, out).exit_status == 0
+    assert run_campaign(campaign, out, options=RunOptions(bundle_seconds=0)).exit_status == 0
     return path, campaign, out
 
 
@@ -50,65 +53,95 @@ def _dead_pid() -> int:
     return child.pid
 
 
-# -- 1. corrupt case files -----------------------------------------------------------------------
+# -- 1. corrupt bundles and case files -----------------------------------------------------------
+def _bundles(out, campaign) -> list:
+    """The bundle of each case, in campaign order (one case per bundle here)."""
+    index = storage.case_index(out)
+    files = [index.results[case.case_id][0].path for case in campaign.cases]
+    assert len(set(files)) == len(files)
+    return files
+
+
 def _damage(out, campaign):
-    """Truncate one case file, overwrite one, strip the marker of one; returns the four ids."""
-    ids = [case.case_id for case in campaign.cases]
-    truncated, garbage, unmarked, good = ids
-    for case_id in ids:  # every written case file carries the completion marker
-        with xr.open_dataset(storage.case_path(out, case_id)) as ds:
-            assert ds.attrs[storage.COMPLETE_ATTR] == 1
-    file = storage.case_path(out, truncated)
-    file.write_bytes(file.read_bytes()[: file.stat().st_size // 2])
-    storage.case_path(out, garbage).write_bytes(b"\x89HDF garbage" * 300)
-    with xr.open_dataset(storage.case_path(out, unmarked)) as ds:  # complete, but no marker
-        copy = ds.load().drop_attrs()
-    storage.write_netcdf(copy, storage.case_path(out, unmarked))
+    """Truncate one bundle, overwrite one, strip the marker of one; returns the four files."""
+    files = _bundles(out, campaign)
+    truncated, garbage, unmarked, good = files
+    truncated.write_bytes(truncated.read_bytes()[: truncated.stat().st_size // 2])
+    garbage.write_bytes(b"\x89HDF garbage" * 300)
+    with h5py.File(unmarked, "a") as handle:  # complete, but no marker
+        del handle.attrs[storage.COMPLETE_ATTR]
     corrupt = storage.corrupt_ids(out)
-    assert set(corrupt) == {truncated, garbage, unmarked}
-    assert "does not open" in corrupt[truncated] and "completion marker" in corrupt[unmarked]
-    assert storage.finished_ids(out) == {good}
-    return ids
+    assert set(corrupt) == {truncated.name, garbage.name, unmarked.name}
+    assert "does not open" in corrupt[truncated.name]
+    assert "completion marker" in corrupt[unmarked.name]
+    assert storage.finished_ids(out) == {campaign.cases[3].case_id}
+    return files
 
 
-def test_corrupt_case_files_are_named_by_status_assemble_report(small_run, capsys):
+def test_corrupt_bundles_are_named_by_status_assemble_report(small_run, capsys):
     _, campaign, out = small_run
     assert main(["assemble", str(out)]) == 0  # a dataset assembled while the files were good
     *bad, good = _damage(out, campaign)
     capsys.readouterr()
-    # report (on a dataset that still points at the damaged files), status, assemble: one line
-    # per damaged file, no traceback, the rest goes on
+    # report (on a dataset assembled from the good files), status, assemble: one line per
+    # damaged bundle, no traceback, the rest goes on
     assert main(["report", str(out), "--no-plots"]) == 0
-    assert main(["status", str(out)]) == 1
+    assert main(["status", str(out)]) == 0
     assert main(["assemble", str(out)]) == 0
     captured = capsys.readouterr()
     text = captured.out + captured.err
-    assert "Traceback" not in text and "HDF error" in text  # the cause, on one line
-    for case_id in bad:
-        assert captured.out.count(f"corrupt {case_id}") == 1  # status
-        assert text.count(f"corrupt case file cases/{case_id}.nc") == 2  # report, assemble
-    assert "1/4 finished (1 converged, 0 not converged), 3 failed, 0 pending" in captured.out
+    assert "Traceback" not in text
+    for file in bad:
+        assert captured.out.count(f"corrupt bundle cases/{file.name}:") == 1  # status
+        assert text.count(f"corrupt bundle cases/{file.name}") == 3  # report, assemble too
+    assert "1/4 finished (1 converged, 0 not converged), 0 failed, 3 pending" in captured.out
     with xr.open_dataset(storage.dataset_path(out, "small")) as ds:
-        assert int((ds.status == STATUS_FLAGS["failed"]).sum()) == 3
+        assert int((ds.status == STATUS_FLAGS["pending"]).sum()) == 3
         assert int((ds.status == STATUS_FLAGS["converged"]).sum()) == 1
-        errors = [e for e in ds.error.values.ravel() if e]
-        assert len(errors) == 3 and all(e.startswith("corrupt case file") for e in errors)
-    assert sorted(storage.corrupt_ids(out)) == sorted(bad)  # read-only commands move nothing
+    assert sorted(storage.corrupt_ids(out)) == sorted(f.name for f in bad)  # nothing moved
 
 
-def test_run_moves_corrupt_case_files_aside_and_recomputes(small_run, capsys):
+def test_run_moves_corrupt_bundles_aside_and_recomputes(small_run, capsys):
     path, campaign, out = small_run
     *bad, good = _damage(out, campaign)
     capsys.readouterr()
     assert main(["run", str(path), "--out", str(out), "--mpi", "off"]) == 0
     log = capsys.readouterr().out
-    for case_id in bad:
-        assert f"moved to cases/{case_id}.nc.corrupt, recomputing it" in log
-        assert (storage.cases_dir(out) / f"{case_id}.nc.corrupt").exists()
+    for file in bad:
+        assert f"moved to cases/{file.name}.corrupt, computing its cases again" in log
+        assert file.with_name(file.name + storage.CORRUPT_SUFFIX).exists()
     assert "1 finished earlier, 3 to run" in log and "this run 3 converged" in log
     assert "0 pending, 0 failed in all" in log and "Traceback" not in log
     assert storage.finished_ids(out) == {case.case_id for case in campaign.cases}
     assert not storage.corrupt_ids(out)
+    assert (assemble(out).status == STATUS_FLAGS["converged"]).all()
+
+
+def test_case_files_of_older_versions_are_read_and_quarantined(small_run, capsys):
+    """A folder of per-case files (before bundles): read as before, a damaged one recomputed."""
+    path, campaign, out = small_run
+    reference = assemble(out)
+    good, garbage = campaign.cases[0].case_id, campaign.cases[1].case_id
+    for case_id in (good, garbage):  # the case as its own netCDF file, marked complete
+        file = storage.case_path(out, case_id)
+        storage.write_netcdf(storage.open_case(out, case_id), file)
+        with netCDF4.Dataset(file, "a") as handle:
+            handle.setncattr(storage.COMPLETE_ATTR, np.int8(1))
+    for file in _bundles(out, campaign)[:2]:
+        file.unlink()
+    storage.case_path(out, garbage).write_bytes(b"\x89HDF garbage" * 300)
+    assert set(storage.corrupt_ids(out)) == {garbage}
+    assert storage.case_states(out, campaign)[good] == "converged"
+    ds = assemble(out)
+    assert int((ds.status == STATUS_FLAGS["failed"]).sum()) == 1
+    assert ds.error.values.ravel()[1].startswith(f"corrupt case file cases/{garbage}.nc")
+    xr.testing.assert_identical(
+        ds.drop_attrs().isel(mu=0, mesh=0), reference.drop_attrs().isel(mu=0, mesh=0)
+    )
+    assert main(["run", str(path), "--out", str(out), "--mpi", "off"]) == 0
+    assert (
+        "moved to cases/" + garbage + ".nc.corrupt, computing it again" in capsys.readouterr().out
+    )
     assert (assemble(out).status == STATUS_FLAGS["converged"]).all()
 
 
@@ -248,15 +281,15 @@ def _disk_full(*args, **kwargs):
 def test_disk_full_is_reported_and_counted(tmp_path, monkeypatch, capsys):
     path = small_campaign(tmp_path)
     out = tmp_path / "out"
-    # campaign.json fits; then no case file, failure record or dataset does
+    # campaign.json fits; then no bundle (results or failure records) and no dataset does
+    monkeypatch.setattr(bundle, "write_bundle", _disk_full)
     monkeypatch.setattr(storage, "write_netcdf", _disk_full)
-    monkeypatch.setattr(storage, "write_failure", _disk_full)
     argv = ["run", str(path), "--out", str(out), "--mpi", "off", "--max-initial-failures", "0"]
     assert main(argv) == 1
     captured = capsys.readouterr()
     text = captured.out + captured.err
     assert "Traceback" not in text and "Permission denied" not in text
-    assert "failed.json" not in text  # no pointer to records that were never written
+    assert "python -m study status" not in text  # no pointer to records that were never written
     assert text.count("no failure record was written") == 4
     assert "result not written to cases/" in text and "no space left on device" in text
     assert "this run 0 converged, 0 not converged, 4 failed" in text
@@ -267,14 +300,17 @@ def test_disk_full_is_reported_and_counted(tmp_path, monkeypatch, capsys):
 
 def test_full_disk_behind_an_hdf_error_reads_no_space(small_run, monkeypatch):
     _, campaign, out = small_run
+    write_bundle = bundle.write_bundle
 
-    def hdf_error(*args, **kwargs):  # what netCDF4 raises when HDF5 hits ENOSPC
+    def hdf_error(path, entries, shared):  # what HDF5 raises on ENOSPC; failure records fit
+        if all(entry.status == "failed" for entry in entries):
+            return write_bundle(path, entries, shared)
         raise PermissionError(errno.EACCES, "Permission denied")
 
-    monkeypatch.setattr(storage, "write_netcdf", hdf_error)
+    monkeypatch.setattr(bundle, "write_bundle", hdf_error)
     monkeypatch.setattr(storage, "free_bytes", lambda folder: 0)
-    for case_id in storage.finished_ids(out):
-        storage.case_path(out, case_id).unlink()
+    for file in storage.cases_dir(out).iterdir():
+        file.unlink()
     summary = run_campaign(campaign, out)
     assert summary.failed == 4 and summary.failed_total == 4 and summary.exit_status == 1
     errors = [storage.read_failure(out, i)["error"] for i in sorted(storage.failed_ids(out))]
@@ -282,12 +318,11 @@ def test_full_disk_behind_an_hdf_error_reads_no_space(small_run, monkeypatch):
     for error in errors:
         assert error.startswith("CaseWriteError: result not written to cases/")
         assert "no space left on device (0 bytes free" in error
-        # the netCDF library's own word is quoted as its report, not as the cause
-        assert "the netCDF library reported it as 'PermissionError" in error
-        assert "the writer said" not in error
+        # the HDF5 library's own word is quoted as its report, not as the cause
+        assert "the HDF5 library reported it as 'PermissionError" in error
     # a real permission problem, with space left, stays a permission problem
     monkeypatch.setattr(storage, "free_bytes", lambda folder: 1 << 40)
     summary = run_campaign(campaign, out, options=RunOptions(max_initial_failures=1))
-    assert summary.failed == 1 and summary.failed_total == 4
+    assert summary.failed == 4 and summary.failed_total == 4
     errors = [storage.read_failure(out, i)["error"] for i in storage.failed_ids(out)]
-    assert sum("Permission denied" in e and "no space" not in e for e in errors) == 1
+    assert all("Permission denied" in e and "no space" not in e for e in errors)

@@ -10,6 +10,7 @@ from study import analysis
 from study.campaign import load_campaign
 from study.report import build_report
 from study.report import rough as report_rough
+from study.run import storage
 from study.run.assemble import assemble_to_file
 from study.run.driver import RunOptions, run_campaign
 
@@ -56,10 +57,11 @@ def rough(tmp_path_factory):
 def test_the_rough_section_tabulates_the_case_files(rough):
     with xr.open_dataset(rough / "rough.nc") as raw:
         dataset = analysis.with_derived(raw.load())
-    table = report_rough.rough_table(dataset, rough / "cases")
+    table = report_rough.rough_table(dataset, rough)
     assert len(table) == 2
+    index = storage.case_index(rough)
     for (_, row), case_id in zip(table.iterrows(), dataset["case_id"].values.ravel(), strict=True):
-        with xr.open_dataset(rough / "cases" / f"{case_id}.nc") as case:
+        with storage.open_case(rough, str(case_id), index=index) as case:
             fraction = case["contact_fraction"].values
             peak = int(np.argmax(case["normal_force"].values))
             assert row["contact_%"] == pytest.approx(100 * fraction[peak])

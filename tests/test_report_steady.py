@@ -185,7 +185,7 @@ def test_the_steady_report_draws_kalkers_slope_and_the_tractions(tmp_path, monke
         assert ratio == pytest.approx([0.0, 1.0])
         assert xi[0] == 0.0 and xi[1] == pytest.approx(mu * W / slope, rel=1e-9)
     with xr.open_dataset(storage.dataset_path(out, "kalker")) as data:
-        found = rolling.steady_curves(data.load(), storage.cases_dir(out))
+        found = rolling.steady_curves(data.load(), out)
     assert [c["kalker"]["slope"] for c in found] == pytest.approx([slope, slope], rel=1e-9)
     assert "G a b C11 / (mu W)" in text and "saturation F_x = mu W" in text
     section = text[text.index("## Steady creep curves") :].splitlines()
@@ -197,7 +197,7 @@ def test_the_steady_report_draws_kalkers_slope_and_the_tractions(tmp_path, monke
 
     # the tractions: the last point stored, two re-solved points with a stick area
     assert (out / "kalker_steady_tractions.png").exists()
-    points, notes = rolling.traction_points(found, storage.cases_dir(out))
+    points, notes = rolling.traction_points(found, out)
     assert not notes
     assert [p["source"] for p in points].count("re-solved") == 4
     for point in points:

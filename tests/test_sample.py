@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from study import bundle
 from study.analysis import morris_indices, sobol_indices
 from study.campaign import CampaignError, expand_campaign
 from study.campaign.sample import Distribution, parse_sample
@@ -216,7 +217,12 @@ def test_repeated_rows_are_one_case_computed_once(tmp_path):
     distinct = len(campaign.distinct_cases())
     assert distinct <= 4 < len(campaign.cases) == 32
     ds = _run(campaign, tmp_path)
-    assert len(list((tmp_path / "sampled" / "cases").glob("*.nc"))) == distinct
+    stored = [  # every entry of every bundle: each distinct case computed and stored once
+        case_id
+        for file in (tmp_path / "sampled" / "cases").glob("*" + bundle.SUFFIX)
+        for case_id in bundle.read_index(file)[0]
+    ]
+    assert len(stored) == len(set(stored)) == distinct
     assert bool((ds["status"] == 1).all())
     force = ds["normal_force"].values
     assert force == pytest.approx(ds["load_normal_force"].values)  # every row filled, its own

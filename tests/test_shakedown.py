@@ -304,9 +304,12 @@ def test_a_sliding_shear_past_k_is_told_and_its_surface_strain_follows_the_layer
 
 def test_a_case_file_from_before_the_surface_flow_status_reads_as_surface_flow(tmp_path):
     """Its notes carry the evidence: the same criterion tells its status and regime."""
+    import netCDF4
+
     from solver.result import SURFACE_FLOW_NOTE, stored_status
     from study.run import storage
-    from study.run.assemble import _read_case
+    from study.run.assemble import case_summary
+    from study.run.writer import case_record
 
     note = f"step 7: {SURFACE_FLOW_NOTE} 1.3 x the largest shear stress ..."
     assert stored_status("converged", note) == "surface_flow"
@@ -314,15 +317,17 @@ def test_a_case_file_from_before_the_surface_flow_status_reads_as_surface_flow(t
     assert stored_status("not_converged", note) == "not_converged"  # the worse status stays
     result = _passes(6.0, 2)  # frictionless: a converged cyclic case with a regime
     assert result.status == "converged"
-    data = storage.case_dataset(result, ("pressure", "shear_x"), {})
-    data.attrs.update(notes=note, status="converged")  # as written before the status existed
-    path = tmp_path / "old.nc"
-    storage.write_netcdf(data, path, mark_complete=True)
-    read = _read_case(path, np.linspace(0.0, 1.5, 4))
+    record = case_record(result, ("pressure", "shear_x"), {})
+    record.attrs.update(notes=note, status="converged")  # as written before the status existed
+    read = case_summary(record, np.linspace(0.0, 1.5, 4))
     assert read["status"] == "surface_flow"
     assert read["shakedown"][0] == SHAKEDOWN_FLAGS["undetermined"]
     assert "surface flow" in read["shakedown"][1]
-    assert storage._inspect(path) == ("", "surface_flow")
+    path = tmp_path / "old.nc"  # a per-case file of that time, with its completion marker
+    storage.write_netcdf(record.to_xarray(), path)
+    with netCDF4.Dataset(path, "a") as handle:
+        handle.setncattr(storage.COMPLETE_ATTR, np.int8(1))
+    assert storage._inspect_case_file(path) == ("surface_flow", "")
 
 
 def test_many_failed_increments_are_told_in_one_note():

@@ -142,11 +142,14 @@ def _status(out: Path) -> subprocess.CompletedProcess:
 
 
 def _case_files(out: Path) -> dict[str, tuple[int, int]]:
-    """case id -> (inode, mtime in ns) of every finished case file."""
-    return {
-        p.name[: -len(".nc")]: (p.stat().st_ino, p.stat().st_mtime_ns)
-        for p in (out / "cases").glob("*.nc")
+    """case id -> (inode, mtime in ns) of the file (bundle) holding every finished case."""
+    from study.run import storage
+
+    stats = {
+        case_id: location.path.stat()
+        for case_id, (location, _) in storage.case_index(out).results.items()
     }
+    return {case_id: (stat.st_ino, stat.st_mtime_ns) for case_id, stat in stats.items()}
 
 
 def _job_log(cluster: SlurmCluster, path: Path) -> str:
@@ -204,10 +207,10 @@ def test_campaign_job(cluster, job_env, tmp_path):
     ranks, counts = np.unique(ds.mpi_rank.values, return_counts=True)
     assert dict(zip(ranks.tolist(), counts.tolist(), strict=True)) == logged
     assert set(logged) <= {0, 1} and sum(logged.values()) == 4
-    import xarray as xr
+    from study.run import storage
 
     for case_id, rank in zip(ds.case_id.values.ravel(), ds.mpi_rank.values.ravel(), strict=True):
-        with xr.open_dataset(out / "cases" / f"{case_id}.nc") as case:
+        with storage.open_case(out, case_id) as case:
             assert case.attrs["rank"] == rank, case_id
     status = _status(out)
     assert status.returncode == 0 and "4/4 finished" in status.stdout, status.stdout

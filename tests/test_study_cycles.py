@@ -2,7 +2,6 @@
 
 import numpy as np
 import pytest
-import xarray as xr
 
 from study.campaign import load_campaign
 from study.report import build_report
@@ -34,7 +33,7 @@ def test_per_cycle_variables_are_assembled_from_the_case_files(cycles_out):
     assert ds.cycle.values.tolist() == [1, 2]
     assert ds.loop_energy.dims == ("loading", "cycle")
     for case in campaign.cases:
-        with xr.open_dataset(storage.case_path(out, case.case_id)) as one:
+        with storage.open_case(out, case.case_id) as one:
             row = ds.isel(loading=case.index[0])
             for name in ("loop_energy", "cycle_friction_work", "plastic_strain_increment"):
                 np.testing.assert_array_equal(row[name].values, one[name].values)
@@ -96,7 +95,7 @@ def test_shakedown_campaign_regimes_and_map(tmp_path, monkeypatch):
     ds = assemble(out, campaign)
     assert ds.shakedown.dims == ("pressure",)
     for case in campaign.cases:
-        with xr.open_dataset(storage.case_path(out, case.case_id)) as one:
+        with storage.open_case(out, case.case_id) as one:
             row = ds.isel(pressure=case.index[0])
             assert int(row.shakedown) == int(one.shakedown)
             assert str(row.shakedown_reason.values) == one.shakedown.attrs["reason"]
@@ -137,7 +136,7 @@ def test_tractive_rolling_campaign_creep_curves(tmp_path, monkeypatch):
     ds = assemble(out, campaign)
     assert ds.creep_force_x.dims == ("body2", "xi", "cycle")
     for case in campaign.cases:
-        with xr.open_dataset(storage.case_path(out, case.case_id)) as one:
+        with storage.open_case(out, case.case_id) as one:
             cycle, force = one.step_cycle.values, one.tangential_force_x.values
             moved = np.diff(one.position_x.values, prepend=0.0) != 0
             loaded = one.normal_force.values > 0

@@ -2,7 +2,6 @@
 
 import numpy as np
 import pytest
-import xarray as xr
 from study_fixtures import NORMAL_BASE, mixed_campaign, small_campaign, write
 
 import solver
@@ -104,8 +103,8 @@ def test_same_results_whatever_the_number_of_ranks(comm, shared):
         run_campaign(campaign, shared / "serial", MPI.COMM_SELF)
         for case in campaign.cases:
             with (
-                xr.open_dataset(storage.case_path(shared / "parallel", case.case_id)) as a,
-                xr.open_dataset(storage.case_path(shared / "serial", case.case_id)) as b,
+                storage.open_case(shared / "parallel", case.case_id) as a,
+                storage.open_case(shared / "serial", case.case_id) as b,
             ):
                 assert a.attrs["case_spec"] == b.attrs["case_spec"]
                 assert a.attrs["status"] == b.attrs["status"]

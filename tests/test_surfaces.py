@@ -14,10 +14,11 @@ import sys
 import numpy as np
 import pytest
 import xarray as xr
+from study_fixtures import write
 
 import solver
 from solver import Case, SpecError
-from solver.bodies.heights import HeightMap, Roughness
+from solver.bodies.heights import HeightMap, Roughness, SurfaceError
 from study.campaign.surfaces import read_surface
 
 RADIUS = 0.01
@@ -444,6 +445,44 @@ def test_second_indentation_on_and_beside_a_dent(tmp_path):
     deepest = np.unravel_index(np.argmax(print_z), print_z.shape)
     assert beside.grid.x[deepest[0]] < 0  # the new dent forms off the old one
     assert at_peak(beside, "max_pressure") > at_peak(on, "max_pressure")
+
+
+def test_a_dent_is_read_from_a_campaign_output_folder(tmp_path):
+    """``case = "OUT/cases/<id>"`` names a case stored in the folder's bundles."""
+    from study.campaign import load_campaign
+    from study.run import storage
+    from study.run.driver import run_campaign
+
+    text = """
+[campaign]
+name = "first"
+
+[base]
+body1 = { behaviour = "rigid", radius = 0.015 }
+body2 = { behaviour = "elastic-plastic", E = 210e9, nu = 0.3, hardening = { law = "linear", yield_stress = 1.0e9, modulus = 10e9 } }
+grid = { n = [20, 20, 16], half_width = 2.0 }
+
+[[base.load.path]]
+hertz_pressure = 4.0e9
+steps = 2
+
+[[base.load.path]]
+normal_force = 0.0
+
+[sweep]
+"friction.coefficient" = [0.0]
+"""  # noqa: E501
+    campaign = load_campaign(write(tmp_path, text))
+    out = tmp_path / "out"
+    assert run_campaign(campaign, out).exit_status == 0
+    case_id = campaign.cases[0].case_id
+    stored = storage.open_case(out, case_id)
+    for name in (case_id, f"{case_id}.nc"):
+        dent = read_surface({"case": str(out / "cases" / name)})
+        expected = stored["residual_displacement_z"].transpose("y", "x").values
+        np.testing.assert_array_equal(dent.height, expected)
+    with pytest.raises(SurfaceError, match="no finished case 0123456789abcdef"):
+        read_surface({"case": str(out / "cases" / "0123456789abcdef")})
 
 
 def test_a_dent_must_come_from_a_converged_plastic_case(tmp_path):

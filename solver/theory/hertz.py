@@ -161,10 +161,32 @@ def hertz_axis_stress(depth_over_radius, nu: float):
     """
     import numpy as np
 
-    zeta = np.asarray(depth_over_radius, dtype=float)
-    radial = -(1.0 + nu) * (1.0 - zeta * np.arctan2(1.0, zeta)) + 0.5 / (1.0 + zeta * zeta)
-    axial = -1.0 / (1.0 + zeta * zeta)
+    return _axis_stress(_axis_parts(np.asarray(depth_over_radius, dtype=float)), nu)
+
+
+def _axis_parts(zeta):
+    """The parts of :func:`hertz_axis_stress` that do not depend on nu, at depths ``zeta``."""
+    import numpy as np
+
+    return 1.0 - zeta * np.arctan2(1.0, zeta), 0.5 / (1.0 + zeta * zeta), -1.0 / (1.0 + zeta * zeta)
+
+
+def _axis_stress(parts: tuple, nu: float):
+    """(radial, axial, von Mises) over p_0 from :func:`_axis_parts`."""
+    import numpy as np
+
+    radial_unit, radial_extra, axial = parts
+    radial = -(1.0 + nu) * radial_unit + radial_extra
     return radial, axial, np.abs(radial - axial)
+
+
+@functools.lru_cache(maxsize=4)
+def _axis_samples(stop: float, count: int) -> tuple:
+    """Depths ``linspace(0, stop, count)`` and their :func:`_axis_parts`, built once."""
+    import numpy as np
+
+    zeta = np.linspace(0.0, stop, count)
+    return zeta, _axis_parts(zeta)
 
 
 def hertz_yield_region(max_pressure: float, yield_stress: float, nu: float) -> tuple[float, float]:
@@ -187,9 +209,9 @@ def hertz_yield_region(max_pressure: float, yield_stress: float, nu: float) -> t
     """
     import numpy as np
 
-    zeta = np.linspace(0.0, 20.0, 200001)
+    zeta, parts = _axis_samples(20.0, 200001)
     ratio = yield_stress / max_pressure
-    excess = hertz_axis_stress(zeta, nu)[2] - ratio
+    excess = _axis_stress(parts, nu)[2] - ratio
     above = np.flatnonzero(excess >= 0)
     if above.size == 0:
         return 0.0, 0.0
@@ -258,18 +280,51 @@ def _yield_half_width(ratio: float, nu: float, traction: float, depth: float, re
     import numpy as np
 
     from ..numerics.tensor import von_mises
-    from .half_space import hamilton_stress
+    from .half_space import stress_from_potential
 
-    step = 0.02
-    lateral = np.linspace(-reach, reach, 2 * math.ceil(reach / step) + 1)
-    z = np.arange(step / 2, depth + step / 2, step)
-    across, down = np.meshgrid(lateral, z, indexing="ij")
+    rows = len(np.arange(_YIELD_STEP / 2, depth + _YIELD_STEP / 2, _YIELD_STEP))
     extent = 0.0
-    for x, y in ((across, 0.0 * across), (0.0 * across, across)):
-        yielded = von_mises(hamilton_stress(x, y, down, 1.0, 1.0, nu, traction)) >= ratio
+    for plane in range(2):
+        across, down, w = _unit_potential(reach, rows, plane)
+        stress = stress_from_potential(w, down, nu, "pressure")
+        if traction != 0.0:  # as solver.theory.half_space.hamilton_stress, p0 = a = 1
+            stress = stress + traction * stress_from_potential(w, down, nu, "shear_x")
+        yielded = von_mises(math.pi * 1.0 * stress) >= ratio
         if yielded.any():
             extent = max(extent, float(np.abs(across[yielded]).max()))
     return min(extent, reach)
+
+
+#: Sampling step (units of a) of :func:`hertz_yield_half_width`.
+_YIELD_STEP = 0.02
+#: (reach, plane) -> (rows, lateral samples, depths, potential derivatives) of the largest
+#: depth asked so far: the Hertz potential's derivatives on the sampled plane, which depend on
+#: neither the load, the material nor the traction, so a design's cases share them.
+_POTENTIALS: dict[tuple[float, int], tuple] = {}
+
+
+def _unit_potential(reach: float, rows: int, plane: int):
+    """Sample points and Hertz potential derivatives (a = 1) on a plane, the first ``rows`` depths.
+
+    ``plane`` 0: y = 0, 1: x = 0.  Each value depends on its own point only (elementwise), so
+    the first rows of a deeper sampling are those of a shallower one.
+    """
+    import numpy as np
+
+    from .half_space import _hertz_radial_derivatives, _w_from_radial
+
+    cached = _POTENTIALS.get((reach, plane))
+    if cached is None or cached[0] < rows:
+        step = _YIELD_STEP
+        lateral = np.linspace(-reach, reach, 2 * math.ceil(reach / step) + 1)
+        z = np.arange(step / 2, step * (rows - 0.5) + step / 2, step)[:rows]
+        across, down = np.meshgrid(lateral, z, indexing="ij")
+        x, y = (across, 0.0 * across) if plane == 0 else (0.0 * across, across)
+        e = _hertz_radial_derivatives(x * x + y * y, down, 1.0)
+        cached = (rows, across, down, _w_from_radial(e, x, y))
+        _POTENTIALS[(reach, plane)] = cached
+    _, across, down, w = cached
+    return across[:, :rows], down[:, :rows], {k: v[:, :rows] for k, v in w.items()}
 
 
 def first_yield_pressure(yield_stress: float, nu: float) -> tuple[float, float]:
@@ -279,8 +334,8 @@ def first_yield_pressure(yield_stress: float, nu: float) -> tuple[float, float]:
     """
     import numpy as np
 
-    zeta = np.linspace(0.0, 3.0, 300001)
-    vm = hertz_axis_stress(zeta, nu)[2]
+    zeta, parts = _axis_samples(3.0, 300001)
+    vm = _axis_stress(parts, nu)[2]
     k = int(np.argmax(vm))
     return yield_stress / float(vm[k]), float(zeta[k])
 

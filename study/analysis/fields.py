@@ -1,10 +1,10 @@
 """The per-case fields of a campaign as one lazy (dask-backed) xarray dataset.
 
 The assembled dataset (:mod:`study.run.assemble`) holds scalars, histories and profiles; the 2-D
-surface fields and the 3-D volume fields (plastic strain, residual stress, ...) stay in the
-per-case files.  :func:`open_fields` opens those files lazily and lays their fields out over the
-campaign's sweep axes, so that a campaign whose fields do not fit in memory can be reduced, sliced
-or plotted one case (one dask chunk) at a time::
+surface fields and the 3-D volume fields (plastic strain, residual stress, ...) stay with the
+cases (the bundles of :mod:`study.bundle`).  :func:`open_fields` opens them lazily and lays
+their fields out over the campaign's sweep axes, so that a campaign whose fields do not fit in
+memory can be reduced, sliced or plotted one case (one dask chunk) at a time::
 
     from study.analysis.fields import open_fields
 
@@ -124,8 +124,9 @@ def open_fields(
         One dask-backed variable per field, dims ``(*sweep axes, [component,] x_over_a,
         y_over_a[, z_over_a])`` (``align="exact"``, 1) or ``(*sweep axes, [component,] x, y[,
         z])`` (m), one chunk per case; the sweep coordinates, ``case_id`` and ``semi_axis_x``
-        (m) per case; the attribute ``align``.  The case files stay open for the lazy reads
-        until its ``close()`` (or garbage collection).
+        (m) per case; the attribute ``align``.  Each case's field is read from its bundle when
+        its chunk is computed (a per-case file of an older version stays open until
+        ``close()`` or garbage collection).
 
     Raises
     ------
@@ -137,10 +138,10 @@ def open_fields(
 
     Notes
     -----
-    Close a result before opening the same case files again (another :func:`open_fields`,
-    :func:`xarray.open_dataset`) where you can: the netCDF-4/HDF5 libraries may crash when a
-    file holding a string variable (``component``, with tensor fields) is opened while it is
-    open (netcdf4-python issue 1444, HDF5 issue 5359).
+    With the per-case files of an older version, close a result before opening the same files
+    again where you can: the netCDF-4/HDF5 libraries may crash when a file holding a string
+    variable (``component``, with tensor fields) is opened while it is open (netcdf4-python
+    issue 1444, HDF5 issue 5359).
 
     Examples
     --------
@@ -150,8 +151,6 @@ def open_fields(
     >>> fields = open_fields("out/ep_friction_load", align="nearest")  # doctest: +SKIP
     >>> fields.plastic_strain.sel(x=0, y=0, z=0.3e-3, method="nearest")  # doctest: +SKIP
     """
-    import xarray as xr
-
     if align not in ALIGNMENTS:
         raise ValueError(f"open_fields: align={align!r}; use one of {ALIGNMENTS}")
     campaign = storage.read_campaign(out)
@@ -178,7 +177,7 @@ def open_fields(
                 f"open_fields: the selection leaves {len(left)} values of the axis "
                 f"{axis.name!r}; select it by a coordinate that names one value"
             )
-    finished = storage.finished_ids(out)
+    index = storage.case_index(out)
     opened: dict[str, xr.Dataset] = {}
 
     def close() -> None:
@@ -187,9 +186,8 @@ def open_fields(
 
     try:  # no file left open on an error (to the garbage collector)
         for c in cases:
-            if c.case_id in finished:
-                path = storage.case_path(out, c.case_id)
-                opened[c.case_id] = xr.open_dataset(path, engine=storage.ENGINE, chunks={})
+            if c.case_id in index.results:
+                opened[c.case_id] = storage.open_case(out, c.case_id, index, lazy=True)
         if not opened:
             raise ValueError(f"open_fields: no finished case in {out} (with {selection or 'all'})")
         fields = _layout(campaign, cases, axes, opened, names, align, selection)
@@ -201,7 +199,7 @@ def open_fields(
 
 
 def _layout(campaign, cases, axes, opened: dict, names, align: str, selection: dict):
-    """The dataset of :func:`open_fields` from the opened case files (its arguments, checked)."""
+    """The dataset of :func:`open_fields` from the opened cases (its arguments, checked)."""
     import dask.array as da
     import xarray as xr
 
@@ -216,7 +214,7 @@ def _layout(campaign, cases, axes, opened: dict, names, align: str, selection: d
             raise ValueError(f"open_fields: unknown field {name!r}; fields are {FIELD_NAMES}")
         if name not in available:
             raise ValueError(
-                f"open_fields: the case files hold no {name!r}; they hold {available} "
+                f"open_fields: the cases hold no {name!r}; they hold {available} "
                 "(volume tensors are kept when listed in output.fields)"
             )
     # the cases holding a field along each cell dimension, in campaign order

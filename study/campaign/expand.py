@@ -16,7 +16,7 @@ from typing import Any
 
 import solver
 
-from .cost import reference_seconds
+from .cost import REFERENCE, count, seconds
 from .model import (
     BETA_KEY,
     CASE_TABLES,
@@ -288,6 +288,7 @@ def _expand_cases(
             )
         seen.setdefault(case_id, number)
         coords_of[number], indices[number] = coords, index
+        work = count(case)
         cases.append(
             CampaignCase(
                 number=number,
@@ -295,9 +296,10 @@ def _expand_cases(
                 coords=coords,
                 spec=case.spec,  # built for this case alone by from_dict: no copy needed
                 case_id=case_id,
-                cost=float(reference_seconds(case)),
+                cost=float(seconds(work, REFERENCE)),
                 memory=int(solver.memory_estimate(case)),
                 warnings=case.warnings,
+                work=work,
             )
         )
     if progress is not None:

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import solver
 from solver.keys import Key
 
+from .cost import Work, count
 from .naming import CampaignError as CampaignError  # defined there, re-exported
 from .naming import _is_inf, _is_number, format_value
 from .sample import DISTRIBUTIONS, METHODS, SAMPLE_DIM, Design
@@ -71,7 +73,7 @@ CAMPAIGN_KEYS: tuple[Key, ...] = (
     Key("campaign", "fft_threads", "integer", "1", "the cases' own", "[1, 256]",
         "every campaign", "FFTW threads of every case (not part of the case ids)."),
     Key("campaign", "fields", "array of strings", "", str(list(SURFACE_FIELDS)),
-        ", ".join(SURFACE_FIELDS), "every campaign", "Surface fields the case files keep."),
+        ", ".join(SURFACE_FIELDS), "every campaign", "Surface fields each stored case keeps."),
     Key("campaign", "max_initial_failures", "integer", "1", "5", ">= 0 (0 never stops)",
         "every campaign", "Stop early when the first cases all fail."),
     Key("campaign", "profile_extent", "number", "a_H", "1.5", "(0, 100]", "every campaign",
@@ -178,6 +180,9 @@ class CampaignCase:
         :meth:`solver.Case.memory_estimate` (bytes).
     warnings : tuple of str
         :attr:`solver.Case.warnings`: what the case is built with but should be read with care.
+    work : study.campaign.cost.Work, optional
+        The predicted work (:func:`study.campaign.cost.count`), counted at the expansion, so
+        that estimates on a machine's unit costs need not build the case again.
     """
 
     number: int
@@ -188,6 +193,7 @@ class CampaignCase:
     cost: float
     memory: int
     warnings: tuple[str, ...] = ()
+    work: Work | None = field(default=None, compare=False, repr=False)
 
     @property
     def label(self) -> str:
@@ -197,6 +203,10 @@ class CampaignCase:
     def case(self) -> solver.Case:
         """The validated :class:`solver.Case`."""
         return solver.Case.from_dict(self.spec, read_surface)
+
+    def estimated_work(self) -> Work:
+        """The predicted work of the case (:attr:`work`, else counted from :meth:`case`)."""
+        return self.work if self.work is not None else count(self.case())
 
 
 @dataclass(frozen=True)
@@ -326,6 +336,7 @@ class Campaign:
                     "cost": case.cost,
                     "memory": case.memory,
                     "warnings": list(case.warnings),
+                    "work": None if case.work is None else dataclasses.asdict(case.work),
                     "spec": case.spec,
                 }
                 for case in self.cases
@@ -357,6 +368,7 @@ class Campaign:
                 cost=c["cost"],
                 memory=c["memory"],
                 warnings=tuple(c.get("warnings", ())),
+                work=Work(**c["work"]) if c.get("work") else None,
             )
             for c in data["cases"]
         )

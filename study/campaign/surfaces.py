@@ -64,16 +64,23 @@ def read_surface(table: dict) -> HeightMap:
     try:
         stat = path.stat()
     except FileNotFoundError:
-        raise SurfaceError(
-            f"{path}: no such file; check the path (relative paths are taken "
-            "from the campaign file's folder)"
-        ) from None
+        if kind != "case" or not path.parent.is_dir() or path.parent.name != "cases":
+            raise SurfaceError(
+                f"{path}: no such file; check the path (relative paths are taken "
+                "from the campaign file's folder)"
+            ) from None
+        stat = None  # OUT/cases/<id>: a case stored in the folder's bundles
     except OSError as error:
         raise SurfaceError(f"{path}: cannot read: {error.strerror or error}") from None
     if path.is_dir():
         raise SurfaceError(f"{path}: is a folder, expected a height-map file")
-    read = _read_case if kind == "case" else _read
-    surface = read(str(path.resolve()), stat.st_size, stat.st_mtime_ns, spacing)
+    if stat is None:
+        folder = path.parent.resolve()
+        case_id = path.name.removesuffix(".nc")
+        surface = _read_stored_case(str(folder), case_id, folder.stat().st_mtime_ns)
+    else:
+        read = _read_case if kind == "case" else _read
+        surface = read(str(path.resolve()), stat.st_size, stat.st_mtime_ns, spacing)
     if offset == (0.0, 0.0):
         return surface
     try:
@@ -115,7 +122,7 @@ def _numbers(value, name: str, form: str) -> tuple[float, ...]:
 
 @functools.lru_cache(maxsize=8)
 def _read_case(path: str, size: int, mtime: int, spacing: tuple[float, ...]) -> HeightMap:
-    """The residual print of a finished elastic-plastic case file, as a height map."""
+    """The residual print of a finished elastic-plastic case's own file, as a height map."""
     import xarray as xr
 
     try:
@@ -124,19 +131,40 @@ def _read_case(path: str, size: int, mtime: int, spacing: tuple[float, ...]) -> 
         first = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
         raise SurfaceError(f"{path}: cannot be opened as a case file ({first})") from None
     with dataset:
-        name = "residual_displacement_z"
-        if name not in dataset.variables:
-            raise SurfaceError(
-                f"{path}: no {name}: not an elastic-plastic case (only those leave a dent)"
-            )
-        status = dataset.attrs.get("status", "")
-        if status != "converged":
-            raise SurfaceError(
-                f"{path}: its status is {status or 'unknown'!r}, not converged: its residual "
-                "print is not to be trusted; use a converged case"
-            )
-        field = dataset[name].transpose("y", "x")
-        return HeightMap(dataset["x"].values, dataset["y"].values, field.values, path)
+        return _dent(dataset, path)
+
+
+@functools.lru_cache(maxsize=8)
+def _read_stored_case(folder: str, case_id: str, mtime: int) -> HeightMap:
+    """The residual print of case ``case_id`` stored in the bundles of ``folder`` (OUT/cases)."""
+    from .. import bundle
+
+    source = f"{folder}/{case_id}"
+    try:
+        record = bundle.find_result(folder, case_id)
+    except KeyError:
+        raise SurfaceError(
+            f"{source}: no finished case {case_id} in {folder} (no such case file either); name "
+            "a case of `python -m study status`, as OUT/cases/<case id>"
+        ) from None
+    return _dent(record.to_xarray(), source)
+
+
+def _dent(dataset, source: str) -> HeightMap:
+    """The residual print ``residual_displacement_z`` of a case's dataset, checked."""
+    name = "residual_displacement_z"
+    if name not in dataset.variables:
+        raise SurfaceError(
+            f"{source}: no {name}: not an elastic-plastic case (only those leave a dent)"
+        )
+    status = dataset.attrs.get("status", "")
+    if status != "converged":
+        raise SurfaceError(
+            f"{source}: its status is {status or 'unknown'!r}, not converged: its residual "
+            "print is not to be trusted; use a converged case"
+        )
+    field = dataset[name].transpose("y", "x")
+    return HeightMap(dataset["x"].values, dataset["y"].values, field.values, source)
 
 
 @functools.lru_cache(maxsize=8)

@@ -104,7 +104,7 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
     with xr.open_dataset(path, engine=storage.ENGINE) as raw:
         dataset = analysis.with_derived(raw.load())
     name = str(dataset.attrs.get("campaign", path.stem))
-    heights_only = _heights_only(dataset, storage.cases_dir(out))
+    heights_only = _heights_only(dataset, out)
     by_theorem = theorem.is_theorem(dataset)  # no load path was followed: no profiles, no maps
     mesh = analysis.mesh_axes(dataset)
     names = analysis.quantities(dataset)
@@ -224,7 +224,6 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
             note = speed_error_note(speed)
             figures.append(("Speed versus error", png, note))
             lines += [f"![speed versus error]({png.name})", "", f"Shown: {note}.", ""]
-        cases = storage.cases_dir(out)
         if by_theorem:
             pass  # the theorem's section says what the cases hold
         elif heights_only:
@@ -242,9 +241,9 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
             note = profile_panels(dataset)[1]
             figures.append(("Traction profiles", png, note))
             lines += ["## Profiles", "", f"![profiles]({png.name})", "", f"Shown: {note}.", ""]
-        png = None if skip else plot_stick_slip(dataset, cases, out / f"{name}_stick_slip.png")
+        png = None if skip else plot_stick_slip(dataset, out, out / f"{name}_stick_slip.png")
         if png:
-            note = stick_slip_panels(dataset, cases)[1]
+            note = stick_slip_panels(dataset, out)[1]
             figures.append(("Stick/slip maps", png, note))
             lines += ["## Stick and slip", "", f"![stick and slip]({png.name})", ""]
             lines += [f"Shown: {note}.", ""]
@@ -327,19 +326,26 @@ def main(args: argparse.Namespace | list[str] | None = None) -> int:
     return 0
 
 
-def _heights_only(dataset, cases_dir) -> bool:
+def _heights_only(dataset, out: str | Path) -> bool:
     """True when the campaign's finished cases have no smooth shape to scale profiles by.
 
-    Their files carry ``domain_half_width`` instead of a Hertz or Sneddon radius
-    (:func:`solver.result.reference_attrs`); the first finished case's file is read.
-    """
-    import xarray as xr
+    Their results carry ``domain_half_width`` instead of a Hertz or Sneddon radius
+    (:func:`solver.result.reference_attrs`); the first finished case stored is read.
 
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        Campaign dataset.
+    out : str or Path
+        Campaign output folder.
+    """
+    from ..run import storage
+
+    index = storage.case_index(out)
     finished = analysis.finished_mask(dataset).values.ravel()
     ids = dataset["case_id"].values.ravel()
     for case_id in ids[finished]:
-        path = Path(cases_dir) / f"{case_id}.nc"
-        if path.exists():
-            with xr.open_dataset(path) as case:
+        if str(case_id) in index.results:
+            with storage.open_case(out, str(case_id), index=index) as case:
                 return "domain_half_width" in case.attrs
     return False

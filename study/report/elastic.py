@@ -388,19 +388,29 @@ def plot_profiles(dataset, path: str | Path) -> Path | None:
     return Path(path)
 
 
-def stick_slip_panels(dataset, cases_dir: str | Path) -> tuple[list, str]:
+def stick_slip_panels(dataset, out: str | Path, *, index=None) -> tuple[list, str]:
     """The panels of :func:`plot_stick_slip` and a note saying which slices they show.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        Campaign dataset.
+    out : str or Path
+        Campaign output folder.
+    index : study.run.storage.CaseIndex, optional
+        The folder's case index (:func:`study.run.storage.case_index`), built when omitted.
 
     Returns
     -------
     (list, str)
-        ``(labels, index, file)`` per panel (the finest mesh of each slice of the non-mesh
+        ``(labels, index, case_id)`` per panel (the finest mesh of each slice of the non-mesh
         axes whose case finished and has a ``contact_state`` field, at most
         :data:`MAX_PANELS`) and the note (slices whose finest case did not finish, or has no
-        file or field, count as missing).
+        stored result or field, count as missing).
     """
-    import xarray as xr
+    from ..run import storage
 
+    stored = storage.case_index(out) if index is None else index
     mesh = analysis.mesh_axes(dataset)
     usable = analysis.finished_mask(dataset)
     slices = list(analysis.sweep_slices(dataset, mesh))
@@ -412,13 +422,13 @@ def stick_slip_panels(dataset, cases_dir: str | Path) -> tuple[list, str]:
             continue
         if len(found) >= figures.MAX_PANELS:
             continue  # finished, not shown (the note says so)
-        file = Path(cases_dir) / f"{dataset['case_id'].isel(index).item()}.nc"
+        case_id = str(dataset["case_id"].isel(index).item())
         has_state = False
-        if file.exists():
-            with xr.open_dataset(file) as case:
+        if case_id in stored.results:
+            with storage.open_case(out, case_id, index=stored) as case:
                 has_state = "contact_state" in case
         if has_state:
-            found.append((labels, index, file))
+            found.append((labels, index, case_id))
         else:
             missing += 1
     noun = slice_noun(dataset, mesh, True)
@@ -426,8 +436,8 @@ def stick_slip_panels(dataset, cases_dir: str | Path) -> tuple[list, str]:
     return found, panel_note(len(found), len(slices), missing, noun, why)
 
 
-def plot_stick_slip(dataset, cases_dir: str | Path, path: str | Path) -> Path | None:
-    """Contact-state maps (separated / stick / slip) from the per-case files.
+def plot_stick_slip(dataset, out: str | Path, path: str | Path) -> Path | None:
+    """Contact-state maps (separated / stick / slip) from the cases' stored results.
 
     One panel per slice of the non-mesh axes, on the finest mesh of the slice, in at most
     :data:`MAX_COLUMNS` columns and :data:`MAX_PANELS` panels (the title says which slices are
@@ -439,8 +449,8 @@ def plot_stick_slip(dataset, cases_dir: str | Path, path: str | Path) -> Path | 
     ----------
     dataset : xarray.Dataset
         Campaign dataset.
-    cases_dir : str or Path
-        Folder of the per-case files (``OUT/cases``).
+    out : str or Path
+        Campaign output folder.
     path : str or Path
         PNG to write.
 
@@ -452,10 +462,12 @@ def plot_stick_slip(dataset, cases_dir: str | Path, path: str | Path) -> Path | 
     plt = pyplot()
     if plt is None:
         return None
-    panels, note = stick_slip_panels(dataset, cases_dir)
+    from ..run import storage
+
+    stored = storage.case_index(out)
+    panels, note = stick_slip_panels(dataset, out, index=stored)
     if not panels:
         return None
-    import xarray as xr
     from matplotlib.colors import ListedColormap
     from matplotlib.ticker import MultipleLocator
 
@@ -468,8 +480,8 @@ def plot_stick_slip(dataset, cases_dir: str | Path, path: str | Path) -> Path | 
     cmap = ListedColormap(["#eeeeee", "#2b83ba", "#fdae61"])
     t = np.linspace(0, 2 * np.pi, 200)
     dotted, statuses = False, []
-    for k, (ax, (labels, index, file)) in enumerate(zip(axes, panels, strict=True)):
-        with xr.open_dataset(file) as case:
+    for k, (ax, (labels, index, case_id)) in enumerate(zip(axes, panels, strict=True)):
+        with storage.open_case(out, case_id, index=stored) as case:
             a = float(case.attrs.get("hertz_semi_axis_x", case.attrs.get("hertz_radius", 1.0)))
             x, y = case["x"].values / a, case["y"].values / a
             state = case["contact_state"].values

@@ -111,11 +111,25 @@ def _is_load(dataset, dim: str) -> bool:
     return False
 
 
-def _line_at_axis(file: Path, name: str) -> tuple[np.ndarray, np.ndarray] | None:
-    """``(x / a_x, values)`` of a field along the cell row nearest y = 0, x >= 0."""
-    import xarray as xr
+def _line_at_axis(
+    out: str | Path, case_id: str, name: str, index=None
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(x / a_x, values)`` of a case's field along the cell row nearest y = 0, x >= 0.
 
-    with xr.open_dataset(file) as case:
+    Parameters
+    ----------
+    out : str or Path
+        Campaign output folder.
+    case_id : str
+        The case.
+    name : str
+        The field.
+    index : study.run.storage.CaseIndex, optional
+        The folder's case index (:func:`study.run.storage.case_index`), built when omitted.
+    """
+    from ..run import storage
+
+    with storage.open_case(out, case_id, index=index) as case:
         if name not in case:
             return None
         a = float(case.attrs["hertz_semi_axis_x"])
@@ -140,7 +154,7 @@ def _zones(x: np.ndarray, state: np.ndarray, code: int) -> list[tuple[float, flo
     return out
 
 
-def plot_profiles(dataset, cases_dir: str | Path, path: str | Path) -> Path | None:
+def plot_profiles(dataset, out: str | Path, path: str | Path) -> Path | None:
     """Pressure and shear over r / a_H normalised by p_H, the overlay axis in one panel.
 
     One panel per slice of the other non-refinement axes (finest refinement); one style
@@ -150,6 +164,20 @@ def plot_profiles(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
     thick where the contact sticks, thin where it slips (from the case's ``contact_state``
     field).  A case that is not converged or truncated has hollow markers and its panel a red
     dashed frame and label (:func:`figures.mark_panel`).
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        Campaign dataset.
+    out : str or Path
+        Campaign output folder.
+    path : str or Path
+        PNG to write.
+
+    Returns
+    -------
+    Path or None
+        The PNG, or None without matplotlib, traction profiles or finished cases.
     """
     plt = figures.pyplot()
     if plt is None or "pressure_profile" not in dataset:
@@ -173,6 +201,9 @@ def plot_profiles(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
         return None
     from matplotlib.lines import Line2D
 
+    from ..run import storage
+
+    stored = storage.case_index(out)
     r = dataset["r_over_a"].values
     # one style per overlaid value, the same in every panel
     order: dict[str, int] = {}
@@ -203,7 +234,7 @@ def plot_profiles(dataset, cases_dir: str | Path, path: str | Path) -> Path | No
             ax.plot(r, shear, **style)
             curves.append((pressure, shear))
             top = max(top, float(np.nanmax(pressure)))
-            state = _line_at_axis(Path(cases_dir) / f"{case['case_id'].item()}.nc", "contact_state")
+            state = _line_at_axis(out, str(case["case_id"].item()), "contact_state", stored)
             if state is None:
                 continue
             level = -0.06 * (j + 1)
@@ -313,25 +344,40 @@ def plot_load_curves(dataset, path: str | Path) -> Path | None:
     return Path(path)
 
 
-def plot_sections(dataset, cases_dir: str | Path, path: str | Path) -> Path | None:
+def plot_sections(dataset, out: str | Path, path: str | Path) -> Path | None:
     """Equivalent plastic strain in the x-z plane through the contact axis, one scale.
 
-    One panel per case of :func:`shown_cases` whose file holds ``plastic_strain`` (at most
-    :data:`figures.MAX_PANELS`); the maximum of each section is marked and labelled, and a
+    One panel per case of :func:`shown_cases` whose stored result holds ``plastic_strain`` (at
+    most :data:`figures.MAX_PANELS`); the maximum of each section is marked and labelled, and a
     case not converged or truncated has a red dashed frame and label
     (:func:`figures.mark_panel`).
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        Campaign dataset.
+    out : str or Path
+        Campaign output folder.
+    path : str or Path
+        PNG to write.
+
+    Returns
+    -------
+    Path or None
+        The PNG, or None without matplotlib or plastic strain fields.
     """
     plt = figures.pyplot()
     if plt is None:
         return None
-    import xarray as xr
+    from ..run import storage
 
+    stored = storage.case_index(out)
     sections = []
     for labels, index in shown_cases(dataset):
-        file = Path(cases_dir) / f"{dataset['case_id'].isel(index).item()}.nc"
-        if not file.exists():
+        case_id = str(dataset["case_id"].isel(index).item())
+        if case_id not in stored.results:
             continue
-        with xr.open_dataset(file) as case:
+        with storage.open_case(out, case_id, index=stored) as case:
             if "plastic_strain" not in case:
                 continue
             a = float(case.attrs["hertz_semi_axis_x"])
@@ -402,18 +448,15 @@ def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
     lines += ["", figures.markdown_table(plastic_table(dataset))]
     if plt is None:
         return lines
-    from ..run import storage
-
-    cases = storage.cases_dir(out)
     for title, png in (
         (
             "Tractions and stick/slip zones",
-            plot_profiles(dataset, cases, out / f"{name}_plastic_profiles.png"),
+            plot_profiles(dataset, out, out / f"{name}_plastic_profiles.png"),
         ),
         ("Growth with the load", plot_load_curves(dataset, out / f"{name}_load_curves.png")),
         (
             "Plastic strain sections",
-            plot_sections(dataset, cases, out / f"{name}_plastic_sections.png"),
+            plot_sections(dataset, out, out / f"{name}_plastic_sections.png"),
         ),
     ):
         if png:

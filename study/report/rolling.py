@@ -142,18 +142,29 @@ RESOLVE_BUDGET = 60.0
 RESOLVE_TOLERANCE = 1e-3
 
 
-def _case_spec(cases_dir: Path | None, case) -> dict | None:
-    """The case table (``case_spec``) stored in the case's file, or None."""
+def _case_spec(out: str | Path | None, case, index=None) -> dict | None:
+    """The case table (``case_spec``) stored with the case's result, or None.
+
+    Parameters
+    ----------
+    out : str or Path or None
+        Campaign output folder (None: no table).
+    case : xarray.Dataset
+        The case's dataset row.
+    index : study.run.storage.CaseIndex, optional
+        The folder's case index (:func:`study.run.storage.case_index`), built when omitted.
+    """
     import json
 
-    import xarray as xr
+    from ..run import storage
 
-    if cases_dir is None:
+    if out is None:
         return None
-    file = Path(cases_dir) / f"{case['case_id'].item()}.nc"
-    if not file.exists():
+    index = storage.case_index(out) if index is None else index
+    case_id = str(case["case_id"].item())
+    if case_id not in index.results:
         return None
-    with xr.open_dataset(file) as stored:
+    with storage.open_case(out, case_id, index=index) as stored:
         text = stored.attrs.get("case_spec", "")
     return json.loads(text) if text else None
 
@@ -207,15 +218,32 @@ def kalker_slope(spec: dict) -> dict:
     return out
 
 
-def steady_curves(dataset, cases_dir: str | Path | None = None) -> list[dict]:
+def steady_curves(dataset, out: str | Path | None = None) -> list[dict]:
     """Per finished case with steady steps: labels, creepage xi, F_x / (mu W), status.
 
-    With ``cases_dir`` (``OUT/cases``) each record also holds ``kalker``
-    (:func:`kalker_slope` of the case's stored table, or None without its file), ``spec`` (the
-    table), ``steps`` (the indices of the steady steps along ``step``), ``scale`` (mu W, N)
-    and ``case`` (the case's dataset row).
+    With ``out`` each record also holds ``kalker`` (:func:`kalker_slope` of the case's stored
+    table, or None without its stored result), ``spec`` (the table); every record holds
+    ``steps`` (the indices of the steady steps along ``step``), ``scale`` (mu W, N) and
+    ``case`` (the case's dataset row).
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        Campaign dataset.
+    out : str or Path, optional
+        Campaign output folder (the cases' tables are read from it).
+
+    Returns
+    -------
+    list of dict
+        One record per finished case with steady steps.
     """
-    out = []
+    index = None
+    if out is not None:
+        from ..run import storage
+
+        index = storage.case_index(out)
+    found = []
     for labels, isel, case in analysis.finished_cases(dataset):
         xi = case["creepage_x_history"].values
         steady = np.flatnonzero(np.isfinite(xi) & (xi != 0.0))
@@ -228,12 +256,12 @@ def steady_curves(dataset, cases_dir: str | Path | None = None) -> list[dict]:
             "status": figures.status_of(dataset, isel),
             "steps": steady, "scale": scale, "case": case,
         }  # fmt: skip
-        if cases_dir is not None:
-            spec = _case_spec(Path(cases_dir), case)
+        if out is not None:
+            spec = _case_spec(out, case, index)
             record["spec"] = spec
             record["kalker"] = kalker_slope(spec) if spec is not None else None
-        out.append(record)
-    return out
+        found.append(record)
+    return found
 
 
 def _kalker_reason(curve: dict) -> str:
@@ -323,13 +351,20 @@ def _steady_table(spec: dict, case, step: int) -> dict | None:
     return {**spec, "load": {"path": [*path[:first], stage]}}
 
 
-def traction_points(found: list[dict], cases_dir: str | Path) -> tuple[list[dict], list[str]]:
+def traction_points(found: list[dict], out: str | Path) -> tuple[list[dict], list[str]]:
     """The steady points whose traction is drawn, and notes on the points not drawn.
 
     Per chosen case (:func:`_traction_cases`): the steady steps nearest F_x / (mu W) =
     :data:`TRACTION_LEVELS` (re-solved from the case's table, :func:`_steady_table`, and kept
     only if their force matches the stored one within :data:`RESOLVE_TOLERANCE` of mu W) and
     the last step (the fields of the case file).
+
+    Parameters
+    ----------
+    found : list of dict
+        The curves of :func:`steady_curves` (with the output folder).
+    out : str or Path
+        Campaign output folder.
 
     Returns
     -------
@@ -341,10 +376,11 @@ def traction_points(found: list[dict], cases_dir: str | Path) -> tuple[list[dict
         case file's fields are kept only as the last steady step's, within
         :data:`RESOLVE_TOLERANCE`).
     """
-    import xarray as xr
-
     import solver
 
+    from ..run import storage
+
+    index = storage.case_index(out)
     points, notes = [], []
     for curve in _traction_cases(found):
         case, name = curve["case"], figures.labels_text(curve["labels"])
@@ -380,9 +416,8 @@ def traction_points(found: list[dict], cases_dir: str | Path) -> tuple[list[dict
                 "shear_y": result.shear_y, "state": result.contact_state, "force": force,
                 "match": match,
             })  # fmt: skip
-        file = Path(cases_dir) / f"{case['case_id'].item()}.nc"
         names = ("x", "y", "pressure", "shear_x", "shear_y", "contact_state")
-        with xr.open_dataset(file) as stored:
+        with storage.open_case(out, str(case["case_id"].item()), index=index) as stored:
             fields = {k: stored[k].values for k in names if k in stored}
         if len(fields) < len(names):
             notes.append(f"{name}: the case file holds no traction fields of its last step")
@@ -539,10 +574,7 @@ def plot_tractions(points: list[dict], title: str, path: str | Path) -> Path | N
 
 def steady_section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
     """Markdown lines of the steady creep curves (figures appended to ``shown``)."""
-    from ..run import storage
-
-    cases = storage.cases_dir(out)
-    found = steady_curves(dataset, cases) if "creepage_x_history" in dataset else []
+    found = steady_curves(dataset, out) if "creepage_x_history" in dataset else []
     if not found:
         return []
     import pandas as pd
@@ -594,7 +626,7 @@ def steady_section(dataset, out: Path, name: str, plt, shown: list) -> list[str]
             ]
         else:
             lines += ["Dotted at 1: the saturation F_x = mu W (full slip).", ""]
-    points, notes = traction_points(found, cases)
+    points, notes = traction_points(found, out)
     title = f"{dataset.attrs.get('campaign', '')}: shear traction of chosen steady points"
     png = plot_tractions(points, title, out / f"{name}_steady_tractions.png")
     if png:

@@ -30,23 +30,41 @@ from .. import analysis
 from . import figures
 
 
-def _cases(dataset, cases_dir: Path) -> list[tuple[dict, Path]]:
-    """(labels, case file) of every finished case whose file is there."""
+def _cases(dataset, index) -> list[tuple[dict, str]]:
+    """(labels, case id) of every finished case whose result is stored.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        Campaign dataset.
+    index : study.run.storage.CaseIndex
+        The output folder's case index (:func:`study.run.storage.case_index`).
+    """
     usable = analysis.finished_mask(dataset)
-    out = []
+    found = []
     for labels, isel in analysis.sweep_slices(dataset, []):
         if bool(usable.isel(isel)):
-            path = Path(cases_dir) / f"{dataset['case_id'].isel(isel).item()}.nc"
-            if path.exists():
-                out.append((labels, path))
-    return out
+            case_id = str(dataset["case_id"].isel(isel).item())
+            if case_id in index.results:
+                found.append((labels, case_id))
+    return found
 
 
-def _read(path: Path) -> dict:
-    """What the section uses of one case file: histories, the period's area, final fields."""
-    import xarray as xr
+def _read(out: str | Path, case_id: str, index) -> dict:
+    """What the section uses of one case: histories, the period's area, final fields.
 
-    with xr.open_dataset(path) as case:
+    Parameters
+    ----------
+    out : str or Path
+        Campaign output folder.
+    case_id : str
+        The case.
+    index : study.run.storage.CaseIndex
+        The folder's case index (:func:`study.run.storage.case_index`).
+    """
+    from ..run import storage
+
+    with storage.open_case(out, case_id, index=index) as case:
         x, y = case["x"].values, case["y"].values
         cell = (x[1] - x[0]) * (y[1] - y[0])
         data = {"cell_area": float(cell), "period_area": float(cell * x.size * y.size)}
@@ -76,8 +94,15 @@ def _peak_spots(data: dict) -> np.ndarray | None:
     return None
 
 
-def rough_table(dataset, cases_dir: Path):
+def rough_table(dataset, out: str | Path):
     """Per finished case: contact and (elastic-plastic) plastic measures at the largest load.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        Campaign dataset.
+    out : str or Path
+        Campaign output folder.
 
     Returns
     -------
@@ -86,9 +111,12 @@ def rough_table(dataset, cases_dir: Path):
     """
     import pandas as pd
 
+    from ..run import storage
+
+    index = storage.case_index(out)
     rows = []
-    for labels, path in _cases(dataset, cases_dir):
-        data = _read(path)
+    for labels, case_id in _cases(dataset, index):
+        data = _read(out, case_id, index)
         peak = int(np.argmax(data["normal_force"]))
         row = {
             **labels,
@@ -109,15 +137,33 @@ def rough_table(dataset, cases_dir: Path):
     return pd.DataFrame(rows)
 
 
-def plot_load_curves(dataset, cases_dir: Path, path: Path) -> Path | None:
-    """Real contact fraction and mean separation against the mean pressure, every case."""
-    cases = _cases(dataset, cases_dir)
+def plot_load_curves(dataset, out: str | Path, path: Path) -> Path | None:
+    """Real contact fraction and mean separation against the mean pressure, every case.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        Campaign dataset.
+    out : str or Path
+        Campaign output folder.
+    path : Path
+        PNG to write.
+
+    Returns
+    -------
+    Path or None
+        The PNG, or None without a stored finished case.
+    """
+    from ..run import storage
+
+    index = storage.case_index(out)
+    cases = _cases(dataset, index)
     if not cases:
         return None
     plt = figures.pyplot()
     fig, axes, _ = figures.panel_grid(plt, 2, 3.6, 3.0)
-    for j, (labels, file) in enumerate(cases):
-        data = _read(file)
+    for j, (labels, case_id) in enumerate(cases):
+        data = _read(out, case_id, index)
         loaded = data["normal_force"] > 0
         pressure = data["normal_force"][loaded] / data["period_area"] / 1e6
         style = figures.series_style(j, len(cases))
@@ -134,9 +180,30 @@ def plot_load_curves(dataset, cases_dir: Path, path: Path) -> Path | None:
     return Path(path)
 
 
-def plot_spot_sizes(dataset, cases_dir: Path, path: Path) -> Path | None:
-    """Share of the spots larger than an area (log-log) at the largest load, every case."""
-    cases = [(labels, _peak_spots(_read(file))) for labels, file in _cases(dataset, cases_dir)]
+def plot_spot_sizes(dataset, out: str | Path, path: Path) -> Path | None:
+    """Share of the spots larger than an area (log-log) at the largest load, every case.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        Campaign dataset.
+    out : str or Path
+        Campaign output folder.
+    path : Path
+        PNG to write.
+
+    Returns
+    -------
+    Path or None
+        The PNG, or None without a stored finished case with spots.
+    """
+    from ..run import storage
+
+    index = storage.case_index(out)
+    cases = [
+        (labels, _peak_spots(_read(out, case_id, index)))
+        for labels, case_id in _cases(dataset, index)
+    ]
     cases = [(labels, areas) for labels, areas in cases if areas is not None and areas.size]
     if not cases:
         return None
@@ -153,11 +220,29 @@ def plot_spot_sizes(dataset, cases_dir: Path, path: Path) -> Path | None:
     return Path(path)
 
 
-def plot_residual_topography(dataset, cases_dir: Path, path: Path) -> Path | None:
-    """The first elastic-plastic case's gap before and after the path, and their difference."""
+def plot_residual_topography(dataset, out: str | Path, path: Path) -> Path | None:
+    """The first elastic-plastic case's gap before and after the path, and their difference.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        Campaign dataset.
+    out : str or Path
+        Campaign output folder.
+    path : Path
+        PNG to write.
+
+    Returns
+    -------
+    Path or None
+        The PNG, or None without a stored finished case with a residual gap.
+    """
+    from ..run import storage
+
+    index = storage.case_index(out)
     found = next(
-        ((labels, data) for labels, file in _cases(dataset, cases_dir)
-         if "residual_gap" in (data := _read(file))),
+        ((labels, data) for labels, case_id in _cases(dataset, index)
+         if "residual_gap" in (data := _read(out, case_id, index))),
         None,
     )  # fmt: skip
     if found is None:
@@ -190,9 +275,6 @@ def plot_residual_topography(dataset, cases_dir: Path, path: Path) -> Path | Non
 
 def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
     """Markdown lines of the rough-interface part of the report (figures added to ``shown``)."""
-    from ..run import storage
-
-    cases = storage.cases_dir(out)
     lines = ["## Rough interface", ""]
     lines += [
         "Per finished case, at the largest load: `p_mean_MPa` the mean pressure over the",
@@ -204,7 +286,7 @@ def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
         "`residual_rms_nm` the rms of the gap before and after the path.",
         "",
     ]
-    table = rough_table(dataset, cases)
+    table = rough_table(dataset, out)
     lines += [figures.markdown_table(table), ""]
     if plt is None:
         return lines
@@ -215,7 +297,7 @@ def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
          "the first elastic-plastic case"),
     )  # fmt: skip
     for title, plot, stem, which in drawn:
-        png = plot(dataset, cases, out / f"{name}_{stem}.png")
+        png = plot(dataset, out, out / f"{name}_{stem}.png")
         if png:
             shown.append((title, png, f"{which}, finished"))
             lines += [f"### {title}", "", f"![{title}]({png.name})", ""]

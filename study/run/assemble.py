@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import json
 import math
-import time
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -50,6 +49,8 @@ from solver.result import (
 from solver.theory.shakedown import SHAKEDOWN_FLAGS, shakedown_variable
 from solver.variables import CYCLE_QUANTITIES, HISTORIES, reduced_scalars
 
+from .. import bundle
+from ..bundle import CaseRecord
 from ..campaign import Axis, Campaign
 from ..campaign.sample import SAMPLE_DIM
 from . import storage
@@ -118,7 +119,7 @@ SCALARS = {
 #: Per-case bookkeeping variables of a campaign dataset (name: long_name).
 BOOKKEEPING = {
     "status": "case status",
-    "case_id": "case id (file cases/<id>.nc)",
+    "case_id": "case id (study.run.storage.open_case(OUT, case_id) opens the stored case)",
     "error": "error of a failed case",
     "notes": "the solver's notes on the case ('; '-separated: warnings, path dependence, "
     "non-convergence, truncation)",
@@ -171,36 +172,39 @@ def profile(x: np.ndarray, line: np.ndarray, radius: float, r_over_a: np.ndarray
     return np.interp(target, xp, fp, left=np.nan, right=np.nan)
 
 
-def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
-    import xarray as xr
+def case_summary(record: CaseRecord, r_over_a: np.ndarray) -> dict:
+    """What the dataset holds of one case: status, scalars, histories, profiles.
 
-    with xr.open_dataset(path, engine=storage.ENGINE) as dataset:
-        attrs = dict(dataset.attrs)
-        histories = {
-            name: dataset[name].values.astype(float)
-            for name in HISTORY_META
-            if name in dataset.variables
-        }
-        cycles = {
-            name: dataset[name].values.astype(float)
-            for name in CYCLE_QUANTITIES
-            if name in dataset.variables
-        }
-        regime = None
-        if "shakedown" in dataset.variables:
-            variable = dataset["shakedown"]
-            regime = (int(variable.values), str(variable.attrs.get("reason", "")))
-        x = dataset["x"].values
-        if "position_x" in histories:  # a sliding path: about the contact's last position
-            x = x - histories["position_x"][-1]
-        lines = {name: dataset[f"{name}_y0"].values for name in ("pressure", "shear_x")}
-        radius = length_scale(attrs)
-        depth_profile = None
-        heights_only = "domain_half_width" in attrs  # no contact radius to scale by
-        if "plastic_strain" in dataset.variables and "hertz_radius" in attrs:
-            depth = dataset["z"].values / float(attrs["hertz_radius"])
-            on_axis = axis_value(dataset["plastic_strain"].values)
-            depth_profile = np.interp(Z_OVER_A, depth, on_axis, left=on_axis[0], right=np.nan)
+    Computed by the rank that solved the case and stored with it (a bundle entry's
+    ``summary``), so that the assembly only places rows; recomputed here for a case file of an
+    older version or a campaign whose profile coordinate changed.
+
+    Parameters
+    ----------
+    record : CaseRecord
+        The stored case.
+    r_over_a : ndarray
+        The radial profiles' coordinate (the campaign's ``profile_extent``, ``profile_points``).
+    """
+    attrs = record.attrs
+    histories = {name: record.values(name).astype(float) for name in HISTORY_META if name in record}
+    cycles = {
+        name: record.values(name).astype(float) for name in CYCLE_QUANTITIES if name in record
+    }
+    regime = None
+    if "shakedown" in record:
+        reason = str(record.variable_attrs("shakedown").get("reason", ""))
+        regime = (int(record.values("shakedown")), reason)
+    x = record.values("x")
+    if "position_x" in histories:  # a sliding path: about the contact's last position
+        x = x - histories["position_x"][-1]
+    radius = length_scale(attrs)
+    depth_profile = None
+    heights_only = "domain_half_width" in attrs  # no contact radius to scale by
+    if "plastic_strain" in record and "hertz_radius" in attrs:
+        depth = record.values("z") / float(attrs["hertz_radius"])
+        on_axis = axis_value(record.values("plastic_strain"))
+        depth_profile = np.interp(Z_OVER_A, depth, on_axis, left=on_axis[0], right=np.nan)
     scalars = {name: float(attrs[name]) for name in _ATTRS if name in attrs}
     for name, (history, reduction, _) in REDUCED.items():
         if history in histories:
@@ -220,16 +224,65 @@ def _read_case(path: Path, r_over_a: np.ndarray) -> dict:
     status = stored_status(attrs.get("status", "converged"), str(attrs.get("notes", "")))
     if status == "surface_flow" and regime is not None:  # a file written before the status
         regime = (SHAKEDOWN_FLAGS["undetermined"], SURFACE_FLOW_REASON)
+    lines = {name: record.values(f"{name}_y0") for name in ("pressure", "shear_x")}
     return {
         "status": status,
         "text": {name: str(attrs.get(name, "")) for name in ("notes", "loops")},
-        "scalars": scalars,
+        "scalars": {name: float(value) for name, value in scalars.items()},
         "histories": histories,
         "cycles": cycles,
         "shakedown": regime,
         "profiles": {name: profile(x, line, radius, r_over_a) for name, line in lines.items()},
         "depth_profile": depth_profile,
+        "r_over_a": _profile_key(r_over_a),
     }
+
+
+def _profile_key(r_over_a: np.ndarray) -> list:
+    return [float(r_over_a[-1]), len(r_over_a)]
+
+
+def profile_coordinate(settings) -> np.ndarray:
+    """The radial profiles' coordinate r / a of a campaign (its settings)."""
+    return np.linspace(0.0, settings.profile_extent, settings.profile_points)
+
+
+def _summaries(out: Path, index: storage.CaseIndex, wanted: set[str], r_over_a: np.ndarray):
+    """(case id, summary or the error that made it unreadable) of every wanted finished case.
+
+    Bundle by bundle, one open file at a time (the memory is the dataset's, not the files').
+    """
+    by_file: dict[Path, list[tuple[str, int | None]]] = {}
+    for case_id in sorted(wanted & set(index.results)):
+        location = index.results[case_id][0]
+        by_file.setdefault(location.path, []).append((case_id, location.position))
+    key = _profile_key(r_over_a)
+    for path, entries in by_file.items():
+        if entries[0][1] is None:  # per-case files of an older version
+            for case_id, _ in entries:
+                try:
+                    record = storage.read_record(out, case_id, index)
+                except (OSError, RuntimeError, ValueError) as error:
+                    yield case_id, error
+                    continue
+                yield case_id, case_summary(record, r_over_a)
+            continue
+        try:
+            reader = bundle.Reader(path)
+        except bundle.BundleError as error:
+            for case_id, _ in entries:
+                yield case_id, error
+            continue
+        with reader:
+            for case_id, position in entries:
+                try:
+                    summary = reader.summary(position)
+                    if summary is None or summary.get("r_over_a") != key:
+                        summary = case_summary(reader.record(position), r_over_a)
+                except (OSError, RuntimeError, ValueError, KeyError) as error:
+                    yield case_id, error
+                    continue
+                yield case_id, summary
 
 
 def _coordinates(axis: Axis) -> dict:
@@ -267,11 +320,18 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     campaign = campaign or storage.read_campaign(out)
     settings = campaign.settings
     dims, shape = campaign.dims, campaign.shape
-    r_over_a = np.linspace(0.0, settings.profile_extent, settings.profile_points)
+    r_over_a = profile_coordinate(settings)
     steps = max(_case_steps(case.spec) for case in campaign.cases)
-    finished, failed = storage.finished_ids(out), storage.failed_ids(out)
-    corrupt = storage.corrupt_ids(out)
-    logger = logging.getLogger(LOGGER_NAME)  # names each corrupt case file once
+    index = storage.case_index(out)
+    logger = logging.getLogger(LOGGER_NAME)  # names each corrupt file once
+    for name, problem in sorted(index.corrupt.items()):
+        if name.endswith(bundle.SUFFIX):
+            logger.warning(
+                "corrupt bundle cases/%s, %s; its cases count as pending "
+                "(python -m study run moves it aside and computes them again)",
+                name,
+                problem,
+            )
 
     status = np.zeros(shape, dtype=np.int8)
     case_ids = np.empty(shape, dtype=object)
@@ -286,56 +346,64 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     regimes = None  # shakedown flags, when a case has them
     profiles = {name: np.full((*shape, len(r_over_a)), np.nan) for name in ("pressure", "shear_x")}
     depth_profiles = None
+    rows: dict[str, list] = {}
     for case in campaign.cases:
-        index = tuple(case.index)
-        case_ids[index] = case.case_id
-        scalars["grid_cells"][index] = _grid_cells(case.spec)
-        data = None
-        if case.case_id in finished:
-            try:
-                data = _read_case(storage.case_path(out, case.case_id), r_over_a)
-            except (OSError, RuntimeError) as error:  # damaged beyond its header
-                corrupt[case.case_id] = f"cannot be read ({str(error).splitlines()[0]})"
-        if case.case_id in corrupt:
-            # a damaged case file: failed here, named once; `run` moves it aside and recomputes
-            status[index] = STATUS_FLAGS["failed"]
-            errors[index] = f"corrupt case file cases/{case.case_id}.nc: {corrupt[case.case_id]}"
+        index_ = tuple(case.index)
+        rows.setdefault(case.case_id, []).append((index_, case))
+        case_ids[index_] = case.case_id
+        scalars["grid_cells"][index_] = _grid_cells(case.spec)
+        problem = index.corrupt.get(case.case_id)
+        if problem is not None:  # a damaged per-case file: failed here; `run` recomputes it
+            status[index_] = STATUS_FLAGS["failed"]
+            errors[index_] = f"corrupt case file cases/{case.case_id}.nc: {problem}"
+        elif case.case_id in index.failures:
+            status[index_] = STATUS_FLAGS["failed"]
+    for case_id, record in storage.read_failures(out, rows, index).items():
+        for index_, _ in rows[case_id]:
+            errors[index_] = record.get("error", "")
+    for case_id, problem in index.corrupt.items():
+        if case_id in rows:
             logger.warning(
                 "case %s [%s]: corrupt case file cases/%s.nc, %s; counted failed "
                 "(python -m study run recomputes it)",
-                case.case_id,
-                case.label,
-                case.case_id,
-                corrupt[case.case_id],
+                case_id,
+                rows[case_id][0][1].label,
+                case_id,
+                problem,
             )
-        elif data is not None:
-            status[index] = STATUS_FLAGS.get(data["status"], STATUS_FLAGS["converged"])
+    finished = 0
+    for case_id, data in _summaries(out, index, set(rows), r_over_a):
+        for index_, case in rows[case_id]:
+            if isinstance(data, Exception):  # damaged beyond its index
+                status[index_] = STATUS_FLAGS["failed"]
+                errors[index_] = f"case {case_id} cannot be read ({str(data).splitlines()[0]})"
+                logger.warning("case %s [%s]: %s", case_id, case.label, errors[index_])
+                continue
+            finished += 1
+            status[index_] = STATUS_FLAGS.get(data["status"], STATUS_FLAGS["converged"])
             for name, text in data["text"].items():
-                texts[name][index] = text
+                texts[name][index_] = text
             for name, value in data["scalars"].items():
-                scalars[name][index] = value
+                scalars[name][index_] = value
             for name, values in data["histories"].items():
                 if name not in histories:
                     histories[name] = np.full((*shape, steps), np.nan)
-                histories[name][index][: len(values)] = values
+                histories[name][index_][: len(values)] = values
             for name, values in data["cycles"].items():
                 if name not in per_cycle:
                     per_cycle[name] = np.full((*shape, cycle_count), np.nan)
-                per_cycle[name][index][: len(values)] = values
+                per_cycle[name][index_][: len(values)] = values
             if data["shakedown"] is not None:
                 if regimes is None:
                     regimes = np.zeros(shape, dtype=np.int8)  # undetermined
                     texts["shakedown_reason"] = np.full(shape, "", dtype=object)
-                regimes[index], texts["shakedown_reason"][index] = data["shakedown"]
+                regimes[index_], texts["shakedown_reason"][index_] = data["shakedown"]
             for name, values in data["profiles"].items():
-                profiles[name][index] = values
+                profiles[name][index_] = values
             if data["depth_profile"] is not None:
                 if depth_profiles is None:
                     depth_profiles = np.full((*shape, len(Z_OVER_A)), np.nan)
-                depth_profiles[index] = data["depth_profile"]
-        elif case.case_id in failed:
-            status[index] = STATUS_FLAGS["failed"]
-            errors[index] = storage.read_failure(out, case.case_id).get("error", "")
+                depth_profiles[index_] = data["depth_profile"]
     ranks = scalars.pop("mpi_rank")
     rank = np.where(np.isnan(ranks), -1, ranks).astype(np.int32)
     cells = scalars.pop("grid_cells").astype(np.int64)
@@ -427,8 +495,8 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
         "slipstick_version": solver.__version__,
         "git_hash": storage.git_hash(),
         "history": (
-            f"{time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())}: assembled from {len(finished)}"
-            f" case files ({storage.command_line() or 'study.run.assemble'})"
+            f"{storage.now()}: assembled from {finished} finished cases "
+            f"({storage.command_line() or 'study.run.assemble'})"
         ),
         "campaign": campaign.name,
         "campaign_source": campaign.source,

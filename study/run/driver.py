@@ -9,9 +9,10 @@ the requests (polling with short sleeps, so it costs no core) while the main thr
 cases too, so the root is not idle on small runs; the dispatcher's MPI calls are the only ones
 while it runs (``MPI_THREAD_SERIALIZED`` suffices).
 
-Each case is solved, checked for NaN/inf, and written by the rank that computed it
-(:mod:`study.run.storage`).  An exception or a non-finite result makes the case *failed*: its
-traceback, rank and host go to ``cases/<id>.failed.json`` and the campaign goes on;
+Each case is solved, checked for NaN/inf, and kept by the rank that computed it, which writes
+its finished cases as one bundle every few seconds (:class:`.writer.CaseWriter`).  An exception
+or a non-finite result makes the case *failed*: its traceback, rank and host go into the bundle
+as its failure record (``python -m study status`` shows them) and the campaign goes on;
 non-convergence is a result (status ``not_converged``).  When the first k cases of a run all
 fail (k = ``max_initial_failures``) no new case starts.  With a time limit (or Slurm's
 ``SLURM_JOB_END_TIME``) a case is only started when it is predicted to finish in time; the
@@ -43,10 +44,15 @@ import numpy as np
 import solver
 from solver.numerics import fftw
 
-from ..campaign import MAX_CASE_TIMEOUT, Campaign, CampaignCase, CampaignError, cost
+from .. import bundle
+from ..bundle import Entry
+from ..campaign import MAX_CASE_TIMEOUT, Campaign, CampaignCase, CampaignError
 from ..campaign.surfaces import read_surface
-from . import calibration, storage, wisdom
-from .progress import LOGGER_NAME, Progress, format_duration
+from . import storage, wisdom
+from .assemble import case_summary, profile_coordinate
+from .progress import LOGGER_NAME, format_duration
+from .scheduler import Scheduler
+from .writer import BUNDLE_SECONDS, CaseWriter, case_record, warm_up
 
 _REQUEST, _TASK = 71, 72
 
@@ -60,10 +66,6 @@ class NonFiniteResult(RuntimeError):
 
 class CaseTimeout(RuntimeError):
     """A case ran longer than its time limit."""
-
-
-class CaseWriteError(RuntimeError):
-    """The result of a case could not be written (disk full, permissions, ...)."""
 
 
 def check_case_timeout(seconds: float | None, name: str = "case_timeout") -> None:
@@ -132,6 +134,9 @@ class RunOptions:
         ``campaign.json``; refused otherwise (:func:`study.run.storage.prepare_output`).
     poll_interval : float
         Longest sleep (s) of the dispatcher between checks for requests.
+    bundle_seconds : float
+        Longest time (s) a rank keeps finished cases in memory before writing them as a bundle
+        (:class:`.writer.CaseWriter`): a crash loses at most this much finished work per rank.
     solve : callable, optional
         The solve function (default :func:`solver.solve`); tests inject failures with it.
     """
@@ -145,6 +150,7 @@ class RunOptions:
     root_computes: bool = True
     replace: bool = False
     poll_interval: float = 0.005
+    bundle_seconds: float = BUNDLE_SECONDS
     solve: Callable | None = None
 
 
@@ -291,26 +297,27 @@ def _non_finite(result: solver.Result) -> list[str]:
 def run_case(
     campaign: Campaign,
     case: CampaignCase,
-    out: str | Path,
+    writer: CaseWriter,
     *,
     rank: int = 0,
-    size: int = 1,
     fft_threads: int | None = None,
     solve: Callable | None = None,
     timeout: float | None = None,
 ) -> dict[str, Any]:
-    """Solve one case and write its file (or its failure record); never raises ``Exception``.
+    """Solve one case and hand its result (or failure record) to the rank's writer.
+
+    Never raises ``Exception``.
 
     Parameters
     ----------
     campaign : Campaign
-        The campaign (settings and provenance).
+        The campaign (settings).
     case : CampaignCase
         The case.
-    out : str or Path
-        Output folder.
-    rank, size : int
-        This rank and the communicator size (recorded).
+    writer : CaseWriter
+        This rank's bundle writer (:mod:`study.run.writer`).
+    rank : int
+        This rank (reported).
     fft_threads : int, optional
         FFTW threads for this solve (not part of the case id).
     solve : callable, optional
@@ -322,10 +329,12 @@ def run_case(
     -------
     dict
         Report: number, case_id, label, status (converged, not_converged, truncated, failed),
-        rank, host, case_time and solve_time (s), error (one line, when failed).
+        rank, host, case_time (s, including this rank's share of the writing) and solve_time
+        (s), error (one line, when failed), lost (the cases whose bundle could not be written,
+        :meth:`.CaseWriter.flush`).
     """
     start = time.perf_counter()
-    started = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+    started = storage.now()
     host = socket.gethostname()
     report: dict[str, Any] = {
         "number": case.number,
@@ -348,13 +357,10 @@ def run_case(
             raise NonFiniteResult(f"NaN or inf in the result: {', '.join(bad)}")
         report["solve_time"] = float(result.wall_time)
         history = result.history
-        attrs = storage.provenance(
-            campaign,
+        attrs = storage.case_provenance(
             case,
-            rank=rank,
-            size=size,
             started=started,
-            finished=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+            finished=storage.now(),
             solve_time=float(result.wall_time),
             time_before_write=time.perf_counter() - start,
             fft_threads=int(to_solve.solver.fft_threads),
@@ -366,19 +372,15 @@ def run_case(
                 :2000
             ],
         )
-        dataset = storage.case_dataset(result, campaign.settings.fields, attrs)
-        try:
-            storage.write_case(out, case.case_id, dataset)
-        except Exception as error:
-            reason = storage.describe_write_error(error, storage.cases_dir(out))
-            message = f"result not written to cases/{case.case_id}.nc: {reason}"
-            raise CaseWriteError(message) from error
+        record = case_record(result, campaign.settings.fields, {**writer.shared, **attrs})
+        summary = case_summary(record, profile_coordinate(campaign.settings))
+        entry = Entry(case.case_id, result.status, record=record, summary=summary)
         report["status"] = result.status
         report["notes"] = "; ".join(result.notes)
     except Exception as error:
         report["status"] = "failed"
         report["error"] = f"{type(error).__name__}: {error}".splitlines()[0][:500]
-        record = {
+        failure = {
             "case_id": case.case_id,
             "coordinates": case.coords,
             "error": f"{type(error).__name__}: {error}",
@@ -391,147 +393,16 @@ def run_case(
             "slipstick_version": solver.__version__,
             "spec": case.spec,
         }
-        try:
-            storage.write_failure(out, case.case_id, record)
-            report["failure_record"] = True
-        except Exception as second:  # the report still reaches rank 0, and counts as failed
-            report["failure_record"] = False
-            reason = storage.describe_write_error(second, storage.cases_dir(out))
-            report["error"] += f" (failure record not written: {reason})"
+        entry = Entry(case.case_id, "failed", failure=failure)
+        report["failure_record"] = True
         logger.debug("case %s failed: %s", case.case_id, report["error"])
+    report["lost"] = writer.add(entry)
     report["case_time"] = time.perf_counter() - start
     return report
 
 
 def _total(history: dict, name: str) -> int:
     return int(np.sum(history[name])) if name in history else 0
-
-
-# -- scheduling on rank 0 ------------------------------------------------------------------------
-def _estimated_seconds(cases: list[CampaignCase], logger: logging.Logger) -> dict[int, float]:
-    """Case number -> estimated seconds on this machine (:mod:`.cost`, calibrated here).
-
-    A case whose estimate fails keeps its reference estimate (``CampaignCase.cost``: seconds
-    at the reference machine's unit costs); an estimate never stops a run.
-    """
-    try:
-        units = calibration.calibration(logger=logger) if cases else cost.REFERENCE
-    except Exception as error:  # noqa: BLE001 - the estimate orders cases, no more
-        logger.warning("cost calibration unavailable (%s): reference unit costs", error)
-        units = cost.REFERENCE
-    found = {}
-    for case in cases:
-        try:
-            found[case.number] = cost.case_seconds(case.case(), units)
-        except Exception:  # noqa: BLE001
-            found[case.number] = float(case.cost)
-    return found
-
-
-class _Scheduler:
-    """The queue of cases (costliest first), the reports, and the stopping rules.  Thread-safe.
-
-    Cases are ordered by their estimated seconds on this machine (:func:`.cost.case_seconds`).
-    With a time limit a case starts only when 1.25 x its estimate, times the largest ratio of
-    measured to estimated time of the cases finished so far (1 before the first), fits in the
-    time left.
-    """
-
-    def __init__(
-        self,
-        todo: list[CampaignCase],
-        options: RunOptions,
-        max_initial_failures: int,
-        logger: logging.Logger,
-    ):
-        self.seconds = _estimated_seconds(todo, logger)
-        self.queue = sorted(todo, key=lambda c: (-self.seconds[c.number], c.number))
-        self.options = options
-        self.max_initial_failures = max_initial_failures
-        self.logger = logger
-        self.lock = threading.Lock()
-        self.running: dict[int, CampaignCase] = {}
-        self.reports: list[dict] = []
-        self.stopped = ""
-        self.successes = 0
-        self.failures = 0
-        # largest measured / estimated seconds of the finished cases (None: none yet)
-        self.rate: float | None = None
-        self.progress = Progress(len(self.queue), sum(self.seconds.values()), logger)
-        self.deadline = self._deadline()
-
-    def _deadline(self) -> float | None:
-        now = time.perf_counter()
-        limits = []
-        if self.options.time_limit is not None:
-            limits.append(now + self.options.time_limit)
-        end = os.environ.get("SLURM_JOB_END_TIME")
-        if self.options.use_slurm_end_time and end:
-            try:
-                limits.append(now + float(end) - time.time())
-            except ValueError:
-                self.logger.warning("ignoring SLURM_JOB_END_TIME=%r (not a number)", end)
-        return min(limits) if limits else None
-
-    def next_task(self, rank: int) -> CampaignCase | None:
-        """The next case for ``rank``, or None when there is none to start."""
-        with self.lock:
-            if self.stopped or not self.queue:
-                return None
-            pick = 0
-            if self.deadline is not None:
-                left = self.deadline - time.perf_counter() - self.options.time_reserve
-                rate = 1.0 if self.rate is None else self.rate
-                fits = [
-                    i
-                    for i, c in enumerate(self.queue)
-                    if 1.25 * rate * self.seconds[c.number] < left
-                ]
-                if not fits:
-                    self.stopped = (
-                        f"time limit: {max(left, 0.0):.0f} s left before the reserve, too little "
-                        f"for the {len(self.queue)} remaining case(s); re-run to resume"
-                    )
-                    self.logger.warning("%s", self.stopped)
-                    return None
-                pick = fits[0]
-            case = self.queue.pop(pick)
-            self.running[case.number] = case
-            return case
-
-    def report(self, report: dict) -> None:
-        """Record the report of a finished case."""
-        with self.lock:
-            case = self.running.pop(report["number"])
-            self.reports.append(report)
-            if report["status"] == "failed":
-                self.failures += 1
-                self.logger.warning(
-                    "case %s [%s] failed on rank %s (%s): %s; %s",
-                    case.case_id,
-                    case.label,
-                    report["rank"],
-                    report["host"],
-                    report.get("error", ""),
-                    f"details in cases/{case.case_id}.failed.json"
-                    if report.get("failure_record", True)
-                    else "no failure record was written",
-                )
-            else:
-                self.successes += 1
-                estimate = self.seconds[case.number]
-                if estimate > 0:
-                    ratio = report["case_time"] / estimate
-                    self.rate = ratio if self.rate is None else max(self.rate, ratio)
-            self.progress.update(report, self.seconds[case.number], len(self.running))
-            k = self.max_initial_failures
-            if k and not self.stopped and self.successes == 0 and self.failures >= k:
-                self.stopped = (
-                    f"the first {self.failures} cases of this run all failed (last: "
-                    f"{report.get('error', '?')}); fix the campaign and re-run "
-                    "(max_initial_failures = 0 disables this stop)"
-                )
-                self.logger.error("stopping: %s", self.stopped)
 
 
 # -- the run -------------------------------------------------------------------------------------
@@ -583,6 +454,7 @@ def run_campaign(
     timeout = options.case_timeout or campaign.settings.case_timeout
     check_case_timeout(timeout)  # the same on every rank: all raise together
 
+    warm_up()  # the storage library's import, before the time limit's clock starts
     scheduler = None
     message: tuple = ("ok", None)
     if rank == 0:
@@ -591,7 +463,7 @@ def run_campaign(
             _quarantine_corrupt(campaign, out, logger)
             finished = storage.finished_ids(out)
             todo = [c for c in campaign.distinct_cases() if c.case_id not in finished]
-            scheduler = _Scheduler(todo, options, k, logger)
+            scheduler = Scheduler(todo, options, k, logger)
             distinct = len(campaign.distinct_cases())
             logger.info(
                 "campaign %s: %d cases, %d finished earlier, %d to run on %d rank(s)%s -> %s",
@@ -611,28 +483,29 @@ def run_campaign(
         raise CampaignError(message[1])
     _share_wisdom(comm, scheduler, fft_threads, logger)
 
+    shared = storage.run_provenance(campaign, rank=rank, size=size)
+    writer = CaseWriter(out, shared, seconds=options.bundle_seconds)
+
     def compute(case: CampaignCase) -> dict:
         return run_case(
             campaign,
             case,
-            out,
+            writer,
             rank=rank,
-            size=size,
             fft_threads=fft_threads,
             solve=options.solve,
             timeout=timeout,
         )
 
-    storage.warm_up()
     if size == 1:
-        _serve_self(scheduler, compute, 0)
+        _serve_self(scheduler, compute, writer)
     elif rank == 0:
         root_computes = options.root_computes and _threads_allowed()
         if not root_computes and options.root_computes:
             logger.warning("MPI thread support below SERIALIZED: rank 0 only dispatches")
-        _root(comm, scheduler, compute, root_computes, options.poll_interval)
+        _root(comm, scheduler, compute, writer, root_computes, options.poll_interval)
     else:
-        _worker(comm, campaign, compute)
+        _worker(comm, campaign, compute, writer)
 
     summary = None
     if rank == 0:
@@ -655,7 +528,11 @@ def _share_wisdom(comm, scheduler, fft_threads: int | None, logger: logging.Logg
     data = None
     if scheduler is not None:  # rank 0
         try:
-            cases = [solver_case(case, fft_threads) for case in scheduler.queue]
+            cases = [  # only those that ask for measured plans
+                solver_case(case, fft_threads)
+                for case in scheduler.queue
+                if case.spec["solver"]["fft_planner"] == "wisdom"
+            ]
             data = wisdom.prepare(cases, logger)
         except Exception as error:  # noqa: BLE001 - the plans are an optimisation
             logger.warning("FFT plans not measured (%s): estimate plans instead", error)
@@ -666,30 +543,36 @@ def _share_wisdom(comm, scheduler, fft_threads: int | None, logger: logging.Logg
 
 
 def _quarantine_corrupt(campaign: Campaign, out: Path, logger: logging.Logger) -> None:
-    """Move the campaign's corrupt case files aside (``.nc.corrupt``) so they are recomputed."""
+    """Move corrupt bundles and the campaign's corrupt case files aside, to be computed again."""
     wanted = {case.case_id: case for case in campaign.cases}
-    for case_id, problem in sorted(storage.corrupt_ids(out).items()):
-        if case_id not in wanted:
+    for name, problem in sorted(storage.corrupt_ids(out).items()):
+        is_bundle = name.endswith(bundle.SUFFIX)
+        if not is_bundle and name not in wanted:
             continue
+        what = f"bundle {name}" if is_bundle else f"case {name} [{wanted[name].label}]"
         try:
-            moved = storage.quarantine_case(out, case_id)
+            moved = storage.quarantine(out, name)
         except OSError as error:
             raise CampaignError(
-                f"{storage.case_path(out, case_id)}: corrupt case file ({problem}) that cannot "
-                f"be moved aside: {error.strerror or error}"
+                f"{storage.cases_dir(out)}: corrupt {what} ({problem}) that cannot be moved "
+                f"aside: {error.strerror or error}"
             ) from None
         logger.warning(
-            "case %s [%s]: corrupt case file, %s; moved to cases/%s, recomputing it",
-            case_id,
-            wanted[case_id].label,
+            "%s: corrupt, %s; moved to cases/%s, computing %s again",
+            what,
             problem,
             moved.name,
+            "its cases" if is_bundle else "it",
         )
 
 
-def _serve_self(scheduler: _Scheduler, compute: Callable, rank: int) -> None:
-    while (case := scheduler.next_task(rank)) is not None:
-        scheduler.report(compute(case))
+def _serve_self(scheduler: Scheduler, compute: Callable, writer: CaseWriter) -> None:
+    """Compute cases from the queue until it is empty, then write what the writer keeps."""
+    try:
+        while (case := scheduler.next_task(0)) is not None:
+            scheduler.report(compute(case))
+    finally:
+        scheduler.lose(writer.flush())
 
 
 def _threads_allowed() -> bool:
@@ -701,7 +584,9 @@ def _threads_allowed() -> bool:
         return False
 
 
-def _root(comm, scheduler: _Scheduler, compute: Callable, computes: bool, poll: float) -> None:
+def _root(
+    comm, scheduler: Scheduler, compute: Callable, writer: CaseWriter, computes: bool, poll: float
+) -> None:
     workers = comm.Get_size() - 1
     if not computes:
         _dispatch(comm, scheduler, workers, poll)
@@ -720,13 +605,19 @@ def _root(comm, scheduler: _Scheduler, compute: Callable, computes: bool, poll: 
 
     thread = threading.Thread(target=dispatcher, name="study-dispatcher", daemon=True)
     thread.start()
-    _serve_self(scheduler, compute, 0)
+    _serve_self(scheduler, compute, writer)
     thread.join()
     if failure:
         raise failure[0]
 
 
-def _dispatch(comm, scheduler: _Scheduler, workers: int, poll: float) -> None:
+def _dispatch(comm, scheduler: Scheduler, workers: int, poll: float) -> None:
+    """Answer the workers' requests until each has sent its final message.
+
+    A request is ``(report, lost, final)``: the report of the worker's previous case (None at
+    first), the cases its writer lost, and whether the worker is done (it has written what it
+    kept, after it was told to stop).
+    """
     from mpi4py import MPI
 
     status = MPI.Status()
@@ -739,24 +630,29 @@ def _dispatch(comm, scheduler: _Scheduler, workers: int, poll: float) -> None:
             continue
         sleep = 0.0002
         source = status.Get_source()
-        report = comm.recv(source=source, tag=_REQUEST)
+        report, lost, final = comm.recv(source=source, tag=_REQUEST)
         if report is not None:
             scheduler.report(report)
+        scheduler.lose(lost)
+        if final:
+            active -= 1
+            continue
         case = scheduler.next_task(source)
         comm.send(None if case is None else case.number, dest=source, tag=_TASK)
-        if case is None:
-            active -= 1
 
 
-def _worker(comm, campaign: Campaign, compute: Callable) -> None:
+def _worker(comm, campaign: Campaign, compute: Callable, writer: CaseWriter) -> None:
     by_number = {case.number: case for case in campaign.cases}
     report = None
-    while True:
-        comm.send(report, dest=0, tag=_REQUEST)
-        number = comm.recv(source=0, tag=_TASK)
-        if number is None:
-            return
-        report = compute(by_number[number])
+    try:
+        while True:
+            comm.send((report, [], False), dest=0, tag=_REQUEST)
+            number = comm.recv(source=0, tag=_TASK)
+            if number is None:
+                break
+            report = compute(by_number[number])
+    finally:
+        comm.send((None, writer.flush(), True), dest=0, tag=_REQUEST)
 
 
 def _quiet_barrier(comm, interval: float = 0.01) -> None:
@@ -766,10 +662,10 @@ def _quiet_barrier(comm, interval: float = 0.01) -> None:
         time.sleep(interval)
 
 
-def _summarise(campaign: Campaign, out: Path, scheduler: _Scheduler, elapsed: float) -> RunSummary:
+def _summarise(campaign: Campaign, out: Path, scheduler: Scheduler, elapsed: float) -> RunSummary:
     finished, failed = storage.finished_ids(out), storage.failed_ids(out)
     ids = {c.case_id for c in campaign.cases}
-    reports = scheduler.reports
+    reports = list(scheduler.reports.values())
     # a failure of this run counts even when its record could not be written (a full disk)
     failed = (failed | {r["case_id"] for r in reports if r["status"] == "failed"}) - finished
     per_rank: dict[int, int] = {}

@@ -1,11 +1,17 @@
-"""Campaign output folder: per-case netCDF files, failure records, the expanded campaign.
+"""Campaign output folder: bundles of finished cases, the expanded campaign, the dataset.
 
 Layout of an output folder ``OUT``::
 
-    OUT/campaign.json                 the expanded campaign (axes, resolved case specs)
-    OUT/cases/<case_id>.nc            one finished case (a status of solver.result.SOLVE_STATUSES)
-    OUT/cases/<case_id>.failed.json   one failed case (error, traceback, rank, host)
-    OUT/<campaign name>.nc            the assembled dataset (:mod:`study.run.assemble`)
+    OUT/campaign.json                      the expanded campaign (axes, resolved case specs)
+    OUT/cases/<host>-<pid>-<t>-<n>.bundle.h5  finished cases and failure records of one rank,
+                                           written together (:mod:`study.bundle`)
+    OUT/<campaign name>.nc                 the assembled dataset (:mod:`study.run.assemble`)
+
+A rank keeps its finished cases in memory and writes them as one bundle every
+:data:`BUNDLE_SECONDS` (:class:`CaseWriter`): a campaign of 10^4 small cases makes tens of
+files, not 10^4, and a crash loses at most that interval's finished cases per rank (the
+re-run computes them again).  Folders of versions before bundles hold a file per case,
+``cases/<id>.nc`` and ``cases/<id>.failed.json``: they are still read.
 
 Every file has one writer and is written atomically: to a temporary name in the same folder
 (``*.tmp<pid>``), flushed to disk, then renamed over the final name with :func:`os.replace`, so
@@ -13,16 +19,16 @@ a run killed at any moment leaves either the old file or the new one, never half
 Temporaries are never read; the ones whose process is gone are deleted by ``run``, ``status``
 and ``assemble`` (:func:`remove_temporaries`).
 
-A case file gets the global attribute ``slipstick_complete = 1`` last, after the dataset is
-written and before the rename (:data:`COMPLETE_ATTR`).  A case counts as finished when its
-``.nc`` file opens and carries that marker (:func:`check_case_file`); a re-run skips it and
-retries failures.  A file that does not open or lacks the marker (truncated, overwritten, copied
-half-way, or written by a version before the marker) is *corrupt*: ``status`` and ``assemble``
-name it and count the case failed, ``run`` moves it aside to ``cases/<id>.nc.corrupt`` and
-recomputes the case (:func:`quarantine_case`).
+A bundle (and a per-case file) gets the attribute ``slipstick_complete = 1`` last, before the
+rename (:data:`COMPLETE_ATTR`).  A case counts as finished when a bundle that opens and carries
+the marker holds its result (:func:`case_index`); a re-run skips it and retries failures.  A
+file that does not open or lacks the marker (truncated, overwritten, copied half-way) is
+*corrupt*: ``status`` and ``assemble`` name it, ``run`` moves it aside to ``<file>.corrupt``
+(:func:`quarantine`) and computes its cases again.  A damaged bundle cannot say which cases it
+held: they count as pending; a damaged per-case file counts its case failed.
 
 Write errors are reported as what they are: a full disk reads "no space left on device" even
-when the netCDF library reports it as an HDF or permission error (:func:`describe_write_error`).
+when the HDF5 library reports it as an HDF or permission error (:func:`describe_write_error`).
 """
 
 from __future__ import annotations
@@ -41,8 +47,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 import solver
-from solver.result import STICK, stored_status
+from solver.result import stored_status
 
+from .. import bundle
+from ..bundle import CaseIndex, CaseRecord, Location
 from ..campaign import Campaign, CampaignCase, CampaignError
 
 if TYPE_CHECKING:  # xarray loads lazily: validate and status do not need it
@@ -107,7 +115,7 @@ def atomic_write_text(path: str | Path, text: str) -> None:
         temporary.unlink(missing_ok=True)
 
 
-def write_netcdf(dataset: xr.Dataset, path: str | Path, *, mark_complete: bool = False) -> None:
+def write_netcdf(dataset: xr.Dataset, path: str | Path) -> None:
     """Write an :class:`xarray.Dataset` to netCDF4 atomically, zlib-compressing numeric data.
 
     Parameters
@@ -116,9 +124,6 @@ def write_netcdf(dataset: xr.Dataset, path: str | Path, *, mark_complete: bool =
         The dataset.
     path : str or Path
         Final file name.
-    mark_complete : bool
-        Add the global attribute :data:`COMPLETE_ATTR` = 1 after the dataset is written (case
-        files), so that a reader can tell a complete file from a damaged one.
     """
     path = Path(path)
     encoding = {}
@@ -128,11 +133,6 @@ def write_netcdf(dataset: xr.Dataset, path: str | Path, *, mark_complete: bool =
     temporary = _temporary(path)
     try:
         dataset.to_netcdf(temporary, engine=ENGINE, encoding=encoding)
-        if mark_complete:
-            import netCDF4
-
-            with netCDF4.Dataset(temporary, "a") as handle:
-                handle.setncattr(COMPLETE_ATTR, np.int8(1))
         _sync(temporary)
         os.replace(temporary, path)
     finally:
@@ -206,7 +206,7 @@ def describe_write_error(error: BaseException, folder: str | Path) -> str:
     free = free_bytes(folder)
     if free is not None and free < LOW_SPACE:
         return (
-            f"no space left on device ({free} bytes free in {folder}; the netCDF library "
+            f"no space left on device ({free} bytes free in {folder}; the HDF5 library "
             f"reported it as {text!r})"
         )
     return text
@@ -243,7 +243,7 @@ def prepare_output(out: str | Path, campaign: Campaign, *, replace: bool = False
     if not replace:
         _check_same_campaign(out, campaign)
     record = campaign.to_dict()
-    record["written"] = _now()
+    record["written"] = now()
     try:
         atomic_write_text(out / CAMPAIGN_FILE, json.dumps(record, indent=1, allow_nan=True))
     except OSError as error:
@@ -295,24 +295,28 @@ def read_campaign(out: str | Path) -> Campaign:
 
 
 # -- case states ---------------------------------------------------------------------------------
-#: str(path) -> ((inode, size, mtime_ns), problem, status): checks of case files, redone when
-#: the file changes.
+#: str(path) -> ((inode, size, mtime_ns), status, problem): checks of per-case files, redone
+#: when the file changes.
 _CHECKED: dict[str, tuple[tuple[int, int, int], str, str]] = {}
 
 
-def _inspect(path: Path) -> tuple[str, str]:
-    """(problem, status) of a case file; problem is "" for a complete file."""
+def _inspect_case_file(path: Path) -> tuple[str, str]:
+    """(status, problem) of a per-case netCDF file (the layout before bundles).
+
+    The problem is "" when the file opens and carries its completion marker.  Cached until the
+    file changes.
+    """
     try:
         stat = path.stat()
     except OSError as error:
-        return f"cannot be read ({error.strerror or error})", ""
+        return "", f"cannot be read ({error.strerror or error})"
     key = (stat.st_ino, stat.st_size, stat.st_mtime_ns)
     cached = _CHECKED.get(str(path))
     if cached is not None and cached[0] == key:
         return cached[1], cached[2]
     import netCDF4
 
-    problem, status = "", ""
+    status, problem = "", ""
     try:
         with netCDF4.Dataset(path, "r") as handle:
             attrs = {name: handle.getncattr(name) for name in handle.ncattrs()}
@@ -324,42 +328,56 @@ def _inspect(path: Path) -> tuple[str, str]:
             complete = int(np.asarray(attrs.get(COMPLETE_ATTR)).item()) == 1
         except (TypeError, ValueError):
             complete = False
+        status = stored_status(str(attrs.get("status", "converged")), str(attrs.get("notes", "")))
         if not complete:
             problem = f"has no completion marker (global attribute {COMPLETE_ATTR} = 1)"
-        status = stored_status(str(attrs.get("status", "converged")), str(attrs.get("notes", "")))
-    _CHECKED[str(path)] = (key, problem, status)
-    return problem, status
+    _CHECKED[str(path)] = (key, status, problem)
+    return status, problem
 
 
-def check_case_file(path: str | Path) -> str:
-    """What is wrong with a case file: "" when it opens and carries its completion marker.
+def case_index(out: str | Path) -> CaseIndex:
+    """The cases stored in ``OUT/cases``.
 
-    The check opens the file's header only (milliseconds) and is cached until the file changes.
+    Its bundles (:func:`.bundle.scan`), and the per-case files of older versions (``<id>.nc``,
+    ``<id>.failed.json``).
     """
-    return _inspect(Path(path))[0]
-
-
-def _case_files(out: str | Path) -> dict[str, str]:
-    """Map case id -> problem ("" for a complete file) for every ``cases/*.nc``."""
     folder = cases_dir(out)
+    index = bundle.scan(folder)
     if not folder.is_dir():
-        return {}
-    return {p.name[: -len(".nc")]: check_case_file(p) for p in sorted(folder.glob("*.nc"))}
+        return index
+    for path in sorted(folder.glob("*.nc")):
+        case_id = path.name[: -len(".nc")]
+        status, problem = _inspect_case_file(path)
+        if problem:
+            index.corrupt[case_id] = problem
+        else:
+            index.results.setdefault(case_id, (Location(path), status))
+    for path in folder.glob("*.failed.json"):
+        index.failures.setdefault(path.name[: -len(".failed.json")], Location(path))
+    for case_id in set(index.failures) & set(index.results):
+        del index.failures[case_id]
+    return index
 
 
 def finished_ids(out: str | Path) -> set[str]:
-    """Ids of cases with a complete result file (:func:`check_case_file`)."""
-    return {case_id for case_id, problem in _case_files(out).items() if not problem}
+    """Ids of cases with a complete result (in a bundle or a per-case file)."""
+    return set(case_index(out).results)
 
 
 def corrupt_ids(out: str | Path) -> dict[str, str]:
-    """Case files that do not open or lack the completion marker: case id -> problem."""
-    return {case_id: problem for case_id, problem in _case_files(out).items() if problem}
+    """Damaged per-case files (case id) and bundles (file name) -> what is wrong with them.
+
+    A bundle that does not open cannot say which cases it held: they count as pending.
+    """
+    return case_index(out).corrupt
 
 
-def quarantine_case(out: str | Path, case_id: str) -> Path:
-    """Move a corrupt case file aside to ``cases/<id>.nc.corrupt`` (replacing an older one)."""
-    path = case_path(out, case_id)
+def quarantine(out: str | Path, name: str) -> Path:
+    """Move a corrupt bundle or case file aside, to ``<file>.corrupt`` (replacing an older one).
+
+    ``name`` is a key of :func:`corrupt_ids`: a bundle's file name or a case id.
+    """
+    path = cases_dir(out) / name if name.endswith(bundle.SUFFIX) else case_path(out, name)
     target = path.with_name(path.name + CORRUPT_SUFFIX)
     os.replace(path, target)
     _CHECKED.pop(str(path), None)
@@ -367,49 +385,96 @@ def quarantine_case(out: str | Path, case_id: str) -> Path:
 
 
 def failed_ids(out: str | Path) -> set[str]:
-    """Ids of cases with a failure record and no result file."""
-    folder = cases_dir(out)
-    if not folder.is_dir():
-        return set()
-    failed = {p.name[: -len(".failed.json")] for p in folder.glob("*.failed.json")}
-    return failed - finished_ids(out)
+    """Ids of cases with a failure record and no result."""
+    return set(case_index(out).failures)
 
 
-def read_failure(out: str | Path, case_id: str) -> dict:
-    """The failure record of a case ({} when unreadable)."""
-    try:
-        with open(failure_path(out, case_id), encoding="utf-8") as handle:
-            return json.load(handle)
-    except (OSError, ValueError):
-        return {}
+def read_failures(out: str | Path, ids: Iterable[str], index: CaseIndex | None = None) -> dict:
+    """The failure records of the cases ``ids`` that have one: case id -> record.
+
+    A record that cannot be read is ``{}``.  Each bundle is opened once.
+    """
+    index = index or case_index(out)
+    by_file: dict[Path, list[tuple[str, int | None]]] = {}
+    for case_id in ids:
+        if case_id in index.failures:
+            location = index.failures[case_id]
+            by_file.setdefault(location.path, []).append((case_id, location.position))
+    records: dict[str, dict] = {}
+    for path, entries in by_file.items():
+        try:
+            if entries[0][1] is None:  # a per-case record of an older version
+                with open(path, encoding="utf-8") as handle:
+                    records[entries[0][0]] = json.load(handle)
+                continue
+            with bundle.Reader(path) as reader:
+                for case_id, position in entries:
+                    records[case_id] = reader.meta(position).get("failure", {})
+        except (OSError, ValueError, bundle.BundleError):
+            records.update({case_id: {} for case_id, _ in entries if case_id not in records})
+    return records
 
 
-def case_states(out: str | Path, campaign: Campaign) -> dict[str, str]:
+def read_failure(out: str | Path, case_id: str, index: CaseIndex | None = None) -> dict:
+    """The failure record of a case ({} when there is none or it is unreadable)."""
+    return read_failures(out, [case_id], index).get(case_id, {})
+
+
+def case_states(
+    out: str | Path, campaign: Campaign, index: CaseIndex | None = None
+) -> dict[str, str]:
     """State of every case: pending, converged, not_converged, truncated, failed or corrupt.
 
-    Finished cases are opened to read their ``status`` attribute; ``corrupt`` is a case file
-    that does not open or lacks its completion marker (:func:`corrupt_ids` says why).
+    The statuses come from the bundles' indexes (per-case files: their attributes);
+    ``corrupt`` is a per-case file that does not open or lacks its completion marker
+    (:func:`corrupt_ids` says why; a damaged bundle's cases are pending).
     """
-    files = _case_files(out)
-    failed = failed_ids(out)
+    index = index or case_index(out)
     states = {}
     for case in campaign.cases:
-        if case.case_id in files:
-            problem, status = _inspect(case_path(out, case.case_id))
-            states[case.case_id] = "corrupt" if problem else status
-        elif case.case_id in failed:
+        if case.case_id in index.results:
+            states[case.case_id] = index.results[case.case_id][1]
+        elif case.case_id in index.corrupt:
+            states[case.case_id] = "corrupt"
+        elif case.case_id in index.failures:
             states[case.case_id] = "failed"
         else:
             states[case.case_id] = "pending"
     return states
 
 
-def read_case_attrs(out: str | Path, case_id: str) -> dict:
-    """Global attributes of a case file."""
-    import xarray as xr
+def read_record(
+    out: str | Path, case_id: str, index: CaseIndex | None = None, lazy: bool = False
+) -> CaseRecord:
+    """A finished case's variables and attributes (from its bundle, or its own file).
 
-    with xr.open_dataset(case_path(out, case_id), engine=ENGINE) as dataset:
-        return dict(dataset.attrs)
+    With ``lazy`` the data variables are dask arrays, read when computed.
+
+    Raises
+    ------
+    KeyError
+        When the case has no complete result.
+    """
+    location = (index or case_index(out)).results[case_id][0]
+    if location.position is None:
+        import xarray as xr
+
+        if lazy:  # dask arrays over the open file
+            return CaseRecord.from_xarray(xr.open_dataset(location.path, engine=ENGINE, chunks={}))
+        with xr.open_dataset(location.path, engine=ENGINE) as dataset:
+            return CaseRecord.from_xarray(dataset.load())
+    with bundle.Reader(location.path) as reader:
+        return reader.record(location.position, lazy=lazy)
+
+
+def open_case(
+    out: str | Path, case_id: str, index: CaseIndex | None = None, lazy: bool = False
+) -> xr.Dataset:
+    """A finished case as an :class:`xarray.Dataset` (what a case file held).
+
+    In memory, or with ``lazy`` its data variables read when computed (dask).
+    """
+    return read_record(out, case_id, index, lazy).to_xarray()
 
 
 # -- provenance ----------------------------------------------------------------------------------
@@ -461,7 +526,8 @@ def _common_dir(git: Path) -> Path:
     return git
 
 
-def _now() -> str:
+def now() -> str:
+    """The time now, UTC, ISO 8601 to the second."""
     return time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
 
 
@@ -519,16 +585,11 @@ def peak_rss_bytes() -> int:
     return int(peak if sys.platform == "darwin" else peak * 1024)
 
 
-def provenance(
-    campaign: Campaign, case: CampaignCase, *, rank: int, size: int, **extra: Any
-) -> dict[str, Any]:
-    """Global attributes recording where, how and from what a case was computed."""
-    attrs = {
+def run_provenance(campaign: Campaign, *, rank: int, size: int) -> dict[str, Any]:
+    """Global attributes every case of a rank's run shares: what, where and how it ran."""
+    return {
         "campaign": campaign.name,
         "campaign_source": campaign.source,
-        "case_spec": json.dumps(case.spec, sort_keys=True),
-        "campaign_coordinates": json.dumps(case.coords),
-        "campaign_index": json.dumps(list(case.index)),
         "source": f"slipstick {solver.__version__}",
         "slipstick_version": solver.__version__,
         "git_hash": git_hash(),
@@ -539,91 +600,16 @@ def provenance(
         "python_version": sys.version.split()[0],
         "numpy_version": np.__version__,
         "command": command_line(),
+    }
+
+
+def case_provenance(case: CampaignCase, **extra: Any) -> dict[str, Any]:
+    """Global attributes of one case: its specification, place in the campaign, estimates."""
+    return {
+        "case_spec": json.dumps(case.spec, sort_keys=True),
+        "campaign_coordinates": json.dumps(case.coords),
+        "campaign_index": json.dumps(list(case.index)),
         "cost_estimate": case.cost,
         "memory_estimate": case.memory,
+        **extra,
     }
-    attrs.update(extra)
-    return attrs
-
-
-# -- case files ----------------------------------------------------------------------------------
-def warm_up() -> None:
-    """Import the netCDF stack now, so that the first case does not pay for it."""
-    import netCDF4  # noqa: F401
-    import xarray  # noqa: F401
-
-
-def line_at_y0(values: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """A field (nx, ny) interpolated linearly in y onto the line y = 0."""
-    j = int(np.searchsorted(y, 0.0))
-    if j == 0:
-        return values[:, 0].copy()
-    if j >= len(y):
-        return values[:, -1].copy()
-    w = (0.0 - y[j - 1]) / (y[j] - y[j - 1])
-    return (1.0 - w) * values[:, j - 1] + w * values[:, j]
-
-
-def case_dataset(result: solver.Result, fields: Iterable[str], attrs: dict[str, Any]) -> xr.Dataset:
-    """The per-case dataset: the solver's dataset, the y = 0 lines, provenance attributes.
-
-    Parameters
-    ----------
-    result : solver.Result
-        The solved case.
-    fields : iterable of str
-        2-D surface fields to keep (others are dropped; the y = 0 lines are always kept).
-    attrs : dict
-        Extra global attributes (provenance).
-
-    Returns
-    -------
-    xarray.Dataset
-    """
-    dataset = result.to_xarray()
-    state = np.asarray(result.contact_state)
-    stick = np.count_nonzero(state == STICK) * result.grid.cell_area
-    dataset.attrs["final_stick_area"] = float(stick)
-    y = dataset["y"].values
-    for name in ("pressure", "shear_x"):
-        dataset[f"{name}_y0"] = (
-            "x",
-            line_at_y0(dataset[name].values, y),
-            {
-                "units": dataset[name].attrs.get("units", "Pa"),
-                "long_name": f"{dataset[name].attrs.get('long_name', name)} along y = 0",
-            },
-        )
-    drop = [name for name in ("pressure", "shear_x", "shear_y", "contact_state")]
-    dataset = dataset.drop_vars([name for name in drop if name not in set(fields)])
-    dataset.attrs.update(_netcdf_attrs(attrs))
-    dataset.attrs["history"] = f"{_now()}: {command_line()}"
-    return dataset
-
-
-def _netcdf_attrs(attrs: dict[str, Any]) -> dict[str, Any]:
-    out = {}
-    for key, value in attrs.items():
-        if value is None:
-            continue
-        if isinstance(value, bool):
-            value = int(value)
-        elif isinstance(value, dict | list | tuple):
-            value = json.dumps(value)
-        out[key] = value
-    return out
-
-
-def write_case(out: str | Path, case_id: str, dataset: xr.Dataset) -> Path:
-    """Write a finished case atomically, marked complete, and drop any stale failure record."""
-    path = case_path(out, case_id)
-    write_netcdf(dataset, path, mark_complete=True)
-    failure_path(out, case_id).unlink(missing_ok=True)
-    return path
-
-
-def write_failure(out: str | Path, case_id: str, record: dict[str, Any]) -> Path:
-    """Write a failure record atomically (JSON)."""
-    path = failure_path(out, case_id)
-    atomic_write_text(path, json.dumps(record, indent=1, default=str))
-    return path

@@ -1,0 +1,188 @@
+"""Measure the framework's own cost on a campaign of many tiny cases; write a table.
+
+Run from the repository's root::
+
+    python docs/framework_scale.py --cases 20000 --before /path/to/worktree/of/an/old/commit
+
+A sampled design (Latin hypercube over the load, the friction coefficient and body 1's
+modulus) of ``--cases`` tiny elastic cases (a sphere on a half-space, 16 x 16 cells, 2 load
+steps) runs under ``mpiexec -n 2`` with each code tree given (this one, and ``--before`` when
+given: a ``git worktree`` of an older commit, run from its own folder so that it imports its own
+code), one after the other in this run.  Per code tree the table records:
+
+- ``validate``, ``run``, ``status`` and ``assemble``: wall time, CPU time (user + system of
+  every process the command started, both ranks included) and peak resident memory (the
+  largest process);
+- the framework's overhead per case (``run``'s own summary: the time a case spends outside
+  its solve on its rank: set-up, checks, storing, this rank's share of the writing);
+- the files under ``OUT/cases`` and their size on disk.
+
+The table goes to ``docs/tables/framework_scale.md`` (``--table``), headed by the command,
+the date, the machine and the commits.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+CAMPAIGN = """\
+[campaign]
+name = "tiny_scale"
+description = "Framework cost: a tiny elastic sphere, a Latin hypercube over load, mu, modulus"
+
+[base.body1]
+behaviour = "elastic"
+radius = 0.01
+E = 210e9
+nu = 0.3
+
+[base.body2]
+behaviour = "elastic"
+radius = "inf"
+E = 210e9
+nu = 0.3
+
+[base.load]
+normal_force = 100.0
+steps = 2
+
+[base.grid]
+n = 16
+half_width = 1.5
+
+[sample]
+method = "lhs"
+count = {count}
+seed = 1
+"load.normal_force" = {{ distribution = "log-uniform", range = [10.0, 1000.0] }}
+"friction.coefficient" = {{ distribution = "uniform", range = [0.0, 0.5] }}
+"body1.E" = {{ distribution = "log-uniform", range = [70e9, 400e9] }}
+"""
+
+
+#: Runs a command and prints, last, the CPU (s) and peak memory (KiB) of its process tree.
+_WRAPPER = (
+    "import resource, subprocess, sys; done = subprocess.run(sys.argv[1:]); "
+    "u = resource.getrusage(resource.RUSAGE_CHILDREN); "
+    "print(f'@@ {u.ru_utime + u.ru_stime} {u.ru_maxrss}'); sys.exit(done.returncode)"
+)
+
+
+def _step(command: list[str], cwd: Path) -> dict:
+    """Wall (s), CPU (s) and peak memory (MiB, the largest process) of one command.
+
+    The command runs under a wrapper process of its own, whose ``RUSAGE_CHILDREN`` holds the
+    command's whole process tree (each process waits for its children, as mpiexec does).
+    """
+    env = {**os.environ, "OMP_NUM_THREADS": "1"}
+    start = time.perf_counter()
+    done = subprocess.run(
+        [sys.executable, "-c", _WRAPPER, *command], cwd=cwd, env=env, capture_output=True,
+        text=True,
+    )  # fmt: skip
+    wall = time.perf_counter() - start
+    if done.returncode not in (0, 1):
+        raise RuntimeError(f"{command} failed:\n{done.stdout[-2000:]}{done.stderr[-2000:]}")
+    cpu, peak = done.stdout.rsplit("@@ ", 1)[1].split()
+    return {"wall": wall, "cpu": float(cpu), "peak": int(peak) / 1024.0, "text": done.stdout}
+
+
+def measure(tree: Path, campaign: Path, out: Path, ranks: int) -> dict:
+    """Validate, run, status and assemble with the code of ``tree``; their costs.
+
+    Run from ``tree``, Python imports that tree's ``solver`` and ``study``.
+    """
+    python = sys.executable
+    steps = {
+        "validate": [python, "-m", "study", "validate", str(campaign)],
+        "run": ["mpiexec", "-n", str(ranks), python, "-m", "study", "run", str(campaign)]
+        + ["--out", str(out), "--no-assemble"],
+        "status": [python, "-m", "study", "status", str(out)],
+        "assemble": [python, "-m", "study", "assemble", str(out)],
+    }
+    found: dict = {name: _step(command, tree) for name, command in steps.items()}
+    match = re.search(r"overhead ([0-9.]+) s per case", found["run"]["text"])
+    files = [p for p in (out / "cases").rglob("*") if p.is_file()]
+    found["overhead"] = float(match.group(1)) if match else float("nan")
+    found["files"] = len(files)
+    found["disk"] = sum(p.stat().st_blocks * 512 for p in files) / 2**20
+    return found
+
+
+def _commit(tree: Path) -> str:
+    done = subprocess.run(
+        ["git", "rev-parse", "--short", "HEAD"], cwd=tree, capture_output=True, text=True
+    )
+    return done.stdout.strip() or "?"
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Measure each code tree; print and write the table."""
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--cases", type=int, default=20000, help="cases of the design")
+    parser.add_argument("--ranks", type=int, default=2, help="MPI ranks of the run")
+    parser.add_argument("--before", type=Path, help="code tree of an older commit to compare")
+    parser.add_argument(
+        "--table", type=Path, default=ROOT / "docs" / "tables" / "framework_scale.md"
+    )
+    args = parser.parse_args(argv)
+    trees = ([("before", args.before.resolve())] if args.before else []) + [("after", ROOT)]
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="framework_scale_") as folder:
+        campaign = Path(folder) / "tiny_scale.toml"
+        campaign.write_text(CAMPAIGN.format(count=args.cases))
+        for label, tree in trees:
+            out = Path(folder) / f"out_{label}"
+            print(f"{label}: {tree} ({_commit(tree)}), {args.cases} cases", flush=True)
+            found = measure(tree, campaign, out, args.ranks)
+            rows.append((label, _commit(tree), found))
+            shutil.rmtree(out, ignore_errors=True)
+    lines = [
+        f"`python docs/framework_scale.py --cases {args.cases}"
+        + (" --before <worktree>`" if args.before else "`"),
+        "",
+        f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; {platform.node()}, "
+        f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.2f}; {args.cases} tiny elastic "
+        f"cases (16 x 16 cells, 2 steps) on {args.ranks} ranks",
+        "",
+        "| code | commit | step | wall (s) | CPU (s) | peak memory (MiB) |",
+        "|---|---|---|---|---|---|",
+    ]
+    for label, commit, found in rows:
+        for step in ("validate", "run", "status", "assemble"):
+            one = found[step]
+            lines.append(
+                f"| {label} | {commit} | {step} | {one['wall']:.1f} | {one['cpu']:.1f} | "
+                f"{one['peak']:.0f} |"
+            )
+    lines += [
+        "",
+        "| code | commit | overhead per case (ms) | files in cases/ | disk (MiB) | assembly per "
+        "case (ms) | validate per 10^4 cases (s) | status per 10^4 cases (s) |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for label, commit, found in rows:
+        per = 1e4 / args.cases
+        lines.append(
+            f"| {label} | {commit} | {1e3 * found['overhead']:.1f} | {found['files']} | "
+            f"{found['disk']:.1f} | {1e3 * found['assemble']['wall'] / args.cases:.2f} | "
+            f"{per * found['validate']['wall']:.1f} | {per * found['status']['wall']:.1f} |"
+        )
+    text = "\n".join(lines) + "\n"
+    print(text)
+    args.table.write_text(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
