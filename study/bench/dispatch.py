@@ -175,6 +175,7 @@ def run_standin(count: int, workers: int, time_limit: float | None) -> dict:
     return {
         "workers": workers,
         "cases": count,
+        "handed_out": sorted(report["number"] for report in scheduler.reports.values()),
         "time_limit": time_limit,
         "requests": comm.requests,
         "per_request_us": 1e6 * elapsed / comm.requests,
@@ -193,7 +194,9 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.mode == "standin":
         for count in args.cases:
-            print(json.dumps(run_standin(count, args.workers, args.time_limit)), flush=True)
+            found = run_standin(count, args.workers, args.time_limit)
+            found["handed_out"] = len(found["handed_out"])
+            print(json.dumps(found), flush=True)
         return 0
     from mpi4py import MPI
 

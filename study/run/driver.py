@@ -265,6 +265,7 @@ def broadcast_campaign(load: Callable[[], Campaign], comm=None) -> Campaign:
         except Exception as error:  # a bug must not leave the other ranks waiting
             original = error
             payload = ("error", f"{type(error).__name__}: {error}")
+    _quiet_barrier(comm)  # the other ranks wait asleep while rank 0 validates
     payload = comm.bcast(payload, root=0)
     if original is not None:
         raise original
@@ -478,6 +479,7 @@ def run_campaign(
         except CampaignError as error:
             message = ("error", str(error))
     if size > 1:
+        _quiet_barrier(comm)  # asleep while rank 0 reads the folder and orders the cases
         message = comm.bcast(message, root=0)
     if message[0] == "error":
         raise CampaignError(message[1])
@@ -537,6 +539,7 @@ def _share_wisdom(comm, scheduler, fft_threads: int | None, logger: logging.Logg
         except Exception as error:  # noqa: BLE001 - the plans are an optimisation
             logger.warning("FFT plans not measured (%s): estimate plans instead", error)
     if comm is not None and comm.Get_size() > 1:
+        _quiet_barrier(comm)  # asleep while rank 0 measures plans
         data = comm.bcast(data, root=0)
         if comm.Get_rank() != 0 and data is not None:
             fftw.import_wisdom(data)
