@@ -225,7 +225,7 @@ class RunSummary:
             f"{self.not_converged} not converged, {cut}{self.failed} failed; {self.skipped} "
             f"finished earlier; {self.pending} pending, {self.failed_total} failed in all; elapsed "
             f"{format_duration(self.elapsed)} ({ranks or 'no cases computed'}); overhead "
-            f"{self.overhead:.3f} s per case; output {self.out}"
+            f"{self.overhead:.4f} s per case; output {self.out}"
         )
         if self.stopped:
             text += f"\nstopped early: {self.stopped}"
