@@ -16,7 +16,7 @@ from study_fixtures import CATTANEO_BASE, mixed_campaign, small_campaign, write
 
 import solver
 from study import bundle
-from study.campaign import RESERVED_NAMES, load_campaign
+from study.campaign import RESERVED_NAMES, CampaignError, load_campaign
 from study.cli import TEST_CASE_SECONDS, main
 from study.run import storage
 from study.run import writer as writer_module
@@ -320,6 +320,13 @@ def test_restart_after_sigkill_gives_the_same_dataset(tmp_path):
     ):
         assert (resumed.status == STATUS_FLAGS["converged"]).all()
         assert_same_physics(resumed, reference)
+
+
+@pytest.mark.parametrize("seconds", [-1.0, float("nan"), float("inf"), 1e300])
+def test_unusable_bundle_interval_is_refused(small, seconds):
+    campaign, out = small
+    with pytest.raises(CampaignError, match="bundle_seconds: must be in"):
+        run_campaign(campaign, out, options=RunOptions(bundle_seconds=seconds))
 
 
 def test_writer_keeps_cases_at_most_the_bundle_interval(tmp_path, monkeypatch):

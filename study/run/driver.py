@@ -52,7 +52,7 @@ from . import storage, wisdom
 from .assemble import case_summary, profile_coordinate
 from .progress import LOGGER_NAME, format_duration
 from .scheduler import Scheduler
-from .writer import BUNDLE_SECONDS, CaseWriter, case_record, warm_up
+from .writer import BUNDLE_SECONDS, MAX_BUNDLE_SECONDS, CaseWriter, case_record, warm_up
 
 _REQUEST, _TASK = 71, 72
 
@@ -454,6 +454,11 @@ def run_campaign(
 
     timeout = options.case_timeout or campaign.settings.case_timeout
     check_case_timeout(timeout)  # the same on every rank: all raise together
+    if not 0.0 <= options.bundle_seconds <= MAX_BUNDLE_SECONDS:  # NaN included
+        raise CampaignError(
+            f"bundle_seconds: must be in [0, {MAX_BUNDLE_SECONDS:g}] seconds, got "
+            f"{options.bundle_seconds!r}"
+        )
 
     warm_up()  # the storage library's import, before the time limit's clock starts
     scheduler = None
