@@ -300,12 +300,12 @@ def test_restart_after_sigkill_gives_the_same_dataset(tmp_path):
         with storage.open_case(out, case_id) as ds:
             assert ds.attrs["status"] == "converged" and np.isfinite(ds.pressure).all()
     # what the killed run logged as done and is not stored: the cases kept since the last
-    # bundle, all logged after every stored case
+    # bundle, all logged after every stored case.  The case whose arrival wrote the bundle is
+    # stored before its progress line is printed, so the kill may catch it stored, unlogged.
     done = re.findall(r"\| case ([0-9a-f]{16}) \[", log.read_text())
-    lost = [i for i in done if i not in finished]
-    assert set(done) >= finished and done[: len(done) - len(lost)] == [
-        i for i in done if i in finished
-    ]
+    assert len(finished - set(done)) <= 1
+    stored = [i for i in done if i in finished]
+    assert done[: len(stored)] == stored
     rerun = subprocess.run(command, capture_output=True, text=True)
     assert rerun.returncode == 0, rerun.stdout + rerun.stderr
     assert f"{len(finished)} finished earlier" in rerun.stdout
