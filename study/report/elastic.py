@@ -195,6 +195,7 @@ def plot_speed_error(table, title: str, path: str | Path) -> Path | None:
     if not np.any(ok):
         return None
     from matplotlib.colors import LogNorm
+    from matplotlib.ticker import MaxNLocator
 
     data = table[ok]
     fig, (left, right) = plt.subplots(
@@ -220,6 +221,8 @@ def plot_speed_error(table, title: str, path: str | Path) -> Path | None:
         ax.set_yscale("log")
         if xscale == "log":
             log_ticks(ax.xaxis, x)
+        else:  # a narrow memory range has long tick labels: few of them
+            ax.xaxis.set_major_locator(MaxNLocator(nbins=4))
         ax.set_xlabel(xlabel)
         ax.set_ylabel("largest |relative error| (1)")
         ax.grid(True, which="both", alpha=0.3)

@@ -404,7 +404,8 @@ def log_tick_values(values) -> list[float]:
     """Tick values within the range of positive ``values`` on a log scale.
 
     Round mantissas (:func:`log_subs`) inside the range; when fewer than two fall inside it,
-    its ends rounded inwards to two significant digits.
+    its ends rounded inwards to two significant digits, and a round value between them when it
+    is not too near either.
     """
     values = np.asarray(values, dtype=float)
     values = values[np.isfinite(values) & (values > 0)]
@@ -422,4 +423,5 @@ def log_tick_values(values) -> list[float]:
         float(f"{math.floor(hi / scale) * scale:.3g}"),
     ]
     ends = ends if ends[0] < ends[1] else [lo, hi]
-    return sorted(set(inside) | set(ends))
+    gap = 0.2 * math.log(ends[1] / ends[0])  # a round value too near an end would overlap it
+    return sorted(ends + [t for t in inside if min(abs(math.log(t / e)) for e in ends) >= gap])
