@@ -41,13 +41,19 @@ Where a new kind of physics goes:
 - a note or a refusal of a case: :mod:`solver.spec.notes`.
 """
 
-from .drive.loops import solve
-from .drive.operators import memory_estimate
-from .result import Result
-from .spec.case import Case
-from .spec.reading import SpecError
+from .numerics.lazy import lazy_exports
 
-__all__ = ["PARTS", "Case", "Result", "SpecError", "memory_estimate", "solve"]
+#: Where each public name is defined; imported when first used (:mod:`solver.numerics.lazy`).
+_PUBLIC = {
+    "Case": ".spec.case",
+    "Result": ".result",
+    "SpecError": ".spec.reading",
+    "memory_estimate": ".drive.operators",
+    "solve": ".drive.loops",
+}
+__all__ = ["PARTS", *_PUBLIC]
+__getattr__, __dir__ = lazy_exports(__name__, _PUBLIC)
+
 #: The parts from the bottom up, as listed above: each imports only those before it (a
 #: sub-package's modules import each other without a cycle); ``tests/test_layout.py`` checks it.
 PARTS = (

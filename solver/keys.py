@@ -13,6 +13,7 @@ A table is named by its place in the case file: ``""`` (the top level), ``"bodyN
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 from .variables import OPTIONAL_FIELDS
@@ -535,14 +536,16 @@ CASE_KEYS: tuple[Key, ...] = (
 )  # fmt: skip
 
 
-def table_keys(table: str) -> set[str]:
+@functools.cache
+def table_keys(table: str) -> frozenset[str]:
     """The keys a table accepts (module docstring for the table names)."""
-    keys = {key.name for key in CASE_KEYS if key.table == table}
+    keys = frozenset(key.name for key in CASE_KEYS if key.table == table)
     if not keys:
         raise KeyError(f"no table {table!r} is declared")
     return keys
 
 
-def required_keys(table: str) -> set[str]:
+@functools.cache
+def required_keys(table: str) -> frozenset[str]:
     """The keys a table must give."""
-    return {key.name for key in CASE_KEYS if key.table == table and key.required}
+    return frozenset(key.name for key in CASE_KEYS if key.table == table and key.required)

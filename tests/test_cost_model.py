@@ -10,6 +10,8 @@ import pytest
 from study_fixtures import CATTANEO_BASE, small_campaign, write
 
 import solver
+import solver.drive.loops
+from solver.spec.substeps import load_substeps
 from study.campaign import cost
 from study.cli import load_campaign_file, main
 from study.run import calibration as machine
@@ -115,11 +117,20 @@ def test_plastic_counts_grow_with_load_and_box():
     assert cost.seconds(bigger) > cost.seconds(cost.count(low))
 
 
-def test_coupled_substeps_as_the_solver_adds_them():
-    """A coupled case's load sub-steps are counted as :func:`solver.drive.loops.load_substeps`."""
-    coarse, fine = rigid_on_steel(0.3, steps=2), rigid_on_steel(0.3, steps=40)
+def test_coupled_substeps_as_the_solver_adds_them(monkeypatch):
+    """A coupled case's load sub-steps are counted as its solve adds them."""
+    coarse, fine = rigid_on_steel(0.3, n=16, steps=2), rigid_on_steel(0.3, steps=40)
     assert cost.features(coarse)["substeps"] > cost.features(fine)["substeps"] >= 0
     assert cost.features(rigid_on_steel(0.0))["substeps"] == 0
+    added = []
+
+    def counted(*args, **kwargs):
+        added.append(load_substeps(*args, **kwargs))
+        return added[-1]
+
+    monkeypatch.setattr(solver.drive.loops, "load_substeps", counted)
+    assert solver.solve(coarse).status == "converged"
+    assert sum(map(len, added)) == cost.features(coarse)["substeps"]
 
 
 # -- campaign time -------------------------------------------------------------------------------

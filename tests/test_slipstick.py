@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 import solver
-from solver.drive.loops import load_substeps
 from solver.drive.operators import CaseOperators
 from solver.drive.steps import ContactState, slip_stick_step
+from solver.spec.substeps import load_substeps
 from solver.theory import friction
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
@@ -111,7 +111,7 @@ def test_beta_zero_normal_loading_gives_no_shear(validation):
         {**cattaneo_table(48, 0.5, mu=0.5), "load": {"normal_force": 1000.0, "steps": 4}}
     )
     assert case.pair.dundurs_beta == 0.0
-    assert not solver.drive.loops.needs_slip_stick(case)  # the scene skips the loop ...
+    assert not case.needs_slip_stick  # the scene skips the loop ...
     operators = CaseOperators.build(case)
     state = ContactState.unloaded(operators.gap.shape)
     for target in case.step_targets():  # ... and running it anyway changes nothing

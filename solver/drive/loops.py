@@ -14,8 +14,8 @@ symmetric EP-EP pair (seed eq. 2), any friction    load_steps, plasticity, norma
 
 (DESIGN §3.8.)  Every increment calls one contact step (:mod:`solver.drive.steps`), wrapped by the
 plasticity loop (:mod:`solver.drive.plastic_loop`) in elastic-plastic scenes.  The driver owns the
-sub-stepping of coupled friction scenes (:func:`load_substeps`; a sub-step's iterations and
-friction work count in its step, its state is not recorded), the
+sub-stepping of coupled friction scenes (:mod:`solver.spec.substeps`; a sub-step's iterations
+and friction work count in its step, its state is not recorded), the
 per-step histories (declared in :mod:`solver.variables`) and the notes.
 """
 
@@ -35,6 +35,7 @@ from ..numerics.tensor import equivalent_strain, von_mises
 from ..result import SEPARATED, SLIP, STICK, SURFACE_FLOW_NOTE, Result
 from ..spec.case import Case
 from ..spec.notes import SMALL_STRAIN_LIMIT
+from ..spec.substeps import load_substeps, substep_floor
 from ..variables import BODY1_SUFFIX, CYCLE_PLASTIC_HISTORIES, HISTORIES, PLASTIC_BODY_HISTORIES
 from .operators import CaseOperators
 from .plastic_loop import PlasticState, PlasticStepResult, mirror, plastic_step
@@ -75,25 +76,6 @@ from .window import Follower, shifted
 
 #: Halvings of an increment whose plasticity loop does not converge (down to 1/8 of it).
 MAX_SPLITS = 3
-#: First sub-step of a coupled scene loaded from zero, as a fraction of the first target.
-FIRST_SUBSTEP_FRACTION = 1.0 / 64.0
-#: Smallest Hertz contact radius (cells) of a sub-step: a contact one cell wide is not a
-#: contact problem the grid can solve (the normal solve stalls on it).
-MIN_SUBSTEP_RADIUS_CELLS = 2.0
-
-
-def needs_slip_stick(case: Case) -> bool:
-    """True when friction acts: beta != 0, a shear load, or an elastic-plastic body 2.
-
-    The tangential residual displacements of a plastic body have no match on the other body,
-    so friction with an elastic-plastic body needs the tangential loop even when beta = 0
-    (the paper's E-EP remark); the symmetric elastic-plastic pair never needs it (seed eq. 2:
-    both bodies deform alike).
-    """
-    if case.friction_coefficient == 0.0 or case.symmetric_plastic:
-        return False
-    plastic = case.plastic_body is not None
-    return plastic or case.pair.dundurs_beta != 0.0 or case.has_tangential_load
 
 
 def scene(case: Case) -> tuple[tuple[str, ...], Callable[..., StepResult]]:
@@ -127,42 +109,14 @@ def _increment_step(contact_step, stage, moving: bool, creep=None) -> Callable[.
 
 def _scene(case: Case) -> tuple[tuple[str, ...], Callable[..., StepResult]]:
     if case.plastic_body is not None:
-        if needs_slip_stick(case):
+        if case.needs_slip_stick:
             loops = ("load_steps", "plasticity", "slip_stick", "normal", "tangential")
             return (*loops, "return_mapping"), slip_stick_step
         normal = "normal_symmetric" if case.symmetric_plastic else "normal"
         return ("load_steps", "plasticity", normal, "return_mapping"), normal_step
-    if needs_slip_stick(case):
+    if case.needs_slip_stick:
         return ("load_steps", "slip_stick", "normal", "tangential"), slip_stick_step
     return ("load_steps", "normal"), normal_step
-
-
-def load_substeps(
-    previous: tuple, target: tuple, max_ratio: float, smallest: float = 0.0
-) -> list[tuple]:
-    """Intermediate (W, Q_x, Q_y) targets so that W grows by at most ``max_ratio`` per step.
-
-    Path-dependent coupled scenes need small relative increments while the contact grows: an
-    increment that doubles the load labels the new contact ring as in a one-shot solve.  The
-    sub-steps are geometric in W (from ``FIRST_SUBSTEP_FRACTION`` of the target when loading
-    from zero, but not below ``smallest`` (N), a load whose contact the grid still resolves)
-    with the tangential force interpolated linearly in W; ``target`` itself is not included.
-    """
-    w0, w1 = previous[0], target[0]
-    if not np.isfinite(max_ratio) or w1 <= w0 * max_ratio:
-        return []
-    start = w0 if w0 > 0 else min(max(w1 * FIRST_SUBSTEP_FRACTION, smallest), w1 / max_ratio)
-    count = int(np.ceil(np.log(w1 / start) / np.log(max_ratio)))
-    loads = start * (w1 / start) ** (np.arange(count) / count)
-    if w0 > 0:
-        loads = loads[1:]
-    out = []
-    for w in loads:
-        f = (w - w0) / (w1 - w0)
-        out.append(
-            (float(w), *(p + f * (t - p) for p, t in zip(previous[1:], target[1:], strict=True)))
-        )
-    return out
 
 
 def _halving_plastic_step(
@@ -353,14 +307,8 @@ def solve(case: Case) -> Result:
     coupled = coupled and not case.solver.goodman
     previous_target = (0.0, 0.0, 0.0, 0.0, 0.0)
     moving = False
-    # the load whose reference contact radius spans MIN_SUBSTEP_RADIUS_CELLS
-    grid, pair = case.surface_grid, case.pair
-    resolved = MIN_SUBSTEP_RADIUS_CELLS * max(grid.dx, grid.dy)  # (m)
-    if pair.geometry.hertzian:  # Hertz's radius grows as W^(1/3)
-        smallest = case.max_normal_force * min(1.0, resolved / case.reference.radius) ** 3
-    else:
-        force = pair.geometry.force_at_radius(resolved, pair.composite_modulus)
-        smallest = min(case.max_normal_force, force)
+    grid = case.surface_grid
+    smallest = substep_floor(case)
     guess, direction = None, 0.0
     previous = None  # (plastic increment, load increment) of the step before the last
     faces_noted = edge_noted = False

@@ -15,7 +15,13 @@ Every FFT plan of the solver is made by :func:`plan`, with one of the planner fl
 
 from __future__ import annotations
 
-import pyfftw
+import importlib
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    import pyfftw
 
 #: FFTW planner flag of each ``solver.fft_planner`` value.
 PLANNER_FLAGS = {
@@ -25,17 +31,18 @@ PLANNER_FLAGS = {
 }
 
 
-def fft_size(n: int) -> int:
-    """Smallest integer >= n whose prime factors are 2, 3, 5 and 7 (fast FFTW sizes)."""
-    m = max(1, n)
-    while True:
-        k = m
-        for p in (2, 3, 5, 7):
-            while k % p == 0:
-                k //= p
-        if k == 1:
-            return m
-        m += 1
+def _pyfftw():
+    """The pyfftw module, imported on first use.
+
+    Importing it loads dask and scipy.fftpack (about 1 s), which reading and checking case
+    tables never needs.
+    """
+    return importlib.import_module("pyfftw")
+
+
+def empty_aligned(shape: tuple[int, ...], dtype) -> np.ndarray:
+    """An uninitialised array aligned for FFTW's SIMD transforms (``pyfftw.empty_aligned``)."""
+    return _pyfftw().empty_aligned(shape, dtype=dtype)
 
 
 def plan(
@@ -59,22 +66,22 @@ def plan(
     if planner == "FFTW_WISDOM_ONLY":
         try:
             flags = ("FFTW_MEASURE", "FFTW_WISDOM_ONLY", *extra)
-            return pyfftw.FFTW(input_array, output_array, flags=flags, **options)
+            return _pyfftw().FFTW(input_array, output_array, flags=flags, **options)
         except RuntimeError:  # no wisdom for this transform
             planner = "FFTW_ESTIMATE"
-    return pyfftw.FFTW(input_array, output_array, flags=(planner, *extra), **options)
+    return _pyfftw().FFTW(input_array, output_array, flags=(planner, *extra), **options)
 
 
 def export_wisdom() -> tuple[bytes, bytes, bytes]:
     """FFTW's accumulated wisdom (double, single, long double), to save or send."""
-    return pyfftw.export_wisdom()
+    return _pyfftw().export_wisdom()
 
 
 def import_wisdom(wisdom: tuple[bytes, bytes, bytes]) -> None:
     """Add saved wisdom to this process's (what :func:`export_wisdom` gave)."""
-    pyfftw.import_wisdom(tuple(wisdom))
+    _pyfftw().import_wisdom(tuple(wisdom))
 
 
 def forget_wisdom() -> None:
     """Drop this process's wisdom (tests)."""
-    pyfftw.forget_wisdom()
+    _pyfftw().forget_wisdom()

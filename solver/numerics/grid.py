@@ -179,3 +179,16 @@ class IndexBox:
         for (lo, hi), n, axis in zip((self.x, self.y, self.z), grid.shape, "xyz", strict=True):
             if not 0 <= lo < hi <= n:
                 raise ValueError(f"box range {axis}={lo, hi} is empty or outside [0, {n}]")
+
+
+def fft_size(n: int) -> int:
+    """Smallest integer >= n whose prime factors are 2, 3, 5 and 7 (fast FFTW sizes)."""
+    m = max(1, n)
+    while True:
+        k = m
+        for p in (2, 3, 5, 7):
+            while k % p == 0:
+                k //= p
+        if k == 1:
+            return m
+        m += 1

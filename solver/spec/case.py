@@ -42,8 +42,7 @@ from ..keys import (
     required_keys,
     table_keys,
 )
-from ..numerics.fftw import fft_size
-from ..numerics.grid import IndexBox, SurfaceGrid, VolumeGrid
+from ..numerics.grid import IndexBox, SurfaceGrid, VolumeGrid, fft_size
 from ..theory.hertz import HertzContact, hertz
 from ..theory.sneddon import SneddonContact
 from .bodies import body_spec, check_surfaces, parse_body
@@ -490,6 +489,20 @@ class Case:
         """True for the symmetric elastic-plastic pair (seed eq. 2): identical bodies."""
         return self.body1.behaviour == "elastic-plastic" and self.body1 == self.body2
 
+    @functools.cached_property
+    def needs_slip_stick(self) -> bool:
+        """True when friction acts: beta != 0, a shear load, or an elastic-plastic body 2.
+
+        The tangential residual displacements of a plastic body have no match on the other
+        body, so friction with an elastic-plastic body needs the tangential loop even when
+        beta = 0 (the paper's E-EP remark); the symmetric elastic-plastic pair never needs it
+        (seed eq. 2: both bodies deform alike).
+        """
+        if self.friction_coefficient == 0.0 or self.symmetric_plastic:
+            return False
+        plastic = self.plastic_body is not None
+        return plastic or self.pair.dundurs_beta != 0.0 or self.has_tangential_load
+
     @property
     def plastic_body(self) -> Body | None:
         """The elastic-plastic body whose plastic strain is computed, or None."""
@@ -539,7 +552,7 @@ class Case:
         return Case.from_dict(table)
 
     # -- derived quantities ------------------------------------------------------------------
-    @property
+    @functools.cached_property
     def pair(self) -> Pair:
         """The two bodies."""
         return Pair(self.body1, self.body2)
@@ -582,9 +595,9 @@ class Case:
         cell = max((2 * half + x1 - x0) / self.grid.nx, (2 * half + y1 - y0) / self.grid.ny)
         return 0.5 * cell * self.grid.nx, 0.5 * cell * self.grid.ny
 
-    @property
+    @functools.cached_property
     def surface_grid(self) -> SurfaceGrid:
-        """The surface grid, centred on :attr:`window_centre`."""
+        """The surface grid, centred on :attr:`window_centre` (computed once)."""
         hx, hy = self.domain_half_widths
         return SurfaceGrid.centred(self.grid.nx, self.grid.ny, hx, hy, self.window_centre)
 
@@ -771,11 +784,14 @@ class Case:
 
         Without :data:`EXECUTION_KEYS`, which change no result beyond round-off.
         """
-        spec = json.loads(json.dumps(self.spec))
+        spec = dict(self.spec)  # the tables changed below are copied, the rest shared
         spec["solver"] = {k: v for k, v in spec["solver"].items() if k not in EXECUTION_KEYS}
         for body in ("body1", "body2"):  # a map is its content, wherever its file lies
-            for key in ("file", "case"):
-                spec[body].get("surface", {}).pop(key, None)
+            if "surface" in spec[body]:
+                surface = {
+                    k: v for k, v in spec[body]["surface"].items() if k not in ("file", "case")
+                }
+                spec[body] = {**spec[body], "surface": surface}
         text = json.dumps(spec, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 

@@ -9,7 +9,7 @@ they hold.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Set
 from typing import Any
 
 import numpy as np
@@ -42,7 +42,7 @@ def fail(path: str, message: str) -> None:
     raise SpecError(f"{path}: {message}")
 
 
-def check_keys(table: Any, path: str, allowed: set[str], required: set[str] = frozenset()):
+def check_keys(table: Any, path: str, allowed: Set[str], required: Set[str] = frozenset()):
     """The table itself, once its keys are all allowed and the required ones given."""
     if not isinstance(table, dict):
         fail(path or "case", f"must be a table, got {type(table).__name__}")

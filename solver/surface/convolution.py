@@ -18,10 +18,9 @@ from __future__ import annotations
 import functools
 
 import numpy as np
-import pyfftw
 
 from ..bodies.materials import Pair
-from ..numerics.fftw import plan
+from ..numerics.fftw import empty_aligned, plan
 from ..numerics.grid import SurfaceGrid, fft_length
 from .influence import surface_kernels
 
@@ -60,9 +59,9 @@ class SurfaceOperator:
         self.pair = pair
         self.lengths = self.padded_lengths(grid)
         lx, ly = self.lengths
-        self._padded = pyfftw.empty_aligned((lx, ly), dtype="float64")
-        self._spectrum = pyfftw.empty_aligned((lx, ly // 2 + 1), dtype="complex128")
-        self._output = pyfftw.empty_aligned((lx, ly), dtype="float64")
+        self._padded = empty_aligned((lx, ly), dtype="float64")
+        self._spectrum = empty_aligned((lx, ly // 2 + 1), dtype="complex128")
+        self._output = empty_aligned((lx, ly), dtype="float64")
         self._padded[...] = 0.0
         self._forward = plan(
             self._padded, self._spectrum, axes=(0, 1), planner=planner, threads=threads
@@ -180,8 +179,8 @@ class SurfaceOperator:
         """
         nx, ny = self.periodic_lengths(self.grid)
         axes = (len(batch), len(batch) + 1)
-        real = pyfftw.empty_aligned((*batch, nx, ny), dtype="float64")
-        spectrum = pyfftw.empty_aligned((*batch, nx, ny // 2 + 1), dtype="complex128")
+        real = empty_aligned((*batch, nx, ny), dtype="float64")
+        spectrum = empty_aligned((*batch, nx, ny // 2 + 1), dtype="complex128")
         forward = plan(real, spectrum, axes=axes, planner=self._planner)
         backward = plan(
             spectrum, real, axes=axes, direction="FFTW_BACKWARD", planner=self._planner,
@@ -254,10 +253,10 @@ class SurfaceOperator:
         """
         if self._pair is None:
             lx, ly = self.lengths
-            padded = pyfftw.empty_aligned((2, lx, ly), dtype="float64")
-            spectrum = pyfftw.empty_aligned((2, lx, ly // 2 + 1), dtype="complex128")
-            work = pyfftw.empty_aligned((2, lx, ly // 2 + 1), dtype="complex128")
-            output = pyfftw.empty_aligned((2, lx, ly), dtype="float64")
+            padded = empty_aligned((2, lx, ly), dtype="float64")
+            spectrum = empty_aligned((2, lx, ly // 2 + 1), dtype="complex128")
+            work = empty_aligned((2, lx, ly // 2 + 1), dtype="complex128")
+            output = empty_aligned((2, lx, ly), dtype="float64")
             padded[...] = 0.0  # only the (nx, ny) corner is ever written: the padding stays 0
             forward = plan(padded, spectrum, axes=(1, 2), planner=self._planner)
             backward = plan(

@@ -28,9 +28,9 @@ import itertools
 from dataclasses import dataclass
 
 import numpy as np
-import pyfftw
 
-from ..numerics.fftw import fft_size, plan
+from ..numerics.fftw import empty_aligned, plan
+from ..numerics.grid import fft_size
 from ..numerics.threads import each
 from .eigenstrain_kernels import component_name, parity3, rotation
 
@@ -158,8 +158,8 @@ class EigenstrainConvolution:
             for _ in range(max(1, self.threads)):
                 sets = {}
                 for h in depths:
-                    data = pyfftw.empty_aligned((lx, ly // 2 + 1, h), dtype=self._complex)
-                    rows = pyfftw.empty_aligned((nx, ly, h), dtype=self._real)
+                    data = empty_aligned((lx, ly // 2 + 1, h), dtype=self._complex)
+                    rows = empty_aligned((nx, ly, h), dtype=self._real)
                     sets[h] = {
                         "data": data,
                         "rows": rows,
@@ -351,10 +351,10 @@ class EigenstrainConvolution:
         nz, ky = self.shape[2], self.halves[1] + 1  # the y frequencies
         m = self.length_z
         half = m // 2
-        empty = functools.partial(pyfftw.empty_aligned, dtype=self._real)
+        empty = functools.partial(empty_aligned, dtype=self._real)
         padded = empty((2, size, ky, m))  # reordered input columns, zero past the layers
         column = empty((2, size, ky, m))  # reordered output columns
-        spectrum = pyfftw.empty_aligned((2, size, ky, half + 1), dtype=self._complex)
+        spectrum = empty_aligned((2, size, ky, half + 1), dtype=self._complex)
         inputs = empty((6, 2, size, ky, m + 1))
         acc = empty((2, size, ky, m + 1))
         make = functools.partial(plan, planner=self.planner, threads=1, axes=(3,))

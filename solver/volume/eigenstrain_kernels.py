@@ -29,9 +29,8 @@ import math
 import threading
 
 import numpy as np
-import pyfftw
 
-from ..numerics.fftw import plan
+from ..numerics.fftw import empty_aligned, plan
 from ..numerics.grid import VolumeGrid
 from ..numerics.images import far_images, fold_nonnegative, image_reach, signed
 from ..numerics.tensor import WEIGHTS
@@ -181,7 +180,7 @@ def kernel_plans(halves: tuple, length_z: int, planner: str, threads: int) -> tu
     nx, ny = halves
     m = length_z
     lattice, along_z, spectrum = (
-        pyfftw.empty_aligned((nx + 1, ny + 1, m + 1), dtype="float64") for _ in range(3)
+        empty_aligned((nx + 1, ny + 1, m + 1), dtype="float64") for _ in range(3)
     )
     make = functools.partial(plan, planner=planner, threads=threads)
     z_plans = {

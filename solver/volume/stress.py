@@ -10,11 +10,11 @@ order :data:`STRESS_COMPONENTS` = (xx, yy, zz, yz, xz, xy).
 from __future__ import annotations
 
 import functools
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pyfftw
 
-from ..numerics.fftw import plan
+from ..numerics.fftw import empty_aligned, plan
 from ..numerics.grid import IndexBox, VolumeGrid
 from ..numerics.images import far_images, fold_signed, image_reach
 from ..numerics.tensor import COMPONENTS
@@ -26,6 +26,9 @@ from ..theory.half_space import (
     stress_from_potential,
     uniform_traction_stress,
 )
+
+if TYPE_CHECKING:
+    import pyfftw
 
 #: Order of the six stress components in every array returned here (:mod:`solver.numerics.tensor`).
 STRESS_COMPONENTS = COMPONENTS
@@ -194,14 +197,14 @@ class SubsurfaceStressOperator:
         #: Lateral FFT lengths (Lx, Ly): twice the cells, or the period's own
         self.lengths = grid.fft_lengths()
         lx, ly = self.lengths
-        self._surface_in = pyfftw.empty_aligned((lx, ly), dtype="float64")
-        self._surface_out = pyfftw.empty_aligned((lx, ly // 2 + 1), dtype="complex128")
+        self._surface_in = empty_aligned((lx, ly), dtype="float64")
+        self._surface_out = empty_aligned((lx, ly // 2 + 1), dtype="complex128")
         self._surface_fft = plan(
             self._surface_in, self._surface_out, axes=(0, 1), planner=planner, threads=threads
         )
         self._surface_in[...] = 0.0
-        self._surface_spec = pyfftw.empty_aligned((lx, ly // 2 + 1), dtype="complex128")
-        self._surface_real = pyfftw.empty_aligned((lx, ly), dtype="float64")
+        self._surface_spec = empty_aligned((lx, ly // 2 + 1), dtype="complex128")
+        self._surface_real = empty_aligned((lx, ly), dtype="float64")
         self._surface_ifft = plan(
             self._surface_spec,
             self._surface_real,
@@ -263,8 +266,8 @@ class SubsurfaceStressOperator:
         """
         if nlayers not in self._batched:
             lx, ly = self.lengths
-            real = pyfftw.empty_aligned((lx, ly, nlayers), dtype="float64")
-            spec = pyfftw.empty_aligned((lx, ly // 2 + 1, nlayers), dtype="complex128")
+            real = empty_aligned((lx, ly, nlayers), dtype="float64")
+            spec = empty_aligned((lx, ly // 2 + 1, nlayers), dtype="complex128")
             options = {"planner": self.planner, "threads": self.threads}
             forward = plan(real, spec, axes=(0, 1), **options)
             backward = plan(

@@ -112,7 +112,7 @@ def run_mpi(count: int, case_seconds: float, comm) -> dict | None:
 def _pingpong(comm, rounds: int = 2000) -> float:
     """Seconds of one small-message round trip between ranks 0 and 1 (pickled, as the driver)."""
     rank = comm.Get_rank()
-    message = ({"number": 1, "case_id": "0" * 16, "status": "converged"}, [], False)
+    message = ([{"number": 1, "case_id": "0" * 16, "status": "converged"}], [], False)
     comm.Barrier()
     start = time.perf_counter()
     for _ in range(rounds):
@@ -151,9 +151,9 @@ class StandIn:
         """The rank's request: the report of its previous case, or its final message."""
         self.requests += 1
         number = self.previous[source]
-        report = None if number is None else _report(self.by_number[number], source)
+        reports = [] if number is None else [_report(self.by_number[number], source)]
         final = source in self.stopping
-        return pickle.loads(pickle.dumps((report, [], final)))
+        return pickle.loads(pickle.dumps((reports, [], final)))
 
     def send(self, number, dest: int, tag: int) -> None:
         """The answer: the rank's next case number, or None to stop."""

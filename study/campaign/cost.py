@@ -38,6 +38,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, replace
 
 import solver
+from solver.spec.substeps import substep_count, substep_floor
 
 #: Version of the counting and of the calibration cases: a calibration of another is redone.
 MODEL = 1
@@ -191,8 +192,6 @@ def features(case: solver.Case) -> dict:
         :data:`REFERENCE_PLASTIC_STRAIN`, ``repeated_share``: the share of repeated cycles of
         bodies without a back stress) and ``stress``.
     """
-    from solver.drive.loops import needs_slip_stick
-
     grid = case.grid
     plastic = case.plastic_body is not None
     ratio = flow_ratio = 0.0
@@ -237,7 +236,7 @@ def features(case: solver.Case) -> dict:
             rolling += stage.steps
         elif any(stage.tangential_force) or stage.creepage is not None:
             tangential += stage.steps
-    slip_stick = bool(needs_slip_stick(case))
+    slip_stick = case.needs_slip_stick
     beta = float(case.pair.dundurs_beta)
     coupled = slip_stick and beta != 0.0 and not case.solver.goodman
     window = case.moving_window if case.moving else None
@@ -270,27 +269,12 @@ def features(case: solver.Case) -> dict:
 
 
 def _substeps(case: solver.Case) -> int:
-    """Load sub-steps a coupled case adds (:func:`solver.drive.loops.load_substeps`), as it does."""
-    from solver.drive import loops
-
-    grid, pair = case.surface_grid, case.pair
+    """Load sub-steps a coupled case adds (:mod:`solver.spec.substeps`), as its solve does."""
     try:
-        resolved = loops.MIN_SUBSTEP_RADIUS_CELLS * max(grid.dx, grid.dy)
-        if pair.geometry.hertzian:
-            smallest = case.max_normal_force * min(1.0, resolved / case.reference.radius) ** 3
-        else:
-            force = pair.geometry.force_at_radius(resolved, pair.composite_modulus)
-            smallest = min(case.max_normal_force, force)
+        smallest = substep_floor(case)
     except Exception:  # noqa: BLE001 - no reference: the first sub-step's default
         smallest = 0.0
-    ratio = case.solver.max_load_ratio
-    previous = (0.0, 0.0, 0.0, 0.0, 0.0)
-    found = 0
-    for target in case.step_targets():
-        if target[3:] == previous[3:]:  # no sub-steps while the contact moves
-            found += len(loops.load_substeps(previous, target, ratio, smallest))
-        previous = target
-    return found
+    return substep_count(case, smallest)
 
 
 def count_features(f: dict, counts: dict | None = None) -> Work:

@@ -18,18 +18,20 @@ sections :mod:`.elastic` (every campaign), :mod:`.plastic` and :mod:`.cycles` on
 builder :mod:`.builder` on top.
 """
 
-from .builder import add_parser, build_report, main, provenance
-from .elastic import plot_convergence, plot_profiles, plot_speed_error, plot_stick_slip
-from .figures import markdown_table
+from solver.numerics.lazy import lazy_exports
 
-__all__ = [
-    "add_parser",
-    "build_report",
-    "main",
-    "markdown_table",
-    "plot_convergence",
-    "plot_profiles",
-    "plot_speed_error",
-    "plot_stick_slip",
-    "provenance",
-]
+from .command import add_parser, main
+
+#: Where each further public name is defined; imported when first used, so that
+#: ``python -m study`` builds its parser without loading the report's sections.
+_PUBLIC = {
+    "build_report": ".builder",
+    "provenance": ".builder",
+    "plot_convergence": ".elastic",
+    "plot_profiles": ".elastic",
+    "plot_speed_error": ".elastic",
+    "plot_stick_slip": ".elastic",
+    "markdown_table": ".figures",
+}
+__all__ = ["add_parser", "main", *_PUBLIC]
+__getattr__, __dir__ = lazy_exports(__name__, _PUBLIC)

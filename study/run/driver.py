@@ -4,7 +4,10 @@ Rank 0 expands and validates the campaign (:func:`broadcast_campaign`) and broad
 the error that stops every rank.  :func:`run_campaign` then hands out the unfinished cases
 costliest first (estimated seconds, :mod:`study.campaign.cost`) with a root/worker loop over
 point-to-point messages: a worker sends a request carrying the report of its previous case
-and receives the next case number, or None to stop.  On rank 0 a dispatcher thread answers
+and receives the next case number, or None to stop.  After a case that succeeded in less than
+:data:`AHEAD_BELOW` a worker asks for its next case as it starts one, so the answer waits for
+it when it is done (the dispatcher's polling and the message's trip are hidden behind short
+cases; long ones keep the costliest-first balance).  On rank 0 a dispatcher thread answers
 the requests (polling with short sleeps, so it costs no core) while the main thread computes
 cases too, so the root is not idle on small runs; the dispatcher's MPI calls are the only ones
 while it runs (``MPI_THREAD_SERIALIZED`` suffices).
@@ -55,6 +58,11 @@ from .scheduler import Scheduler
 from .writer import BUNDLE_SECONDS, MAX_BUNDLE_SECONDS, CaseWriter, case_record, warm_up
 
 _REQUEST, _TASK = 71, 72
+#: A worker whose last case succeeded in less than this (s) asks for its next case while it
+#: computes one: the wait for the answer is hidden behind the case.  After a longer case or a
+#: failure it asks when done, so that the last cases of a run go to whichever rank is free
+#: (costliest first) and a stop rule acts at once.
+AHEAD_BELOW = 1.0
 
 #: Exit status of a run that stopped at its time limit with cases left (re-run to resume).
 EXIT_INCOMPLETE = 3
@@ -622,9 +630,9 @@ def _root(
 def _dispatch(comm, scheduler: Scheduler, workers: int, poll: float) -> None:
     """Answer the workers' requests until each has sent its final message.
 
-    A request is ``(report, lost, final)``: the report of the worker's previous case (None at
-    first), the cases its writer lost, and whether the worker is done (it has written what it
-    kept, after it was told to stop).
+    A request is ``(reports, lost, final)``: the reports of the worker's cases finished since
+    its last request, the cases its writer lost, and whether the worker is done (it has
+    written what it kept, after it was told to stop).  Every other request gets one answer.
     """
     from mpi4py import MPI
 
@@ -638,8 +646,8 @@ def _dispatch(comm, scheduler: Scheduler, workers: int, poll: float) -> None:
             continue
         sleep = 0.0002
         source = status.Get_source()
-        report, lost, final = comm.recv(source=source, tag=_REQUEST)
-        if report is not None:
+        reports, lost, final = comm.recv(source=source, tag=_REQUEST)
+        for report in reports:
             scheduler.report(report)
         scheduler.lose(lost)
         if final:
@@ -650,17 +658,36 @@ def _dispatch(comm, scheduler: Scheduler, workers: int, poll: float) -> None:
 
 
 def _worker(comm, campaign: Campaign, compute: Callable, writer: CaseWriter) -> None:
+    """Compute the cases rank 0 hands out, then send the final message (:func:`_dispatch`).
+
+    The request for the next case goes out as a case starts when the case before succeeded in
+    less than :data:`AHEAD_BELOW`, else when the case is done; either way a request carries
+    the reports not sent yet.
+    """
     by_number = {case.number: case for case in campaign.cases}
-    report = None
+    unsent: list[dict] = []
+
+    def ask():
+        comm.send((unsent[:], [], False), dest=0, tag=_REQUEST)
+        unsent.clear()
+        return comm.irecv(source=0, tag=_TASK)
+
+    last = None
+    ahead = ask()
     try:
-        while True:
-            comm.send((report, [], False), dest=0, tag=_REQUEST)
-            number = comm.recv(source=0, tag=_TASK)
-            if number is None:
-                break
-            report = compute(by_number[number])
+        while (number := ahead.wait()) is not None:
+            ahead = None
+            if last is not None and last["status"] != "failed" and last["case_time"] < AHEAD_BELOW:
+                ahead = ask()
+            last = compute(by_number[number])
+            unsent.append(last)
+            if ahead is None:
+                ahead = ask()
+        ahead = None
     finally:
-        comm.send((None, writer.flush(), True), dest=0, tag=_REQUEST)
+        comm.send((unsent, writer.flush(), True), dest=0, tag=_REQUEST)
+        if ahead is not None:  # answered before the final message is read (same source)
+            ahead.wait()
 
 
 def _quiet_barrier(comm, interval: float = 0.01) -> None:

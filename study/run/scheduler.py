@@ -44,7 +44,8 @@ class Scheduler:
     Cases are ordered by their estimated seconds on this machine (:func:`.cost.case_seconds`).
     With a time limit a case starts only when 1.25 x its estimate, times the largest ratio of
     measured to estimated time of the cases finished so far (1 before the first), fits in the
-    time left.
+    time left; a case asked for ahead, while the rank still computes its previous one, must
+    fit after that one too (its estimate scaled the same way).
 
     Parameters
     ----------
@@ -75,6 +76,8 @@ class Scheduler:
         self.logger = logger
         self.lock = threading.Lock()
         self.running: dict[int, CampaignCase] = {}
+        self.last: dict[int, int] = {}  # rank -> the number of the case handed to it last
+        self.busy: set[int] = set()  # ranks with a case not reported (computing)
         self.reports: dict[str, dict] = {}  # case id -> report
         self.stopped = ""
         self.successes = 0
@@ -114,6 +117,9 @@ class Scheduler:
             if self.deadline is not None:
                 left = self.deadline - time.perf_counter() - self.options.time_reserve
                 scale = 1.25 * (1.0 if self.rate is None else self.rate)
+                current = self.last.get(rank)
+                if current in self.running:  # asked ahead: starts when that case ends
+                    left -= scale * self.seconds[current]
                 if scale > 0.0:  # the costliest case with scale x its estimate < left
                     pick = bisect.bisect_left(self._keys, left / scale) - 1
                 if pick < 0:
@@ -126,6 +132,8 @@ class Scheduler:
             case = self._stack.pop(pick)
             del self._keys[pick]
             self.running[case.number] = case
+            self.last[rank] = case.number
+            self.busy.add(rank)
             return case
 
     def report(self, report: dict) -> None:
@@ -133,6 +141,8 @@ class Scheduler:
         lost = report.pop("lost", [])
         with self.lock:
             case = self.running.pop(report["number"])
+            if self.last.get(report["rank"]) == case.number:  # none asked for ahead
+                self.busy.discard(report["rank"])
             self.reports[case.case_id] = report
             if report["status"] == "failed":
                 self.failures += 1
@@ -143,7 +153,7 @@ class Scheduler:
                 if estimate > 0:
                     ratio = report["case_time"] / estimate
                     self.rate = ratio if self.rate is None else max(self.rate, ratio)
-            self.progress.update(report, self.seconds[case.number], len(self.running))
+            self.progress.update(report, self.seconds[case.number], len(self.busy))
             k = self.max_initial_failures
             if k and not self.stopped and self.successes == 0 and self.failures >= k:
                 self.stopped = (

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import base64
 import hashlib
+import importlib.metadata
 import json
 import logging
 import os
@@ -20,10 +21,7 @@ import platform
 from collections.abc import Iterable
 from pathlib import Path
 
-import pyfftw
-
 import solver
-from solver.drive.operators import CaseOperators
 from solver.numerics import fftw
 
 from ..campaign.surfaces import read_surface
@@ -46,7 +44,12 @@ def _cpu_model() -> str:
 
 def machine_key() -> str:
     """What plans depend on: processor, architecture, cores, pyFFTW and FFTW's versions (hash)."""
-    parts = [platform.machine(), _cpu_model(), str(os.cpu_count()), pyfftw.__version__]
+    parts = [
+        platform.machine(),
+        _cpu_model(),
+        str(os.cpu_count()),
+        importlib.metadata.version("pyfftw"),
+    ]
     return hashlib.sha256("|".join(parts).encode()).hexdigest()[:16]
 
 
@@ -114,6 +117,8 @@ def save(planned: list[str], wisdom: tuple[bytes, bytes, bytes]) -> Path:
 
 def measure_plans(case: solver.Case) -> None:
     """Measure every FFT plan of ``case``'s solve into this process's wisdom (no kernels)."""
+    from solver.drive.operators import CaseOperators
+
     table = case.to_dict()
     table["solver"]["fft_planner"] = "measure"
     operators = CaseOperators.build(solver.Case.from_dict(table, read_surface))
