@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import solver
+import solver.numerics.grid
 
 SWIFT = {"law": "swift", "B": 945e6, "C": 20.0, "n": 0.121}
 
@@ -46,7 +47,7 @@ def test_a_box_that_holds_the_plastic_zone_gives_the_windows_answer(mu, box):
     else:  # automatic: narrower than the window, padded to a fast FFT size
         assert (
             box.shape[0] < 32
-            and solver.numerics.fftw.fft_size(2 * box.shape[0]) == 2 * box.shape[0]
+            and solver.numerics.grid.fft_size(2 * box.shape[0]) == 2 * box.shape[0]
         )
     boxed = solver.solve(case)
     assert window.status == boxed.status == "converged", boxed.notes

@@ -613,7 +613,7 @@ class Case:
         Centred on the axis (the same cells in body 1's mirrored frame): the fewest cells with
         the window's parity that cover ``[-w, w]`` along x and y, ``w`` =
         ``grid.plastic_half_width`` x the largest Hertz semi-axis, and whose padded length
-        (twice as many) is a fast FFT size (:func:`~solver.numerics.fftw.fft_size`); every
+        (twice as many) is a fast FFT size (:func:`~solver.numerics.grid.fft_size`); every
         layer.  None when that is the whole window.
         """
         if self.grid.plastic_half_width is None or not self.grid.nz:

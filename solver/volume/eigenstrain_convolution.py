@@ -38,7 +38,7 @@ from .eigenstrain_kernels import component_name, parity3, rotation
 def depth_length(nz: int) -> int:
     """M, the half period of the symmetric depth convolution of ``nz`` layers.
 
-    The smallest even fast FFT length (:func:`~solver.numerics.fftw.fft_size`) of at least ``2 nz``:
+    The smallest even fast FFT length (:func:`~solver.numerics.grid.fft_size`) of at least ``2 nz``:
     even for the real FFTs of length M that carry the z transforms (Makhoul 1980).
     """
     return 2 * fft_size(nz)
