@@ -154,3 +154,35 @@ def test_every_solver_sub_package_says_what_it_holds_and_may_import():
 def test_solver_imports_nothing_of_study():
     edges = _graph()
     assert not [t for n, ts in edges.items() if n.startswith("solver") for t in ts if "study" in t]
+
+
+def test_reading_cases_loads_no_solve_library_and_every_module_stays_reachable():
+    """``import solver`` and a case table read load neither pyFFTW nor scipy.signal (seconds
+    that ``study validate`` and ``status`` do not need); ``solver.<part>.<module>`` still works
+    after ``import solver``, and ``python -m study`` builds its parser without the report."""
+    import subprocess
+    import sys
+
+    code = """
+import sys, solver
+solver.Case.from_dict({"body1": {"behaviour": "elastic", "radius": 0.01, "E": 210e9, "nu": 0.3},
+                       "body2": {"behaviour": "elastic", "radius": "inf", "E": 210e9,
+                                 "nu": 0.3},
+                       "load": {"normal_force": 100.0}, "grid": {"n": 16}}).case_id
+heavy = {"pyfftw", "scipy.signal", "solver.drive.loops"} & set(sys.modules)
+assert not heavy, heavy
+assert solver.bodies.heights.HeightMap and solver.result.STICK is not None
+try:
+    solver.no_such_part
+except AttributeError as error:
+    assert "no_such_part" in str(error)
+else:
+    raise SystemExit("no AttributeError")
+from study.cli import build_parser
+build_parser()
+assert "study.report.builder" not in sys.modules
+import study.report
+assert callable(study.report.build_report) and "study.report.builder" in sys.modules
+"""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert done.returncode == 0, done.stderr
