@@ -104,7 +104,11 @@ def _plot_sobol(plt, dataset, names, tables, path: Path) -> Path:
         for shift, key, label in ((-0.2, "S1", "first order"), (0.2, "ST", "total")):
             ax.bar(x + shift, table[key], 0.4, yerr=table[f"{key}_conf"], capsize=3, label=label)
         ax.set_xticks(x, table["input"], rotation=30, ha="right", fontsize=7)
-        ax.set_ylim(min(0.0, float(np.nanmin(table["S1"] - table["S1_conf"]))), 1.05)
+        ends = [
+            table[key] + sign * table[f"{key}_conf"] for key in ("S1", "ST") for sign in (-1, 1)
+        ]
+        low, high = float(np.nanmin(ends)), float(np.nanmax(ends))  # whole intervals shown
+        ax.set_ylim(min(0.0, low) - 0.02, max(1.0, high) + 0.05)
         ax.set_title(q, fontsize=9)
         ax.axhline(0.0, color="0.5", lw=0.5)
     axes[0].legend(fontsize=7)
