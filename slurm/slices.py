@@ -77,8 +77,8 @@ def _run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     folder = slice_folder(out, args.index)
 
-    def load():
-        campaign = load_campaign(args.campaign)
+    def load(spread):
+        campaign = load_campaign(args.campaign, spread=spread)
         done = storage.finished_ids(out)  # merged by an earlier final step
         cases = tuple(
             c for c in slice_cases(campaign, args.index, args.count) if c.case_id not in done

@@ -289,13 +289,17 @@ def main(argv: list[str] | None = None) -> int:
 
 
 # -- campaign files ------------------------------------------------------------------------------
-def load_campaign_file(path, progress=None) -> Campaign:
+def load_campaign_file(path, progress=None, spread=None) -> Campaign:
     """:func:`study.campaign.load_campaign`, refusing anything but a regular file first.
+
+    ``spread`` (:data:`study.campaign.expand.Spread`) builds the cases somewhere else than in
+    this process alone.
 
     A FIFO would block the read forever and a device such as /dev/zero would fill the memory;
     a missing file or a folder gets load_campaign's own message.
     """
     from .campaign import CampaignError, load_campaign
+    from .campaign.expand import serial
 
     try:
         mode = os.stat(path).st_mode
@@ -316,7 +320,7 @@ def load_campaign_file(path, progress=None) -> Campaign:
             "not a regular file",
         )
         raise CampaignError(f"{path}: is {kind}, expected a campaign file (.toml)")
-    return load_campaign(path, progress=progress)
+    return load_campaign(path, progress=progress, spread=spread or serial)
 
 
 # -- run -----------------------------------------------------------------------------------------
@@ -352,7 +356,9 @@ def _run(args: argparse.Namespace) -> int:
     logger = configure_logging(rank, size, args.verbose)
     _check_options(args)
     try:
-        campaign = broadcast_campaign(lambda: load_campaign_file(args.campaign), comm)
+        campaign = broadcast_campaign(
+            lambda spread: load_campaign_file(args.campaign, spread=spread), comm
+        )
         out = Path(args.out or campaign.settings.output)
         summary = run_campaign(campaign, out, comm, run_options(args), logger)
     except CampaignError as error:
@@ -413,8 +419,10 @@ def _check_options(args: argparse.Namespace) -> None:
 
 # -- validate ------------------------------------------------------------------------------------
 def _validate(args: argparse.Namespace) -> int:
+    from .campaign.parallel import processes
+
     progress = ProgressLine()
-    campaign = load_campaign_file(args.campaign, progress=progress)
+    campaign = load_campaign_file(args.campaign, progress=progress, spread=processes())
     progress.finish()
     from .run import calibration as machine
 

@@ -157,19 +157,23 @@ def test_solver_imports_nothing_of_study():
 
 
 def test_reading_cases_loads_no_solve_library_and_every_module_stays_reachable():
-    """``import solver`` and a case table read load neither pyFFTW nor scipy.signal (seconds
-    that ``study validate`` and ``status`` do not need); ``solver.<part>.<module>`` still works
-    after ``import solver``, and ``python -m study`` builds its parser without the report."""
+    """``import solver``, a case table read and a campaign expanded load neither pyFFTW,
+    scipy.signal nor scipy.optimize (seconds that ``study validate`` and ``status`` do not
+    need: a case's memory estimate must not import the shakedown programs);
+    ``solver.<part>.<module>`` still works after ``import solver``, and ``python -m study``
+    builds its parser without the report."""
     import subprocess
     import sys
 
     code = """
 import sys, solver
-solver.Case.from_dict({"body1": {"behaviour": "elastic", "radius": 0.01, "E": 210e9, "nu": 0.3},
-                       "body2": {"behaviour": "elastic", "radius": "inf", "E": 210e9,
-                                 "nu": 0.3},
-                       "load": {"normal_force": 100.0}, "grid": {"n": 16}}).case_id
-heavy = {"pyfftw", "scipy.signal", "solver.drive.loops"} & set(sys.modules)
+from study.campaign import expand_campaign
+base = {"body1": {"behaviour": "elastic", "radius": 0.01, "E": 210e9, "nu": 0.3},
+        "body2": {"behaviour": "elastic", "radius": "inf", "E": 210e9, "nu": 0.3},
+        "load": {"normal_force": 100.0}, "grid": {"n": 16}}
+solver.Case.from_dict(base).case_id
+expand_campaign({"base": base, "sweep": {"friction.coefficient": [0.1, 0.2]}})
+heavy = {"pyfftw", "scipy.signal", "scipy.optimize", "solver.drive.loops"} & set(sys.modules)
 assert not heavy, heavy
 assert solver.bodies.heights.HeightMap and solver.result.STICK is not None
 try:

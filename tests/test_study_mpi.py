@@ -31,7 +31,7 @@ def shared(comm, tmp_path):
 
 
 def load(comm, path_on_root):
-    return broadcast_campaign(lambda: load_campaign(path_on_root), comm)
+    return broadcast_campaign(lambda spread: load_campaign(path_on_root, spread=spread), comm)
 
 
 def test_dynamic_distribution_costliest_first(comm, shared):
@@ -125,3 +125,47 @@ def test_bad_campaign_stops_every_rank_with_one_message(comm, shared):
     messages = comm.allgather(str(info.value))
     assert messages == [messages[0]] * comm.Get_size()
     assert messages[0].startswith("case 2 of 2 (grid_n=8): grid.n: mesh too coarse")
+
+
+def _spread_table(half_widths: list[float]) -> dict:
+    """20 Latin-hypercube cases over the load on each window (half of them refused at 1.0)."""
+    sample = {"method": "lhs", "count": 20, "seed": 5}
+    sample["load.normal_force"] = {"distribution": "log-uniform", "range": [10.0, 1000.0]}
+    return {
+        "campaign": {"name": "spread", "fields": []},
+        "base": {
+            "body1": {"behaviour": "elastic", "radius": 0.01, "E": 210e9, "nu": 0.3},
+            "body2": {"behaviour": "rigid"},
+            "load": {"normal_force": 100.0},
+            "grid": {"n": 24},
+        },
+        "sweep": {"grid.half_width": half_widths},
+        "sample": sample,
+    }
+
+
+def test_every_rank_builds_a_share_of_the_cases(comm, monkeypatch):
+    """The campaign built a share per rank equals the one built alone, errors included."""
+    from study.campaign import expand_campaign
+    from study.campaign.expand import Expansion
+    from study.run import driver
+
+    monkeypatch.setattr(driver, "MIN_RANK_CASES", 5)
+    built = []
+    part = Expansion.part
+
+    def counted(self, k, n, progress=None):
+        built.append((k, n))
+        return part(self, k, n, progress)
+
+    monkeypatch.setattr(Expansion, "part", counted)
+    table = _spread_table([1.5, 1.2])
+    campaign = broadcast_campaign(lambda spread: expand_campaign(table, spread=spread), comm)
+    assert built == [(comm.Get_rank(), comm.Get_size())]
+    assert campaign == expand_campaign(table)  # built alone on every rank
+    bad = _spread_table([1.5, 1.0])  # the last share's cases are refused
+    with pytest.raises(CampaignError) as alone:
+        expand_campaign(bad)
+    with pytest.raises(CampaignError) as spread:
+        broadcast_campaign(lambda spread: expand_campaign(bad, spread=spread), comm)
+    assert str(spread.value) == str(alone.value) and "case 21 of 40" in str(alone.value)

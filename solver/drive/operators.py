@@ -24,7 +24,6 @@ from ..surface.convolution import SurfaceOperator, surface_operator
 from ..surface.periodic import periodic_surface_operator, y_periodic_surface_operator
 from ..volume.eigenstrain import VOLUME_PRECISIONS, EigenstrainOperator
 from ..volume.stress import SubsurfaceStressOperator
-from .theorem import theorem_cost
 
 
 def planner_flag(options: SolverOptions) -> str:
@@ -279,5 +278,7 @@ def memory_estimate(case: Case) -> int:
     (:func:`~solver.drive.theorem.theorem_cost`).
     """
     if case.solver.method == "static_shakedown":
+        from .theorem import theorem_cost  # its linear programs' libraries only when needed
+
         return PROCESS_BYTES + theorem_cost(case)[1]
     return CaseOperators.memory_bytes(case)

@@ -9,7 +9,7 @@ from __future__ import annotations
 import difflib
 import itertools
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -231,84 +231,153 @@ def _keep_volume_depth(base: dict, keys: set[str]) -> dict:
     return {**base, "grid": {**grid, "n": n[:2], "nz": n[2]}}
 
 
-def _expand_cases(
-    base: dict,
-    axes: tuple[Axis, ...],
-    progress: Progress | None = None,
-    defined: dict[str, dict] | None = None,
-    folder: Path | None = None,
-) -> tuple[CampaignCase, ...]:
-    cases: list[CampaignCase] = []
-    failures: list[tuple[str, str]] = []
-    total = math.prod(axis.size for axis in axes)
-    seen: dict[str, int] = {}
-    keys = {c.key for axis in axes for c in axis.coordinates}
-    if BETA_KEY in keys and keys & {"body1.E", "body1.nu"}:
-        raise CampaignError(f"{BETA_KEY} sets body1.E and body1.nu; do not sweep them as well")
-    base = _keep_volume_depth(base, keys)
+#: A share of an expansion: its cases, and its failures as (number, where, message).
+Part = tuple[list[CampaignCase], list[tuple[int, str, str]]]
 
-    def where(number: int, coords: dict) -> str:
+
+@dataclass(frozen=True)
+class Expansion:
+    """What a campaign's cases are built from; :meth:`part` builds a share of them.
+
+    Every case table is the base with its coordinates set; it is validated by
+    :meth:`solver.Case.from_dict`.  Parts are independent (each may be built in another
+    process or on another rank) and :meth:`cases` joins them, so a spread expansion gives the
+    same cases, the same order and the same errors as one in a single process.
+    """
+
+    base: dict
+    axes: tuple[Axis, ...]
+    defined: dict[str, dict]
+    folder: Path | None
+
+    @classmethod
+    def of(
+        cls,
+        base: dict,
+        axes: tuple[Axis, ...],
+        defined: dict[str, dict] | None = None,
+        folder: Path | None = None,
+    ) -> Expansion:
+        """Check the axes against each other and keep the base's volume depth.
+
+        Raises
+        ------
+        CampaignError
+            If Dundurs' beta is swept together with body 1's elastic constants.
+        """
+        keys = {c.key for axis in axes for c in axis.coordinates}
+        if BETA_KEY in keys and keys & {"body1.E", "body1.nu"}:
+            raise CampaignError(f"{BETA_KEY} sets body1.E and body1.nu; do not sweep them as well")
+        return cls(_keep_volume_depth(base, keys), axes, defined or {}, folder)
+
+    @property
+    def total(self) -> int:
+        """Number of cases."""
+        return math.prod(axis.size for axis in self.axes)
+
+    def _where(self, number: int, coords: dict) -> str:
         label = ", ".join(f"{k}={format_value(v)}" for k, v in coords.items())
-        return f"case {number + 1} of {total} ({label})"
+        return f"case {number + 1} of {self.total} ({label})"
 
-    coords_of: dict[int, dict] = {}
-    indices: dict[int, tuple] = {}
-    for number, index in enumerate(itertools.product(*(range(axis.size) for axis in axes))):
-        if progress is not None and number and number % PROGRESS_EVERY == 0:
-            progress(number, total)
-        table = _copy_table(base)
-        coords: dict[str, Any] = {}
-        beta = None
-        for axis, i in zip(axes, index, strict=True):
-            for coordinate in axis.coordinates:
-                value = coordinate.values[i]
-                coords[coordinate.name] = value
-                if coordinate.key == BETA_KEY:
-                    beta = float(value)
-                else:
-                    assign(table, coordinate.key, _value(coordinate.key, value, defined or {}))
-        try:
-            if beta is not None:
-                _apply_beta(table, beta)
-            if folder is not None:
-                absolute_surfaces(table, folder)
-            case = solver.Case.from_dict(table, read_surface)
-        except (solver.SpecError, CampaignError) as error:
-            failures.append((where(number, coords), _explain(str(error), axes)))
-            continue
-        except Exception as error:  # a validation bug must still name the case
-            failures.append((where(number, coords), f"{type(error).__name__}: {error}"))
-            continue
-        case_id = case.case_id
-        if case_id in seen and not _repeated_row(index, indices[seen[case_id]], axes):
-            first = seen[case_id]
-            raise CampaignError(
-                f"{where(number, coords)} is the same case as {where(first, coords_of[first])} "
-                f"(case id {case_id}); an axis has no effect there, remove the duplicate values"
+    def part(self, k: int, n: int, progress: Progress | None = None) -> Part:
+        """The cases numbered ``total k // n`` up to ``total (k + 1) // n``, built and checked.
+
+        A case that fails its checks is a failure of the part, not an exception; ``progress``
+        gets ``(done, total)`` with this part's count scaled by ``n`` (an estimate of all
+        parts' progress when they run side by side).
+        """
+        total = self.total
+        start, stop = total * k // n, total * (k + 1) // n
+        product = itertools.product(*(range(axis.size) for axis in self.axes))
+        cases: list[CampaignCase] = []
+        failures: list[tuple[int, str, str]] = []
+        for number, index in enumerate(itertools.islice(product, start, stop), start):
+            done = number - start
+            if progress is not None and done and done % PROGRESS_EVERY == 0:
+                progress(min(n * done, total), total)
+            table = _copy_table(self.base)
+            coords: dict[str, Any] = {}
+            beta = None
+            for axis, i in zip(self.axes, index, strict=True):
+                for coordinate in axis.coordinates:
+                    value = coordinate.values[i]
+                    coords[coordinate.name] = value
+                    if coordinate.key == BETA_KEY:
+                        beta = float(value)
+                    else:
+                        assign(table, coordinate.key, _value(coordinate.key, value, self.defined))
+            try:
+                if beta is not None:
+                    _apply_beta(table, beta)
+                if self.folder is not None:
+                    absolute_surfaces(table, self.folder)
+                case = solver.Case.from_dict(table, read_surface)
+            except (solver.SpecError, CampaignError) as error:
+                failures.append((number, self._where(number, coords), str(error)))
+                continue
+            except Exception as error:  # a validation bug must still name the case
+                message = f"{type(error).__name__}: {error}"
+                failures.append((number, self._where(number, coords), message))
+                continue
+            work = count(case)
+            cases.append(
+                CampaignCase(
+                    number=number,
+                    index=tuple(index),
+                    coords=coords,
+                    spec=case.spec,  # built for this case alone by from_dict: no copy needed
+                    case_id=case.case_id,
+                    cost=float(seconds(work, REFERENCE)),
+                    memory=int(solver.memory_estimate(case)),
+                    warnings=case.warnings,
+                    work=work,
+                )
             )
-        seen.setdefault(case_id, number)
-        coords_of[number], indices[number] = coords, index
-        work = count(case)
-        cases.append(
-            CampaignCase(
-                number=number,
-                index=tuple(index),
-                coords=coords,
-                spec=case.spec,  # built for this case alone by from_dict: no copy needed
-                case_id=case_id,
-                cost=float(seconds(work, REFERENCE)),
-                memory=int(solver.memory_estimate(case)),
-                warnings=case.warnings,
-                work=work,
+        return cases, failures
+
+    def cases(self, parts: Sequence[Part]) -> tuple[CampaignCase, ...]:
+        """Join the parts (in order) into the campaign's cases.
+
+        Raises
+        ------
+        CampaignError
+            At the first case (in expansion order) that repeats an earlier one (an axis with
+            no effect), else at the first that failed, counting the others.
+        """
+        cases = [case for found, _ in parts for case in found]
+        failures = [failure for _, lost in parts for failure in lost]
+        seen: dict[str, CampaignCase] = {}
+        for case in cases:
+            first = seen.setdefault(case.case_id, case)
+            if first is not case and not _repeated_row(case.index, first.index, self.axes):
+                raise CampaignError(
+                    f"{self._where(case.number, case.coords)} is the same case as "
+                    f"{self._where(first.number, first.coords)} (case id {case.case_id}); an "
+                    "axis has no effect there, remove the duplicate values"
+                )
+        if failures:
+            _, where, message = failures[0]
+            message = _explain(message, self.axes)
+            field_path = message.split(":", 1)[0]
+            keys = {c.key for axis in self.axes for c in axis.coordinates}
+            if "unknown key" in message and field_path in keys:
+                raise CampaignError(f'swept key "{field_path}": {message.split(" [set by")[0]}')
+            more = (
+                f" (and {len(failures) - 1} more of {self.total} cases)"
+                if len(failures) > 1
+                else ""
             )
-        )
-    if progress is not None:
-        progress(total, total)
-    if failures:
-        where, message = failures[0]
-        field_path = message.split(":", 1)[0]
-        if "unknown key" in message and field_path in keys:
-            raise CampaignError(f'swept key "{field_path}": {message.split(" [set by")[0]}')
-        more = f" (and {len(failures) - 1} more of {total} cases)" if len(failures) > 1 else ""
-        raise CampaignError(f"{where}{more}: {message}")
-    return tuple(cases)
+            raise CampaignError(f"{where}{more}: {message}")
+        return tuple(cases)
+
+
+#: Builds every part of an expansion somewhere and returns them in order:
+#: ``spread(expansion, progress)``.  ``expansion.part(0, n, progress)`` runs in the calling
+#: process (``progress`` reports it); the other parts may run in other processes or on other
+#: ranks (:mod:`study.campaign.parallel`, :func:`study.run.driver.broadcast_campaign`).
+Spread = Callable[[Expansion, Progress | None], list[Part]]
+
+
+def serial(expansion: Expansion, progress: Progress | None) -> list[Part]:
+    """The :data:`Spread` of one process: the whole expansion as one part."""
+    return [expansion.part(0, 1, progress)]

@@ -12,7 +12,16 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from .expand import _all_keys, _build_axes, _Entry, _expand_cases, _parse_aliases, _parse_axes
+from .expand import (
+    Expansion,
+    Spread,
+    _all_keys,
+    _build_axes,
+    _Entry,
+    _parse_aliases,
+    _parse_axes,
+    serial,
+)
 from .model import (
     CAMPAIGN_KEYS,
     MAX_CASE_TIMEOUT,
@@ -29,7 +38,9 @@ from .validate import _check_paths, normalise_key
 
 
 # -- reading -------------------------------------------------------------------------------------
-def load_campaign(path: str | Path, progress: Progress | None = None) -> Campaign:
+def load_campaign(
+    path: str | Path, progress: Progress | None = None, spread: Spread = serial
+) -> Campaign:
     """Read, expand and validate a campaign file.
 
     Parameters
@@ -39,6 +50,10 @@ def load_campaign(path: str | Path, progress: Progress | None = None) -> Campaig
     progress : callable, optional
         ``progress(done, total)``, called every :data:`PROGRESS_EVERY` cases of the expansion
         and at its end (for a progress line on long campaigns).
+    spread : Spread
+        Where the shares of the expansion are built: :func:`~study.campaign.expand.serial`
+        (this process), :func:`study.campaign.parallel.processes` (worker processes) or the
+        ranks of an MPI run (:func:`study.run.driver.broadcast_campaign`).
 
     Returns
     -------
@@ -62,11 +77,15 @@ def load_campaign(path: str | Path, progress: Progress | None = None) -> Campaig
         raise CampaignError(f"{path}: cannot read: {error.strerror or error}") from None
     except ValueError as error:  # TOMLDecodeError, UnicodeDecodeError, an int of > 4300 digits
         raise CampaignError(f"{path}: not valid TOML: {error}") from None
-    return expand_campaign(table, name=path.stem, source=str(path), progress=progress)
+    return expand_campaign(table, path.stem, str(path), progress, spread)
 
 
 def expand_campaign(
-    table: Mapping, name: str = "campaign", source: str = "", progress: Progress | None = None
+    table: Mapping,
+    name: str = "campaign",
+    source: str = "",
+    progress: Progress | None = None,
+    spread: Spread = serial,
 ) -> Campaign:
     """Expand and validate a campaign table (the parsed TOML).
 
@@ -81,6 +100,8 @@ def expand_campaign(
         Where the table came from (recorded, used in messages).
     progress : callable, optional
         ``progress(done, total)`` during the expansion (see :func:`load_campaign`).
+    spread : Spread
+        Where the shares of the expansion are built (see :func:`load_campaign`).
 
     Returns
     -------
@@ -117,7 +138,10 @@ def expand_campaign(
     axes = _build_axes(entries, aliases)
     _check_paths(base, axes, defined)
     folder = Path(source).resolve().parent if source else Path.cwd()  # of relative map files
-    cases = _expand_cases(dict(base), axes, progress, defined, folder)
+    expansion = Expansion.of(dict(base), axes, defined, folder)
+    cases = expansion.cases(spread(expansion, progress))
+    if progress is not None:
+        progress(expansion.total, expansion.total)
     return Campaign(settings, axes, cases, source, base=copy.deepcopy(dict(base)), design=design)
 
 

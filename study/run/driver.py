@@ -1,7 +1,8 @@
 """Campaign driver: dynamic distribution of cases over MPI ranks, failure isolation, restarts.
 
-Rank 0 expands and validates the campaign (:func:`broadcast_campaign`) and broadcasts it, or
-the error that stops every rank.  :func:`run_campaign` then hands out the unfinished cases
+Rank 0 reads the campaign, every rank builds and checks a share of its cases, and rank 0 joins
+them and broadcasts the campaign, or the error that stops every rank
+(:func:`broadcast_campaign`).  :func:`run_campaign` then hands out the unfinished cases
 costliest first (estimated seconds, :mod:`study.campaign.cost`) with a root/worker loop over
 point-to-point messages: a worker sends a request carrying the report of its previous case
 and receives the next case number, or None to stop.  After a case that succeeded in less than
@@ -49,7 +50,8 @@ from solver.numerics import fftw
 
 from .. import bundle
 from ..bundle import Entry
-from ..campaign import MAX_CASE_TIMEOUT, Campaign, CampaignCase, CampaignError
+from ..campaign import MAX_CASE_TIMEOUT, Campaign, CampaignCase, CampaignError, Progress
+from ..campaign.expand import Expansion, Part, Spread, serial
 from ..campaign.surfaces import read_surface
 from . import storage, wisdom
 from .assemble import case_summary, profile_coordinate
@@ -241,20 +243,26 @@ class RunSummary:
 
 
 # -- validation on rank 0, then broadcast --------------------------------------------------------
-def broadcast_campaign(load: Callable[[], Campaign], comm=None) -> Campaign:
-    """Load and validate a campaign on rank 0 and broadcast it (or its error) to every rank.
+def broadcast_campaign(load: Callable[[Spread], Campaign | None], comm=None) -> Campaign | None:
+    """Load and validate a campaign with every rank's help; broadcast it (or its error).
+
+    Rank 0 calls ``load(spread)``: it reads the file, and the cases are built by every rank,
+    a share each (:data:`study.campaign.expand.Spread`; 10^5 cases take tens of seconds in
+    one process), then joined and checked on rank 0.  The other ranks wait asleep in between.
 
     Parameters
     ----------
     load : callable
-        Returns the campaign, raising :class:`CampaignError` for a bad file; called on rank 0.
+        ``load(spread)`` returns the campaign (or None), raising :class:`CampaignError` for a
+        bad file; called on rank 0, it passes ``spread`` to
+        :func:`study.campaign.load_campaign`.
     comm : mpi4py communicator, optional
         None for a serial run.
 
     Returns
     -------
-    Campaign
-        On every rank.
+    Campaign or None
+        On every rank: what ``load`` returned.
 
     Raises
     ------
@@ -262,24 +270,59 @@ def broadcast_campaign(load: Callable[[], Campaign], comm=None) -> Campaign:
         On every rank, with rank 0's message, when the campaign is bad.
     """
     if comm is None or comm.Get_size() == 1:
-        return load()
-    payload: Any = None
+        return load(serial)
+    if comm.Get_rank() != 0:
+        while True:
+            _quiet_barrier(comm)  # asleep while rank 0 reads and joins
+            message = comm.bcast(None, root=0)
+            if message[0] != "part":
+                break
+            comm.gather(_safe_part(*message[1:], comm.Get_rank()), root=0)
+        if message[0] == "error":
+            raise CampaignError(message[1])
+        return message[1]
+
+    def spread(expansion: Expansion, progress: Progress | None) -> list[Part]:
+        n = min(comm.Get_size(), max(1, expansion.total // MIN_RANK_CASES))
+        _quiet_barrier(comm)
+        comm.bcast(("part", expansion, n), root=0)
+        parts = comm.gather(_safe_part(expansion, n, 0, progress), root=0)
+        for k, part in enumerate(parts[:n]):
+            if isinstance(part, str):
+                raise RuntimeError(f"building share {k} of {n} of the cases: {part}")
+        return parts[:n]
+
     original: BaseException | None = None
-    if comm.Get_rank() == 0:
-        try:
-            payload = ("ok", load())
-        except CampaignError as error:
-            payload = ("error", str(error))
-        except Exception as error:  # a bug must not leave the other ranks waiting
-            original = error
-            payload = ("error", f"{type(error).__name__}: {error}")
-    _quiet_barrier(comm)  # the other ranks wait asleep while rank 0 validates
-    payload = comm.bcast(payload, root=0)
+    try:
+        payload: tuple = ("ok", load(spread))
+    except CampaignError as error:
+        payload = ("error", str(error))
+    except Exception as error:  # a bug must not leave the other ranks waiting
+        original = error
+        payload = ("error", f"{type(error).__name__}: {error}")
+    _quiet_barrier(comm)
+    comm.bcast(payload, root=0)
     if original is not None:
         raise original
     if payload[0] == "error":
         raise CampaignError(payload[1])
     return payload[1]
+
+
+#: Fewest cases per rank worth a share of the expansion (a share costs a message each way).
+MIN_RANK_CASES = 200
+
+
+def _safe_part(
+    expansion: Expansion, n: int, k: int, progress: Progress | None = None
+) -> Part | str | None:
+    """Share ``k`` of ``n`` (None past ``n``), or the text of the error that stopped it."""
+    if k >= n:
+        return None
+    try:
+        return expansion.part(k, n, progress)
+    except Exception as error:  # every rank must reach the gather
+        return f"{type(error).__name__}: {error}"
 
 
 # -- one case ------------------------------------------------------------------------------------
