@@ -78,7 +78,7 @@ _WRAPPER = (
 )
 
 
-def _step(command: list[str], cwd: Path) -> dict:
+def _step(command: list[str], cwd: Path, accept: tuple[int, ...] = (0, 1)) -> dict:
     """Wall (s), CPU (s) and peak memory (MiB, the largest process) of one command.
 
     The command runs under a wrapper process of its own, whose ``RUSAGE_CHILDREN`` holds the
@@ -91,27 +91,39 @@ def _step(command: list[str], cwd: Path) -> dict:
         text=True,
     )  # fmt: skip
     wall = time.perf_counter() - start
-    if done.returncode not in (0, 1):
+    if done.returncode not in accept:
         raise RuntimeError(f"{command} failed:\n{done.stdout[-2000:]}{done.stderr[-2000:]}")
     cpu, peak = done.stdout.rsplit("@@ ", 1)[1].split()
     return {"wall": wall, "cpu": float(cpu), "peak": int(peak) / 1024.0, "text": done.stdout}
 
 
-def measure(tree: Path, campaign: Path, out: Path, ranks: int) -> dict:
-    """Validate, run, status and assemble with the code of ``tree``; their costs.
+#: The steps measured, in order: ``start`` is a run under mpiexec that may start no case (a
+#: time limit of 1 ms): reading the campaign, building its cases on the ranks, scanning the
+#: output folder; it exits with status 3 (cases pending).
+STEPS = ("validate", "start", "run", "status", "assemble")
+
+
+def measure(tree: Path, campaign: Path, out: Path, ranks: int, steps: list[str]) -> dict:
+    """Run ``steps`` with the code of ``tree``; their costs.
 
     Run from ``tree``, Python imports that tree's ``solver`` and ``study``.
     """
     python = sys.executable
-    steps = {
+    mpi = ["mpiexec", "-n", str(ranks), python, "-m", "study", "run", str(campaign)]
+    commands = {
         "validate": [python, "-m", "study", "validate", str(campaign)],
-        "run": ["mpiexec", "-n", str(ranks), python, "-m", "study", "run", str(campaign)]
-        + ["--out", str(out), "--no-assemble"],
+        "start": mpi + ["--out", str(out.with_name(out.name + "_start")), "--no-assemble"]
+        + ["--time-limit", "0.001", "--time-reserve", "0"],
+        "run": mpi + ["--out", str(out), "--no-assemble"],
         "status": [python, "-m", "study", "status", str(out)],
         "assemble": [python, "-m", "study", "assemble", str(out)],
+    }  # fmt: skip
+    found: dict = {
+        name: _step(commands[name], tree, (0, 1, 3) if name == "start" else (0, 1))
+        for name in STEPS
+        if name in steps
     }
-    found: dict = {name: _step(command, tree) for name, command in steps.items()}
-    match = re.search(r"overhead ([0-9.]+) s per case", found["run"]["text"])
+    match = re.search(r"overhead ([0-9.]+) s per case", found.get("run", {}).get("text", ""))
     files = [p for p in (out / "cases").rglob("*") if p.is_file()]
     found["overhead"] = float(match.group(1)) if match else float("nan")
     found["files"] = len(files)
@@ -135,7 +147,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--table", type=Path, default=ROOT / "docs" / "tables" / "framework_scale.md"
     )
+    parser.add_argument(
+        "--steps", default="validate,run,status,assemble",
+        help=f"comma-separated steps to measure, of {', '.join(STEPS)}",
+    )  # fmt: skip
     args = parser.parse_args(argv)
+    steps = [step for step in args.steps.split(",") if step]
+    if not steps or set(steps) - set(STEPS):
+        parser.error(f"--steps: give some of {', '.join(STEPS)}, got {args.steps!r}")
     trees = ([("before", args.before.resolve())] if args.before else []) + [("after", ROOT)]
     rows = []
     with tempfile.TemporaryDirectory(prefix="framework_scale_") as folder:
@@ -144,11 +163,13 @@ def main(argv: list[str] | None = None) -> int:
         for label, tree in trees:
             out = Path(folder) / f"out_{label}"
             print(f"{label}: {tree} ({_commit(tree)}), {args.cases} cases", flush=True)
-            found = measure(tree, campaign, out, args.ranks)
+            found = measure(tree, campaign, out, args.ranks, steps)
             rows.append((label, _commit(tree), found))
             shutil.rmtree(out, ignore_errors=True)
+            shutil.rmtree(out.with_name(out.name + "_start"), ignore_errors=True)
     lines = [
         f"`python docs/framework_scale.py --cases {args.cases}"
+        + (f" --steps {args.steps}" if steps != ["validate", "run", "status", "assemble"] else "")
         + (" --before <worktree>`" if args.before else "`"),
         "",
         f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; {platform.node()}, "
@@ -159,25 +180,28 @@ def main(argv: list[str] | None = None) -> int:
         "|---|---|---|---|---|---|",
     ]
     for label, commit, found in rows:
-        for step in ("validate", "run", "status", "assemble"):
+        for step in (step for step in STEPS if step in found):
             one = found[step]
             lines.append(
                 f"| {label} | {commit} | {step} | {one['wall']:.1f} | {one['cpu']:.1f} | "
                 f"{one['peak']:.0f} |"
             )
-    lines += [
-        "",
-        "| code | commit | overhead per case (ms) | files in cases/ | disk (MiB) | assembly per "
-        "case (ms) | validate per 10^4 cases (s) | status per 10^4 cases (s) |",
-        "|---|---|---|---|---|---|---|---|",
-    ]
+    per = 1e4 / args.cases
+    scaled = [step for step in ("validate", "start", "status", "assemble") if step in steps]
+    head = ["code", "commit"]
+    if "run" in steps:
+        head += ["overhead per case (ms)", "files in cases/", "disk (MiB)"]
+    head += ["assembly per case (ms)"] if "assemble" in steps else []
+    head += [f"{step} per 10^4 cases (s)" for step in scaled]
+    lines += ["", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for label, commit, found in rows:
-        per = 1e4 / args.cases
-        lines.append(
-            f"| {label} | {commit} | {1e3 * found['overhead']:.1f} | {found['files']} | "
-            f"{found['disk']:.1f} | {1e3 * found['assemble']['wall'] / args.cases:.2f} | "
-            f"{per * found['validate']['wall']:.1f} | {per * found['status']['wall']:.1f} |"
-        )
+        cells = [label, commit]
+        if "run" in steps:
+            cells += [f"{1e3 * found['overhead']:.1f}", str(found["files"]), f"{found['disk']:.1f}"]
+        if "assemble" in steps:
+            cells.append(f"{1e3 * found['assemble']['wall'] / args.cases:.2f}")
+        cells += [f"{per * found[step]['wall']:.2f}" for step in scaled]
+        lines.append("| " + " | ".join(cells) + " |")
     text = "\n".join(lines) + "\n"
     print(text)
     args.table.write_text(text)

@@ -12,6 +12,7 @@ Composite constants (DESIGN §3.1, seed eq. 1)::
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import Literal
@@ -94,12 +95,12 @@ def _shape(body: Body) -> Geometry:
 
 @dataclass(frozen=True)
 class Pair:
-    """The two contacting bodies and their composite constants."""
+    """The two contacting bodies and their composite constants (each computed once)."""
 
     body1: Body
     body2: Body
 
-    @property
+    @functools.cached_property
     def compliance(self) -> float:
         """A = 1/E* (1/Pa)."""
         return self.body1.compliance + self.body2.compliance
@@ -133,7 +134,7 @@ class Pair:
         weighted = sum(body.nu / body.shear_modulus for body in bodies)
         return 0.5 * self.rolling_shear_modulus * weighted
 
-    @property
+    @functools.cached_property
     def curvature(self) -> tuple[float, float]:
         """Composite curvatures (1/R_x, 1/R_y) (1/m) of the initial gap."""
         return (
@@ -153,7 +154,7 @@ class Pair:
         upper, lower = (_shape(body) for body in (self.body1, self.body2))
         return upper.gap(x - px, y - py) + lower.gap(x, y)
 
-    @property
+    @functools.cached_property
     def geometry(self) -> Geometry:
         """The initial gap of the pair: quadric part and both bodies' profiles."""
         bodies = (self.body1, self.body2)
