@@ -19,6 +19,7 @@ from study.campaign import (
     load_campaign,
 )
 from study.cli import main
+from study.run.storage import campaign_text
 
 RIGID_BASE = NORMAL_BASE.replace(
     'body1 = { behaviour = "elastic", radius = 0.01, E = 210e9, nu = 0.3 }',
@@ -42,9 +43,11 @@ def test_product_zip_alias_and_order(tmp_path):
     assert last.spec["friction"]["coefficient"] == 0.2
     assert last.case_id == solver.Case.from_dict(last.spec).case_id
     assert len({c.case_id for c in campaign.cases}) == 4
-    # JSON round trip (what OUT/campaign.json holds)
-    again = Campaign.from_dict(json.loads(json.dumps(campaign.to_dict())))
-    assert again == campaign
+    # JSON round trip (what OUT/campaign.json holds: one line per case)
+    text = campaign_text(campaign.to_dict())
+    assert Campaign.from_dict(json.loads(text)) == campaign
+    lines = [line for line in text.splitlines() if line.startswith('  {"number": ')]
+    assert len(lines) == len(campaign.cases)
 
 
 def test_whole_body_tables_swept_by_name(tmp_path):

@@ -245,11 +245,25 @@ def prepare_output(out: str | Path, campaign: Campaign, *, replace: bool = False
     record = campaign.to_dict()
     record["written"] = now()
     try:
-        atomic_write_text(out / CAMPAIGN_FILE, json.dumps(record, indent=1, allow_nan=True))
+        atomic_write_text(out / CAMPAIGN_FILE, campaign_text(record))
     except OSError as error:
         raise CampaignError(
             f"{out}: cannot write {CAMPAIGN_FILE}: {describe_write_error(error, out)}"
         ) from None
+
+
+def campaign_text(record: dict) -> str:
+    """``campaign.json``'s text: the settings and axes indented, then one line per case.
+
+    An indented dump goes through Python's own JSON encoder (about 0.4 ms a case: 40 s for
+    10^5 cases on rank 0 while the other ranks wait); a case per line goes through the C
+    encoder, and the file still reads one case per line.
+    """
+    rest = {key: value for key, value in record.items() if key != "cases"}
+    head = json.dumps({**rest, "cases": None}, indent=1, allow_nan=True)  # ends "null\n}"
+    cases = [json.dumps(case, allow_nan=True) for case in record.get("cases", [])]
+    listed = "[\n  " + ",\n  ".join(cases) + "\n ]" if cases else "[]"
+    return head[: -len("null\n}")] + listed + "\n}\n"
 
 
 def _check_same_campaign(out: Path, campaign: Campaign) -> None:
