@@ -35,7 +35,7 @@ from __future__ import annotations
 import heapq
 import math
 from collections.abc import Iterable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 
 import solver
 from solver.spec.substeps import substep_count, substep_floor
@@ -151,6 +151,10 @@ class Work:
     built_surface_cells: int = 0
     built_volume_cells: int = 0
     theorem: float = 0.0
+
+    def to_dict(self) -> dict:
+        """The fields by name (as ``dataclasses.asdict``, without its deep copy of scalars)."""
+        return {item.name: getattr(self, item.name) for item in fields(self)}
 
     @property
     def surface_units(self) -> float:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
@@ -336,7 +335,7 @@ class Campaign:
                     "cost": case.cost,
                     "memory": case.memory,
                     "warnings": list(case.warnings),
-                    "work": None if case.work is None else dataclasses.asdict(case.work),
+                    "work": None if case.work is None else case.work.to_dict(),
                     "spec": case.spec,
                 }
                 for case in self.cases
