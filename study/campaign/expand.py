@@ -6,7 +6,9 @@ validated by :meth:`solver.Case.from_dict`; a failure names the case by its coor
 
 from __future__ import annotations
 
+import contextlib
 import difflib
+import gc
 import itertools
 import math
 from collections.abc import Callable, Mapping, Sequence
@@ -231,6 +233,22 @@ def _keep_volume_depth(base: dict, keys: set[str]) -> dict:
     return {**base, "grid": {**grid, "n": n[:2], "nz": n[2]}}
 
 
+@contextlib.contextmanager
+def _collector_paused():
+    """Pause Python's cyclic garbage collector.
+
+    A case builds many small containers and no cycles; the collector's passes over every case
+    built so far cost 17 % at 3 10^4 cases, and more the more cases.
+    """
+    paused = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if paused:
+            gc.enable()
+
+
 #: A share of an expansion: its cases, and its failures as (number, where, message).
 Part = tuple[list[CampaignCase], list[tuple[int, str, str]]]
 
@@ -286,6 +304,10 @@ class Expansion:
         gets ``(done, total)`` with this part's count scaled by ``n`` (an estimate of all
         parts' progress when they run side by side).
         """
+        with _collector_paused():
+            return self._part(k, n, progress)
+
+    def _part(self, k: int, n: int, progress: Progress | None) -> Part:
         total = self.total
         start, stop = total * k // n, total * (k + 1) // n
         product = itertools.product(*(range(axis.size) for axis in self.axes))
