@@ -10,9 +10,9 @@ steps) runs under ``mpiexec -n 2`` with each code tree given (this one, and ``--
 given: a ``git worktree`` of an older commit, run from its own folder so that it imports its own
 code), one after the other in this run.  Per code tree the table records:
 
-- ``validate``, ``run``, ``status`` and ``assemble``: wall time, CPU time (user + system of
-  every process the command started, both ranks included) and peak resident memory (the
-  largest process);
+- ``validate``, ``run``, ``status`` and ``assemble`` (``--steps``; also ``start``: a run that
+  starts no case, see :data:`STEPS`): wall time, CPU time (user + system of every process the
+  command started, both ranks included) and peak resident memory (the largest process);
 - the framework's overhead per case (``run``'s own summary: the time a case spends outside
   its solve on its rank: set-up, checks, storing, this rank's share of the writing);
 - the files under ``OUT/cases`` and their size on disk.

@@ -60,13 +60,16 @@ base's nz, also when the base gives it in ``grid.n``).
 
 :func:`load_campaign` reads, expands and validates a campaign; every problem raises
 :class:`CampaignError` whose message names the key or the case (by its sweep coordinates) and
-the field.  This module imports no MPI and writes no files.
+the field.  The cases may be built in shares elsewhere (a ``spread``: worker processes,
+:mod:`.parallel`, or the ranks of a run) with the same result.  This package imports no MPI
+and writes no files.
 
 The package by job: :mod:`.naming` (coordinate names, units, values as text) at the bottom,
 :mod:`.sample` (``[sample]`` designs and their distributions), :mod:`.model` (the frozen
 campaign, its axes and cases), :mod:`.validate` (keys, values and the paths they set),
-:mod:`.expand` (axes from ``[sweep]``/``[zip]``/``[sample]``, cases from the axes) and
-:mod:`.read` (files, ``[campaign]`` settings, ``[define]``) on top.
+:mod:`.expand` (axes from ``[sweep]``/``[zip]``/``[sample]``, cases from the axes, in
+shares), :mod:`.parallel` (shares built in worker processes) and :mod:`.read` (files,
+``[campaign]`` settings, ``[define]``) on top.
 """
 
 from solver.bodies.dundurs import beta_range, body1_for_beta

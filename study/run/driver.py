@@ -310,7 +310,7 @@ def broadcast_campaign(load: Callable[[Spread], Campaign | None], comm=None) -> 
 
 
 #: Fewest cases per rank worth a share of the expansion (a share costs a message each way).
-MIN_RANK_CASES = 200
+MIN_RANK_CASES = 100
 
 
 def _safe_part(
