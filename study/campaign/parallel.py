@@ -43,7 +43,7 @@ def _start() -> subprocess.Popen | None:
             [sys.executable, "-m", __name__], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
             env=env,
         )  # fmt: skip
-    except OSError:
+    except (OSError, ValueError, TypeError):  # no executable, no pipes: build it here
         return None
 
 
@@ -97,7 +97,8 @@ def processes(workers: int | None = None) -> Spread:
                 return next(numbers)
 
         feeders = [
-            threading.Thread(target=_serve, args=(expansion, take, n, parts))
+            # daemons: an interrupted caller does not wait for the shares left
+            threading.Thread(target=_serve, args=(expansion, take, n, parts), daemon=True)
             for _ in range(helpers)
         ]
         for feeder in feeders:
