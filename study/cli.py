@@ -429,7 +429,7 @@ def _validate(args: argparse.Namespace) -> int:
     if args.ranks is not None and args.ranks < 1:
         print(f"error: --ranks: must be at least 1, got {args.ranks}", file=sys.stderr)
         return 2
-    units = machine.calibration(recalibrate=args.recalibrate)
+    units = machine.calibration(recalibrate=args.recalibrate, logger=_notes())
     ranks = args.ranks or os.cpu_count() or 1
     print(describe_campaign(campaign, list_cases=args.list, ranks=ranks, calibration=units))
     lines = memory_warnings(campaign, machine_memory(), os.cpu_count())
@@ -437,6 +437,20 @@ def _validate(args: argparse.Namespace) -> int:
     for line in lines:
         print(line, file=sys.stderr)
     return 0
+
+
+def _notes():
+    """A logger whose messages go to stderr as they are (what ``validate`` is doing)."""
+    import logging
+
+    notes = logging.getLogger("study.validate")
+    if not notes.handlers:
+        handler = logging.StreamHandler(sys.stderr)
+        handler.setFormatter(logging.Formatter("%(message)s"))
+        notes.addHandler(handler)
+        notes.setLevel(logging.INFO)
+        notes.propagate = False
+    return notes
 
 
 #: Load increments of a case past which ``validate`` warns (each is a contact solve, plastic

@@ -277,7 +277,10 @@ def calibration(recalibrate: bool = False, logger: logging.Logger | None = None)
         saved = load()
         if saved is not None:
             return saved
-    logger.info("measuring this machine's solver speed for the cost estimates (a few seconds)")
+    logger.info(
+        "measuring this machine's solver speed for the cost estimates: once per machine, "
+        "up to half a minute"
+    )
     try:
         found = measure()
     except Exception as error:  # noqa: BLE001 - an estimate must not stop a run
