@@ -130,3 +130,18 @@ def test_saved_plans_give_the_same_bits_between_runs_and_ranks(tmp_path):
     finally:
         for ds in datasets:
             ds.close()
+
+
+def test_machine_key_without_pyfftw_metadata(monkeypatch):
+    """pyFFTW installed without package metadata: the same key, from the module's version."""
+    import importlib.metadata
+
+    from study.run import wisdom
+
+    key = wisdom.machine_key()
+
+    def missing(name):
+        raise importlib.metadata.PackageNotFoundError(name)
+
+    monkeypatch.setattr(importlib.metadata, "version", missing)
+    assert wisdom.machine_key() == key

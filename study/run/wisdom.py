@@ -48,9 +48,19 @@ def machine_key() -> str:
         platform.machine(),
         _cpu_model(),
         str(os.cpu_count()),
-        importlib.metadata.version("pyfftw"),
+        _pyfftw_version(),
     ]
     return hashlib.sha256("|".join(parts).encode()).hexdigest()[:16]
+
+
+def _pyfftw_version() -> str:
+    """The version of pyFFTW: its package metadata (no import), else the module's own."""
+    try:
+        return importlib.metadata.version("pyfftw")
+    except importlib.metadata.PackageNotFoundError:  # installed without metadata
+        import pyfftw
+
+        return pyfftw.__version__
 
 
 def cache_folder() -> Path:
