@@ -136,8 +136,6 @@ def test_machine_key_without_pyfftw_metadata(monkeypatch):
     """pyFFTW installed without package metadata: the same key, from the module's version."""
     import importlib.metadata
 
-    from study.run import wisdom
-
     key = wisdom.machine_key()
 
     def missing(name):
