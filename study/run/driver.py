@@ -242,7 +242,7 @@ class RunSummary:
         return text
 
 
-# -- validation on rank 0, then broadcast --------------------------------------------------------
+# -- the cases built on every rank, joined on rank 0, then broadcast ---------------------------
 def broadcast_campaign(load: Callable[[Spread], Campaign | None], comm=None) -> Campaign | None:
     """Load and validate a campaign with every rank's help; broadcast it (or its error).
 
