@@ -1,5 +1,6 @@
 """Campaign files: expansion, zip, aliases, Dundurs beta, and one clear message per bad file."""
 
+import dataclasses
 import itertools
 import json
 import os
@@ -18,6 +19,7 @@ from study.campaign import (
     body1_for_beta,
     load_campaign,
 )
+from study.campaign.model import CASE_COLUMNS, spec_changes, with_changes
 from study.cli import main
 from study.run.storage import campaign_text
 
@@ -46,8 +48,49 @@ def test_product_zip_alias_and_order(tmp_path):
     # JSON round trip (what OUT/campaign.json holds: one line per case)
     text = campaign_text(campaign.to_dict())
     assert Campaign.from_dict(json.loads(text)) == campaign
-    lines = [line for line in text.splitlines() if line.startswith('  {"number": ')]
+    lines = [line for line in text.splitlines() if line.startswith("  [")]
     assert len(lines) == len(campaign.cases)
+    # a case records the tables its spec changes from the first case's
+    rows = json.loads(text)["cases"]
+    changed = [set(row[CASE_COLUMNS.index("changes")]) for row in rows]
+    assert changed == [set(), {"load", "grid"}, {"friction"}, {"friction", "load", "grid"}]
+
+
+def test_campaign_records_of_the_first_format_are_still_read(tmp_path):
+    """A folder written before the rows (format /1: a table per case, whole specs) reads alike."""
+    campaign = load_campaign(small_campaign(tmp_path))
+    record = campaign.to_dict()
+    record["format"] = "slipstick-campaign/1"
+    record["cases"] = [
+        {
+            "number": c.number,
+            "index": list(c.index),
+            "coords": c.coords,
+            "case_id": c.case_id,
+            "cost": c.cost,
+            "memory": c.memory,
+            "warnings": list(c.warnings),
+            "work": dataclasses.asdict(c.work),
+            "spec": json.loads(json.dumps(c.spec)),
+        }
+        for c in campaign.cases
+    ]
+    read = Campaign.from_dict(json.loads(json.dumps(record)))
+    assert read == campaign
+    assert [c.work for c in read.cases] == [c.work for c in campaign.cases]
+    record["format"] = "slipstick-campaign/9"
+    with pytest.raises(CampaignError, match="format 'slipstick-campaign/9'"):
+        Campaign.from_dict(record)
+
+
+def test_spec_changes_undo_to_the_spec():
+    """Changed, added and missing tables all come back; unchanged tables are the reference's."""
+    reference = {"a": {"x": 1}, "b": {"y": [1, 2]}, "c": {"z": 3}}
+    spec = {"a": {"x": 1}, "b": {"y": [1, 3]}, "d": {"w": 0}}
+    changes = spec_changes(spec, reference)
+    assert changes == {"b": {"y": [1, 3]}, "d": {"w": 0}, "c": None}
+    back = with_changes(reference, json.loads(json.dumps(changes)))
+    assert back == spec and back["a"] is reference["a"]
 
 
 def test_whole_body_tables_swept_by_name(tmp_path):

@@ -152,9 +152,9 @@ class Work:
     built_volume_cells: int = 0
     theorem: float = 0.0
 
-    def to_dict(self) -> dict:
-        """The fields by name (as ``dataclasses.asdict``, without its deep copy of scalars)."""
-        return {item.name: getattr(self, item.name) for item in fields(self)}
+    def values(self) -> list:
+        """The fields' values in :data:`WORK_FIELDS` order (``Work(*values)`` is this work)."""
+        return [getattr(self, name) for name in WORK_FIELDS]
 
     @property
     def surface_units(self) -> float:
@@ -165,6 +165,10 @@ class Work:
     def volume_units(self) -> float:
         """``Mv log2 Mv``: the volume work of one plasticity iteration (0 without)."""
         return _nlogn(self.volume_cells)
+
+
+#: :class:`Work`'s fields, in order.
+WORK_FIELDS = tuple(item.name for item in fields(Work))
 
 
 def _nlogn(n: float) -> float:

@@ -28,6 +28,7 @@ from .model import (
     CampaignError,
     Coordinate,
     Progress,
+    shared_spec,
 )
 from .naming import _NAME, RESERVED_NAMES, _is_inf, _meta, default_name, format_value
 from .sample import SAMPLE_DIM, Design
@@ -342,12 +343,13 @@ class Expansion:
                 failures.append((number, self._where(number, coords), message))
                 continue
             work = count(case)
+            reference = cases[0].spec if cases else case.spec
             cases.append(
                 CampaignCase(
                     number=number,
                     index=tuple(index),
                     coords=coords,
-                    spec=case.spec,  # built for this case alone by from_dict: no copy needed
+                    spec=shared_spec(case.spec, reference),
                     case_id=case.case_id,
                     cost=float(seconds(work, REFERENCE)),
                     memory=int(solver.memory_estimate(case)),

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import solver
 from solver.keys import Key
 
-from .cost import Work, count
+from .cost import WORK_FIELDS, Work, count
 from .naming import CampaignError as CampaignError  # defined there, re-exported
 from .naming import _is_inf, _is_number, format_value
 from .sample import DISTRIBUTIONS, METHODS, SAMPLE_DIM, Design
@@ -82,6 +82,51 @@ CAMPAIGN_KEYS: tuple[Key, ...] = (
     Key("campaign", "case_timeout", "number", "s", "none", f"(0, {MAX_CASE_TIMEOUT:g}]",
         "every campaign", "Seconds after which a case is abandoned (failed)."),
 )  # fmt: skip
+
+
+#: ``campaign.json``'s format.  /2 writes a case as a row of :data:`CASE_COLUMNS` (its
+#: coordinates and work as lists in the order the record's head names them) and its spec as
+#: the top-level tables that differ from the record's reference spec (the first case's,
+#: :func:`spec_changes`); /1 (a table per case, every spec whole) is still read.
+FORMAT = "slipstick-campaign/2"
+READABLE_FORMATS = ("slipstick-campaign/1", FORMAT)
+#: The columns of a case's row in ``campaign.json``.
+CASE_COLUMNS = ("number", "index", "coords", "case_id", "cost", "memory", "warnings", "work",
+                "changes")  # fmt: skip
+
+
+def _same(a: object, b: object) -> bool:
+    return a is b or a == b
+
+
+def spec_changes(spec: Mapping, reference: Mapping) -> dict:
+    """The top-level tables of ``spec`` that differ from ``reference``'s.
+
+    A table of ``reference`` that ``spec`` lacks is None; :func:`with_changes` undoes it.
+    """
+    changes = {k: v for k, v in spec.items() if k not in reference or not _same(reference[k], v)}
+    changes.update((k, None) for k in reference.keys() - spec.keys())
+    return changes
+
+
+def with_changes(reference: Mapping, changes: Mapping) -> dict:
+    """The spec of :func:`spec_changes`: ``reference``'s tables (shared) with ``changes``."""
+    spec = {**reference, **changes}
+    if None in changes.values():
+        spec = {k: v for k, v in spec.items() if v is not None}
+    return spec
+
+
+def shared_spec(spec: dict, reference: Mapping) -> dict:
+    """``spec`` with the tables equal to ``reference``'s replaced by ``reference``'s own.
+
+    Cases built from one base share their unchanged tables: less memory, and a pickle of many
+    cases writes each shared table once.  A spec is read, never changed in place (copy it
+    first, as :func:`study.run.driver.solver_case` does).
+    """
+    return {
+        k: reference[k] if k in reference and _same(reference[k], v) else v for k, v in spec.items()
+    }
 
 
 #: A progress callback: ``progress(done, total)`` (cases expanded so far, all cases).
@@ -169,7 +214,8 @@ class CampaignCase:
     coords : dict
         Coordinate name -> swept value.
     spec : dict
-        Normalised case table (:meth:`solver.Case.to_dict`).
+        Normalised case table (:meth:`solver.Case.to_dict`); its unchanged tables may be
+        shared with other cases' (:func:`shared_spec`): read it, copy it to change it.
     case_id : str
         :attr:`solver.Case.case_id`.
     cost : float
@@ -306,9 +352,11 @@ class Campaign:
         ]
 
     def to_dict(self) -> dict:
-        """JSON-able form (what ``OUT/campaign.json`` holds)."""
+        """JSON-able form (what ``OUT/campaign.json`` holds: :data:`FORMAT`)."""
+        reference = self.cases[0].spec if self.cases else {}
+        names = [c.name for axis in self.axes for c in axis.coordinates]
         return {
-            "format": "slipstick-campaign/1",
+            "format": FORMAT,
             "slipstick_version": solver.__version__,
             "name": self.name,
             "source": self.source,
@@ -326,25 +374,42 @@ class Campaign:
             "base": self.base,
             "design": None if self.design is None else self.design.to_dict(),
             "axes": self.axes_dicts(),
+            "reference_spec": reference,
+            "case_columns": list(CASE_COLUMNS),
+            "coordinate_names": names,
+            "work_fields": list(WORK_FIELDS),
             "cases": [
-                {
-                    "number": case.number,
-                    "index": list(case.index),
-                    "coords": case.coords,
-                    "case_id": case.case_id,
-                    "cost": case.cost,
-                    "memory": case.memory,
-                    "warnings": list(case.warnings),
-                    "work": None if case.work is None else case.work.to_dict(),
-                    "spec": case.spec,
-                }
+                [
+                    case.number,
+                    list(case.index),
+                    list(case.coords.values()) if list(case.coords) == names else case.coords,
+                    case.case_id,
+                    case.cost,
+                    case.memory,
+                    list(case.warnings),
+                    None if case.work is None else case.work.values(),
+                    spec_changes(case.spec, reference),
+                ]
                 for case in self.cases
             ],
         }
 
     @classmethod
     def from_dict(cls, data: Mapping) -> Campaign:
-        """Rebuild a campaign from :meth:`to_dict` output (no re-validation)."""
+        """Rebuild a campaign from :meth:`to_dict` output (no re-validation).
+
+        Raises
+        ------
+        CampaignError
+            If the record is of a format this version does not read.
+        """
+        found = data.get("format")
+        if found not in READABLE_FORMATS:
+            raise CampaignError(
+                f"campaign record of format {found!r}; this version reads "
+                f"{', '.join(READABLE_FORMATS)}: run the campaign again with this version (its "
+                "case files are reused), or read it with the version that wrote it"
+            )
         settings = data["settings"]
         axes = tuple(
             Axis(
@@ -357,20 +422,23 @@ class Campaign:
             )
             for axis in data["axes"]
         )
-        cases = tuple(
-            CampaignCase(
-                number=c["number"],
-                index=tuple(c["index"]),
-                coords=dict(c["coords"]),
-                spec=c["spec"],
-                case_id=c["case_id"],
-                cost=c["cost"],
-                memory=c["memory"],
-                warnings=tuple(c.get("warnings", ())),
-                work=Work(**c["work"]) if c.get("work") else None,
+        if found == FORMAT:
+            cases = _cases_from_rows(data)
+        else:
+            cases = tuple(
+                CampaignCase(
+                    number=c["number"],
+                    index=tuple(c["index"]),
+                    coords=dict(c["coords"]),
+                    spec=c["spec"],
+                    case_id=c["case_id"],
+                    cost=c["cost"],
+                    memory=c["memory"],
+                    warnings=tuple(c.get("warnings", ())),
+                    work=Work(**c["work"]) if c.get("work") else None,
+                )
+                for c in data["cases"]
             )
-            for c in data["cases"]
-        )
         return cls(
             settings=Settings(
                 name=settings["name"],
@@ -389,3 +457,28 @@ class Campaign:
             base=data.get("base", {}),
             design=Design.from_dict(data["design"]) if data.get("design") else None,
         )
+
+
+def _cases_from_rows(data: Mapping) -> tuple[CampaignCase, ...]:
+    """The cases of a :data:`FORMAT` record (rows of its ``case_columns``)."""
+    if tuple(data["case_columns"]) != CASE_COLUMNS or tuple(data["work_fields"]) != WORK_FIELDS:
+        raise CampaignError(
+            f"campaign record with case columns {data['case_columns']} and work fields "
+            f"{data['work_fields']}; this version writes {list(CASE_COLUMNS)} and "
+            f"{list(WORK_FIELDS)}: run the campaign again with this version"
+        )
+    reference, names = data["reference_spec"], data["coordinate_names"]
+    return tuple(
+        CampaignCase(
+            number=number,
+            index=tuple(index),
+            coords=dict(zip(names, coords, strict=True)) if isinstance(coords, list) else coords,
+            spec=with_changes(reference, changes),
+            case_id=case_id,
+            cost=cost,
+            memory=memory,
+            warnings=tuple(warnings),
+            work=None if work is None else Work(*work),
+        )
+        for number, index, coords, case_id, cost, memory, warnings, work, changes in data["cases"]
+    )
