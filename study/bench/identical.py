@@ -54,11 +54,12 @@ def _coarser(spec: dict, reader) -> dict:
     return spec
 
 
-def _campaigns():
+def _campaigns(names: list[str] | None = None):
     from study.campaign import load_campaign
 
     for path in sorted(CAMPAIGNS.glob("*.toml")):
-        yield path.stem, load_campaign(str(path))
+        if names is None or path.stem in names:
+            yield path.stem, load_campaign(str(path))
 
 
 def _height_map_table(folder: pathlib.Path) -> dict:
@@ -99,7 +100,9 @@ def scenes(folder: pathlib.Path, only: list[str] | None = None) -> dict[str, tup
         return not only or any(o in name for o in only)
 
     out = {}
-    for name, campaign in _campaigns():
+    stems = [path.stem for path in CAMPAIGNS.glob("*.toml")]
+    names = [n for n in stems if wanted(f"{n}.first") or wanted(f"{n}.last")]
+    for name, campaign in _campaigns(names):  # only those with a wanted scene: some are large
         for which, case in (("first", campaign.cases[0]), ("last", campaign.cases[-1])):
             if wanted(f"{name}.{which}"):
                 out[f"{name}.{which}"] = (_coarser(case.spec, read_surface), read_surface)
@@ -120,10 +123,13 @@ def _arrays(result) -> tuple[dict[str, np.ndarray], dict]:
     return arrays, json.loads(json.dumps(attrs, default=repr))
 
 
-def _cases() -> dict:
-    """Case id, normalised table, warnings and memory estimate of every campaign case."""
+def _cases(names: list[str] | None = None) -> dict:
+    """Case id, normalised table, warnings and memory estimate of every campaign case.
+
+    Of the campaigns ``names`` (file stems) only, when given.
+    """
     out = {}
-    for name, campaign in _campaigns():
+    for name, campaign in _campaigns(names):
         out[name] = [
             {
                 "case_id": c.case_id,
@@ -146,17 +152,28 @@ def _same(a: np.ndarray, b: np.ndarray) -> bool:
     return bool(np.array_equal(a, b))
 
 
-def run(folder: pathlib.Path, save: bool, only: list[str] | None = None) -> int:
-    """Run every scene; save (``save``) or compare against what ``folder`` holds."""
+def run(
+    folder: pathlib.Path,
+    save: bool,
+    only: list[str] | None = None,
+    campaigns: list[str] | None = None,
+) -> int:
+    """Run every scene; save (``save``) or compare against what ``folder`` holds.
+
+    ``only``: the scenes whose name contains one of these; ``campaigns``: the campaigns (file
+    stems) whose cases are checked (default: all; a saved check then compares those only).
+    """
     folder.mkdir(parents=True, exist_ok=True)
     failures = 0
-    cases = _cases()
+    cases = _cases(campaigns)
     cases_path = folder / "cases.json"
     if save:
         cases_path.write_text(json.dumps(cases, indent=1, sort_keys=True))
         print(f"cases: {sum(len(v) for v in cases.values())} case ids of {len(cases)} campaigns")
     else:
         before = json.loads(cases_path.read_text())
+        if campaigns is not None:
+            before = {name: found for name, found in before.items() if name in campaigns}
         differ = [
             f"{name}[{i}].{key}"
             for name in sorted(set(before) | set(cases))
@@ -207,15 +224,18 @@ def run(folder: pathlib.Path, save: bool, only: list[str] | None = None) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Command line: ``save DIR`` or ``compare DIR`` [``--only`` NAME ...]."""
+    """Command line: ``save DIR`` or ``compare DIR`` [``--only`` NAME ...] [``--campaigns`` ...]."""
     parser = argparse.ArgumentParser(prog="python -m study.bench.identical", description=__doc__)
     parser.add_argument("action", choices=("save", "compare"))
     parser.add_argument("folder", type=pathlib.Path)
     parser.add_argument(
         "--only", nargs="*", help="run only scenes whose name contains one of these"
     )
+    parser.add_argument(
+        "--campaigns", nargs="*", help="check only the cases of these campaigns (file stems)"
+    )
     args = parser.parse_args(argv)
-    return run(args.folder, args.action == "save", args.only)
+    return run(args.folder, args.action == "save", args.only, args.campaigns)
 
 
 if __name__ == "__main__":
