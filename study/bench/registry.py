@@ -18,7 +18,7 @@ SCENES = {
     "cycles": ("cycles", "run_cycles", ()),
     "rough": ("rough", "run_rough", ("peers", "periodic")),
     "moving": ("moving", "run_moving", ()),
-    "rolling": ("rolling", "run_rolling", ("peers", "steady", "shapes")),
+    "rolling": ("rolling", "run_rolling", ("peers", "steady", "shapes", "repeat")),
     "shakedown": ("shakedown", "run_shakedown", ("incremental",)),
 }
 
