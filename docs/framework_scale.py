@@ -110,16 +110,18 @@ def measure(tree: Path, campaign: Path, out: Path, ranks: int, steps: list[str])
     """
     python = sys.executable
     mpi = ["mpiexec", "-n", str(ranks), python, "-m", "study", "run", str(campaign)]
+    start = out.with_name(out.name + "_start")
+    folder = out if "run" in steps else start  # status and assemble read the run's folder
     commands = {
         "validate": [python, "-m", "study", "validate", str(campaign)],
-        "start": mpi + ["--out", str(out.with_name(out.name + "_start")), "--no-assemble"]
+        "start": mpi + ["--out", str(start), "--no-assemble"]
         + ["--time-limit", "0.001", "--time-reserve", "0"],
         "run": mpi + ["--out", str(out), "--no-assemble"],
-        "status": [python, "-m", "study", "status", str(out)],
-        "assemble": [python, "-m", "study", "assemble", str(out)],
+        "status": [python, "-m", "study", "status", str(folder)],
+        "assemble": [python, "-m", "study", "assemble", str(folder)],
     }  # fmt: skip
     found: dict = {
-        name: _step(commands[name], tree, (0, 1, 3) if name == "start" else (0, 1))
+        name: _step(commands[name], tree, (0, 1, 3) if name in ("start", "status") else (0, 1))
         for name in STEPS
         if name in steps
     }
