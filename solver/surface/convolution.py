@@ -22,7 +22,7 @@ import numpy as np
 from ..bodies.materials import Pair
 from ..numerics.fftw import empty_aligned, plan
 from ..numerics.grid import SurfaceGrid, fft_length
-from .influence import surface_kernels
+from .influence import COMPONENTS, surface_kernels
 
 #: Kernel blocks with real spectra (even, or odd in both x and y).
 REAL_SPECTRA = ("zz", "xx", "yy", "xy")
@@ -106,10 +106,10 @@ class SurfaceOperator:
         """
         if name not in self._kernels:
             ox, oy = self.grid.offsets(self.lengths)
-            kernels = surface_kernels(self.pair, ox, oy, self.grid.dx, self.grid.dy)
+            wanted = ("zz",) if name == "zz" else tuple(k for k in COMPONENTS if k != "zz")
+            kernels = surface_kernels(self.pair, ox, oy, self.grid.dx, self.grid.dy, wanted)
             nx, ny = self.grid.shape
             (lx, ly), scale = self.lengths, 1.0 / (self.lengths[0] * self.lengths[1])
-            wanted = ("zz",) if name == "zz" else tuple(k for k in kernels if k != "zz")
             for key in wanted:
                 kernel = np.array(kernels[key], dtype=float)
                 kernel[nx : lx - nx + 1, :] = 0.0

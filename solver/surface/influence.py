@@ -98,7 +98,14 @@ def cell_integral(name: str, x: np.ndarray, y: np.ndarray, dx: float, dy: float)
     return f(x + a, y + b) - f(x + a, y - b) - f(x - a, y + b) + f(x - a, y - b)
 
 
-def surface_kernels(pair: Pair, x: np.ndarray, y: np.ndarray, dx: float, dy: float) -> dict:
+def surface_kernels(
+    pair: Pair,
+    x: np.ndarray,
+    y: np.ndarray,
+    dx: float,
+    dy: float,
+    names: tuple[str, ...] = COMPONENTS,
+) -> dict:
     """Relative-displacement influence coefficients of a uniformly loaded cell.
 
     Parameters
@@ -109,26 +116,29 @@ def surface_kernels(pair: Pair, x: np.ndarray, y: np.ndarray, dx: float, dy: flo
         Offsets of the field-cell centre from the loaded-cell centre (m).
     dx, dy : float
         Cell sizes (m).
+    names : tuple of str
+        The blocks wanted (of :data:`COMPONENTS`; default all): only their integrals are
+        computed.
 
     Returns
     -------
     dict of ndarray
-        Keys of :data:`COMPONENTS`; ``"zz"`` is u_z per unit p, ``"xx"``/``"yy"``/``"xy"`` the
+        Keys ``names``; ``"zz"`` is u_z per unit p, ``"xx"``/``"yy"``/``"xy"`` the
         tangential block (u_x per q_x, u_y per q_y, u_x per q_y = u_y per q_x), ``"xp"``/``"yp"``
         u_x/u_y per unit p.  u_z per unit q_x (q_y) at the same offset is ``-xp`` (``-yp``).
         Units: m/Pa.
     """
     a_c, c_c, beta = pair.compliance, pair.shear_coupling, pair.dundurs_beta
-    inv_r = cell_integral("inv_r", x, y, dx, dy)
-    out = {
-        "zz": a_c / np.pi * inv_r,
-        "xx": (a_c * inv_r + c_c * cell_integral("xx_r3", x, y, dx, dy)) / np.pi,
-        "yy": (a_c * inv_r + c_c * cell_integral("yy_r3", x, y, dx, dy)) / np.pi,
-        "xy": c_c / np.pi * cell_integral("xy_r3", x, y, dx, dy),
-        "xp": beta * a_c / np.pi * cell_integral("x_r2", x, y, dx, dy),
-        "yp": beta * a_c / np.pi * cell_integral("y_r2", x, y, dx, dy),
+    inv_r = cell_integral("inv_r", x, y, dx, dy) if {"zz", "xx", "yy"} & set(names) else None
+    blocks = {
+        "zz": lambda: a_c / np.pi * inv_r,
+        "xx": lambda: (a_c * inv_r + c_c * cell_integral("xx_r3", x, y, dx, dy)) / np.pi,
+        "yy": lambda: (a_c * inv_r + c_c * cell_integral("yy_r3", x, y, dx, dy)) / np.pi,
+        "xy": lambda: c_c / np.pi * cell_integral("xy_r3", x, y, dx, dy),
+        "xp": lambda: beta * a_c / np.pi * cell_integral("x_r2", x, y, dx, dy),
+        "yp": lambda: beta * a_c / np.pi * cell_integral("y_r2", x, y, dx, dy),
     }
-    return out
+    return {name: blocks[name]() for name in names}
 
 
 def point_kernels(pair: Pair, x: np.ndarray, y: np.ndarray) -> dict:
