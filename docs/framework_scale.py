@@ -17,8 +17,11 @@ code), one after the other in this run.  Per code tree the table records:
   its solve on its rank: set-up, checks, storing, this rank's share of the writing);
 - the files under ``OUT/cases`` and their size on disk.
 
-The table goes to ``docs/tables/framework_scale.md`` (``--table``), headed by the command,
-the date, the machine and the commits.
+``--repeat N`` runs every step but ``run`` N times and records the medians (a step of a
+second is noise-bound on a shared machine); ``--campaign FILE`` measures a campaign file of
+one's own instead of the tiny design (give ``--cases`` its number of cases, for the columns per
+10^4 cases).  The table goes to ``docs/tables/framework_scale.md`` (``--table``), headed by the
+command, the date, the machine and the commits.
 """
 
 from __future__ import annotations
@@ -103,10 +106,25 @@ def _step(command: list[str], cwd: Path, accept: tuple[int, ...] = (0, 1)) -> di
 STEPS = ("validate", "start", "run", "status", "assemble")
 
 
-def measure(tree: Path, campaign: Path, out: Path, ranks: int, steps: list[str]) -> dict:
+def _median_step(command: list[str], cwd: Path, accept: tuple[int, ...], repeat: int) -> dict:
+    """:func:`_step` ``repeat`` times: the median wall and CPU, the largest peak memory."""
+    runs = [_step(command, cwd, accept) for _ in range(repeat)]
+    middle = len(runs) // 2
+    return {
+        "wall": sorted(run["wall"] for run in runs)[middle],
+        "cpu": sorted(run["cpu"] for run in runs)[middle],
+        "peak": max(run["peak"] for run in runs),
+        "text": runs[-1]["text"],
+    }
+
+
+def measure(
+    tree: Path, campaign: Path, out: Path, ranks: int, steps: list[str], repeat: int = 1
+) -> dict:
     """Run ``steps`` with the code of ``tree``; their costs.
 
-    Run from ``tree``, Python imports that tree's ``solver`` and ``study``.
+    Run from ``tree``, Python imports that tree's ``solver`` and ``study``.  Every step but
+    ``run`` is run ``repeat`` times (:func:`_median_step`).
     """
     python = sys.executable
     mpi = ["mpiexec", "-n", str(ranks), python, "-m", "study", "run", str(campaign)]
@@ -121,7 +139,12 @@ def measure(tree: Path, campaign: Path, out: Path, ranks: int, steps: list[str])
         "assemble": [python, "-m", "study", "assemble", str(folder)],
     }  # fmt: skip
     found: dict = {
-        name: _step(commands[name], tree, (0, 1, 3) if name in ("start", "status") else (0, 1))
+        name: _median_step(
+            commands[name],
+            tree,
+            (0, 1, 3) if name in ("start", "status") else (0, 1),
+            1 if name == "run" else repeat,
+        )  # fmt: skip
         for name in STEPS
         if name in steps
     }
@@ -153,30 +176,50 @@ def main(argv: list[str] | None = None) -> int:
         "--steps", default="validate,run,status,assemble",
         help=f"comma-separated steps to measure, of {', '.join(STEPS)}",
     )  # fmt: skip
+    parser.add_argument(
+        "--repeat", type=int, default=1,
+        help="runs of each step but run (the table gives the medians: short steps are noisy)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--campaign", type=Path,
+        help="measure this campaign file instead of the tiny design (--cases is then its count)",
+    )  # fmt: skip
     args = parser.parse_args(argv)
+    if args.repeat < 1:
+        parser.error(f"--repeat: give 1 or more, got {args.repeat}")
     steps = [step for step in args.steps.split(",") if step]
     if not steps or set(steps) - set(STEPS):
         parser.error(f"--steps: give some of {', '.join(STEPS)}, got {args.steps!r}")
     trees = ([("before", args.before.resolve())] if args.before else []) + [("after", ROOT)]
     rows = []
     with tempfile.TemporaryDirectory(prefix="framework_scale_") as folder:
-        campaign = Path(folder) / "tiny_scale.toml"
-        campaign.write_text(CAMPAIGN.format(count=args.cases))
+        if args.campaign is not None:
+            campaign = args.campaign.resolve()
+        else:
+            campaign = Path(folder) / "tiny_scale.toml"
+            campaign.write_text(CAMPAIGN.format(count=args.cases))
         for label, tree in trees:
             out = Path(folder) / f"out_{label}"
             print(f"{label}: {tree} ({_commit(tree)}), {args.cases} cases", flush=True)
-            found = measure(tree, campaign, out, args.ranks, steps)
+            found = measure(tree, campaign, out, args.ranks, steps, args.repeat)
             rows.append((label, _commit(tree), found))
             shutil.rmtree(out, ignore_errors=True)
             shutil.rmtree(out.with_name(out.name + "_start"), ignore_errors=True)
+    scene = (
+        f"the campaign {args.campaign.name} ({args.cases} cases)"
+        if args.campaign
+        else f"{args.cases} tiny elastic cases (16 x 16 cells, 2 steps)"
+    )
     lines = [
         f"`python docs/framework_scale.py --cases {args.cases}"
+        + (f" --campaign {args.campaign}" if args.campaign else "")
         + (f" --steps {args.steps}" if steps != ["validate", "run", "status", "assemble"] else "")
+        + (f" --repeat {args.repeat}" if args.repeat > 1 else "")
         + (" --before <worktree>`" if args.before else "`"),
         "",
         f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; {platform.node()}, "
-        f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.2f}; {args.cases} tiny elastic "
-        f"cases (16 x 16 cells, 2 steps) on {args.ranks} ranks",
+        f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.2f}; {scene} on {args.ranks} ranks"
+        + (f"; medians of {args.repeat} runs of each step but run" if args.repeat > 1 else ""),
         "",
         "| code | commit | step | wall (s) | CPU (s) | peak memory (MiB) |",
         "|---|---|---|---|---|---|",
