@@ -244,8 +244,7 @@ def _coarse_samples(zeta, parts: tuple) -> tuple:
     if coarse[-1] != zeta.size - 1:
         coarse = np.append(coarse, zeta.size - 1)
     z0, z1 = zeta[coarse[:-1]], zeta[coarse[1:]]
-    with np.errstate(divide="ignore"):
-        bend = np.arctan2(1.0, z0) - z0 / (1.0 + z0 * z0)
+    bend = np.arctan2(1.0, z0) - z0 / (1.0 + z0 * z0)
     m = np.clip(1.0 / math.sqrt(3.0), z0, z1)
     hump = 3.0 * m / (1.0 + m * m) ** 2
     return coarse, tuple(p[coarse] for p in parts), bend, hump, z1 - z0

@@ -429,8 +429,8 @@ def _contact(
             after = resource.getrusage(resource.RUSAGE_CHILDREN)
             used = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
             cpu = min(cpu, used)
-        if done.returncode != 0:
-            raise RuntimeError(f"CONTACT exited with {done.returncode}: {done.stdout[-300:]}")
+            if done.returncode != 0:
+                raise RuntimeError(f"CONTACT exited with {done.returncode}: {done.stdout[-300:]}")
         with open(os.path.join(folder, "bench.out")) as handle:
             lines = handle.read().splitlines()
         totals = next(k for k, line in enumerate(lines) if line.split()[:3] == ["FN", "FX", "FY"])

@@ -85,7 +85,8 @@ CAMPAIGN_KEYS: tuple[Key, ...] = (
 
 
 #: ``campaign.json``'s format.  /2 writes a case as a row of :data:`CASE_COLUMNS` (its
-#: coordinates and work as lists in the order the record's head names them) and its spec as
+#: coordinates and work as lists in the order the record's head names them; coordinates of
+#: other names as a table) and its spec as
 #: the top-level tables that differ from the record's reference spec (the first case's,
 #: :func:`spec_changes`); /1 (a table per case, every spec whole) is still read.
 FORMAT = "slipstick-campaign/2"
