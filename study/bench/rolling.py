@@ -302,7 +302,6 @@ def _ours_steady(
     from solver.surface.convolution import surface_operator
 
     table = steady_table(across, xi, order, spin=spin, a_over_b=a_over_b)
-    timed_solve(table)  # untimed: loads the libraries the solve imports on first use
     runs = []
     for _ in range(repeat):  # best of: a point takes milliseconds
         surface_operator.cache_clear()  # each run builds its operator, as each CONTACT run does
@@ -520,9 +519,9 @@ def run_rolling(
     repeat : int
         Steady points, ours and CONTACT's on the same sizes: times are the best of ``repeat``
         solves (a point at 16 cells across takes milliseconds), each from scratch: ours
-        builds its operator again each time (after one untimed solve that loads the
-        libraries), CONTACT's is a process each time.  CONTACT's reference and the transient
-        march run once.
+        builds its operator again each time (the libraries loaded before,
+        :func:`~study.bench.timing.load_solver`), CONTACT's is a process each time.
+        CONTACT's reference and the transient march run once.
     """
     if shapes is None:
         shapes = list(SHAPES) if steady else [1.0]

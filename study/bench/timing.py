@@ -1,8 +1,9 @@
 """Timing and table helpers of the benchmarks: isolated child processes, peak memory, tables.
 
-Every benchmark row runs in a fresh child process (:func:`isolated`); its memory figure is the
-growth of that process's resident set, sampled every 2 ms (:func:`peak_memory`), so codes in
-C++ and in Python are measured alike.
+Every benchmark row runs in a fresh child process (:func:`isolated`) that has loaded the
+solver's libraries first (:func:`load_solver`: they load on first use); its memory figure is
+the growth of that process's resident set, sampled every 2 ms (:func:`peak_memory`), so codes
+in C++ and in Python are measured alike.
 """
 
 from __future__ import annotations
@@ -45,7 +46,23 @@ def peak_memory():
         record["peak_MB"] = max(record["peak_MB"], _current_rss_mb() - baseline)
 
 
+def load_solver() -> None:
+    """Import what a solve imports on its first use: the solver's modules and pyFFTW.
+
+    ``solver`` loads its modules on first use and pyFFTW at the first FFT plan, seconds on a
+    slow machine: a row of a benchmark times the solve, not these imports.
+    """
+    import importlib
+
+    import solver
+
+    for name in dir(solver):  # each public name loads its module
+        getattr(solver, name)
+    importlib.import_module("pyfftw")
+
+
 def _child(target, args, queue) -> None:
+    load_solver()
     try:
         queue.put(("ok", target(*args)))
     except Exception as error:  # reported as a row, the benchmark goes on
