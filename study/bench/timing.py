@@ -62,8 +62,8 @@ def load_solver() -> None:
 
 
 def _child(target, args, queue) -> None:
-    load_solver()
     try:
+        load_solver()
         queue.put(("ok", target(*args)))
     except Exception as error:  # reported as a row, the benchmark goes on
         queue.put(("error", f"{type(error).__name__}: {error}"))
