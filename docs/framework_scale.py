@@ -187,6 +187,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.repeat < 1:
         parser.error(f"--repeat: give 1 or more, got {args.repeat}")
+    if args.campaign is not None and not args.campaign.is_file():
+        parser.error(f"--campaign: no such file {args.campaign}")
     steps = [step for step in args.steps.split(",") if step]
     if not steps or set(steps) - set(STEPS):
         parser.error(f"--steps: give some of {', '.join(STEPS)}, got {args.steps!r}")

@@ -10,8 +10,11 @@ from study.bench import shakedown as bench_shakedown
 
 @pytest.mark.parametrize(
     ("scene", "option"),
-    [("hertz", {"incremental": True}), ("hertz", {"periodic": True}), ("rolling", {"error": True})],
-)
+    [
+        ("hertz", {"incremental": True}), ("hertz", {"periodic": True}),
+        ("rolling", {"error": True}), ("rolling", {"repeat": 0}), ("hertz", {"repeat": -1}),
+    ],
+)  # fmt: skip
 def test_an_option_a_scene_does_not_take_is_refused_by_name(scene, option):
     with pytest.raises(ValueError, match="--" + next(iter(option))):
         registry.run_benchmark(scene, [8], **option)

@@ -38,3 +38,11 @@ def test_compare_fails_on_a_changed_case_id(tmp_path, capsys):
     assert "quickstart[0].case_id" in capsys.readouterr().out
     # the saved check of every campaign, compared on some of them, compares those only
     assert identical.run(tmp_path, save=False, only=only, campaigns=["fretting_ii"]) == 0
+
+
+def test_an_unknown_campaign_is_refused(tmp_path, capsys):
+    assert (
+        identical.run(tmp_path, save=True, only=["none"], campaigns=["quickstart", "nosuch"]) == 2
+    )
+    assert "no shipped campaign ['nosuch']" in capsys.readouterr().out
+    assert not (tmp_path / "cases.json").exists()

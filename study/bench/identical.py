@@ -56,11 +56,12 @@ def _coarser(spec: dict, reader) -> dict:
     return spec
 
 
-def _campaigns(names: list[str] | None = None):
+def _campaigns(keep=lambda stem: True):
+    """(file stem, campaign) of the shipped campaigns whose stem ``keep`` accepts."""
     from study.campaign import load_campaign
 
     for path in sorted(CAMPAIGNS.glob("*.toml")):
-        if names is None or path.stem in names:
+        if keep(path.stem):
             yield path.stem, load_campaign(str(path))
 
 
@@ -102,9 +103,11 @@ def scenes(folder: pathlib.Path, only: list[str] | None = None) -> dict[str, tup
         return not only or any(o in name for o in only)
 
     out = {}
-    stems = [path.stem for path in CAMPAIGNS.glob("*.toml")]
-    names = [n for n in stems if wanted(f"{n}.first") or wanted(f"{n}.last")]
-    for name, campaign in _campaigns(names):  # only those with a wanted scene: some are large
+
+    def scene_of(stem: str) -> bool:  # only the campaigns with a wanted scene: some are large
+        return wanted(f"{stem}.first") or wanted(f"{stem}.last")
+
+    for name, campaign in _campaigns(scene_of):
         for which, case in (("first", campaign.cases[0]), ("last", campaign.cases[-1])):
             if wanted(f"{name}.{which}"):
                 out[f"{name}.{which}"] = (_coarser(case.spec, read_surface), read_surface)
@@ -131,7 +134,7 @@ def _cases(names: list[str] | None = None) -> dict:
     Of the campaigns ``names`` (file stems) only, when given.
     """
     out = {}
-    for name, campaign in _campaigns(names):
+    for name, campaign in _campaigns(lambda stem: names is None or stem in names):
         out[name] = [
             {
                 "case_id": c.case_id,
@@ -163,8 +166,14 @@ def run(
     """Run every scene; save (``save``) or compare against what ``folder`` holds.
 
     ``only``: the scenes whose name contains one of these; ``campaigns``: the campaigns (file
-    stems) whose cases are checked (default: all; a saved check then compares those only).
+    stems) whose cases are checked (default: all; a saved check then compares those only);
+    2 (nothing run) when one is not a shipped campaign.
     """
+    shipped = {path.stem for path in CAMPAIGNS.glob("*.toml")}
+    unknown = sorted(set(campaigns or ()) - shipped)
+    if unknown:
+        print(f"error: --campaigns: no shipped campaign {unknown}; of {sorted(shipped)}")
+        return 2
     folder.mkdir(parents=True, exist_ok=True)
     failures = 0
     cases = _cases(campaigns)

@@ -54,6 +54,8 @@ def run_benchmark(
 ) -> int:
     """Run a benchmark scene, print its table, and return an exit status."""
     module, runner, takes = SCENES[scene]
+    if repeat < 1:
+        raise BenchOptionError(f"--repeat: give 1 or more timing repetitions, got {repeat}")
     if error and "error" not in takes:
         raise BenchOptionError(f"--error: scene {scene!r} has no error table (only plastic)")
     if periodic and "periodic" not in takes:
