@@ -190,10 +190,23 @@ def _pressure_change(new: np.ndarray, old: np.ndarray) -> float:
     return float(np.abs(new - old).sum() / max(new.sum(), 1e-300))
 
 
-def _reusable_normal(previous: ContactState, force: float) -> NormalSolution | None:
-    """The previous increment's converged normal solution if it was for the same W (N)."""
+def _reusable_normal(
+    previous: ContactState, force: float, position, coupled: bool, residual
+) -> NormalSolution | None:
+    """The previous increment's converged normal solution if this increment's is the same.
+
+    It is when the normal problem depends on W (N) alone and W is the same: no coupling of
+    the shears, no residual print, the same place.
+    """
     normal = previous.normal
-    if normal is None or not normal.converged or previous.normal_force != force:
+    if (
+        coupled
+        or residual is not None
+        or position != previous.position
+        or normal is None
+        or not normal.converged
+        or previous.normal_force != force
+    ):
         return None
     return dataclasses.replace(normal, iterations=0, message="the previous increment's")
 
@@ -330,12 +343,7 @@ def slip_stick_step(
         # loop ends when the pressure change is below the coupling tolerance in a pass whose
         # inner solves were at least that tight.
         inexact = min(1e-2, INEXACT * change) if coupled else 0.0
-        # uncoupled, no residual print: the normal problem depends on W alone
-        normal = (
-            None
-            if coupled or residual is not None or position != previous.position
-            else _reusable_normal(previous, force)
-        )
+        normal = _reusable_normal(previous, force, position, coupled, residual)
         if normal is None:
             extra = base_gap + surface.normal_from_shear(qx, qy) if coupled else base_gap
             normal = solve_normal(
@@ -439,11 +447,13 @@ def steady_step(
     messages, change = [], np.inf
     order = options.steady_order
     for loop in range(1, options.coupling_max_iterations + 1):
-        extra = base_gap + surface.normal_from_shear(qx, qy) if coupled else base_gap
-        normal = solve_normal(
-            surface, extra, force, initial_pressure=pressure,
-            tolerance=options.normal_tolerance, max_iterations=options.normal_max_iterations,
-        )  # fmt: skip
+        normal = _reusable_normal(previous, force, position, coupled, residual)
+        if normal is None:
+            extra = base_gap + surface.normal_from_shear(qx, qy) if coupled else base_gap
+            normal = solve_normal(
+                surface, extra, force, initial_pressure=pressure,
+                tolerance=options.normal_tolerance, max_iterations=options.normal_max_iterations,
+            )  # fmt: skip
         change = _pressure_change(normal.pressure, pressure)
         pressure = normal.pressure
         counts["normal"] += normal.iterations

@@ -267,6 +267,15 @@ def check_resolution(case) -> None:
                 "grid.size or leave it out (the window then covers the track)",
             )
     if half_x < 1.05 * reference.semi_axis_x or half_y < 1.05 * reference.semi_axis_y:
+        if case.grid.size is not None:  # the user's window, not half_width's
+            need = [2.2 * semi for semi in (reference.semi_axis_x, reference.semi_axis_y)]
+            fail(
+                "grid.size",
+                f"the window ({2 * half_x:.4g} m by {2 * half_y:.4g} m) cannot hold the "
+                f"contact (semi-axes {reference.semi_axis_x:.4g} m along x, "
+                f"{reference.semi_axis_y:.4g} m along y): use grid.size >= "
+                f"[{need[0]:.4g}, {need[1]:.4g}] m, or give half_width instead",
+            )
         fail(
             "grid.half_width",
             f"domain cannot hold the contact: half_width = {case.grid.half_width:g} a_H; "

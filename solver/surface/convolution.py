@@ -78,10 +78,10 @@ class SurfaceOperator:
         self._padded[...] = 0.0
         self._kernels: dict[str, np.ndarray] = {}
         self._precondition = None
-        self._pair = None
+        self._batches: dict[tuple[int, int], tuple] = {}
         self._tangential_precondition = None
         self._diagonal = None
-        self._planner = planner
+        self.planner = planner
 
     def place(self, grid: SurfaceGrid) -> SurfaceOperator:
         """Put this operator's cells at another place: ``grid``, the same cells (returns self).
@@ -181,9 +181,9 @@ class SurfaceOperator:
         axes = (len(batch), len(batch) + 1)
         real = empty_aligned((*batch, nx, ny), dtype="float64")
         spectrum = empty_aligned((*batch, nx, ny // 2 + 1), dtype="complex128")
-        forward = plan(real, spectrum, axes=axes, planner=self._planner)
+        forward = plan(real, spectrum, axes=axes, planner=self.planner)
         backward = plan(
-            spectrum, real, axes=axes, direction="FFTW_BACKWARD", planner=self._planner,
+            spectrum, real, axes=axes, direction="FFTW_BACKWARD", planner=self.planner,
             extra=("FFTW_DESTROY_INPUT",),
         )  # fmt: skip
         return real, spectrum, forward, backward, *wavenumbers(self.grid, (nx, ny))
@@ -193,26 +193,15 @@ class SurfaceOperator:
     ) -> tuple[np.ndarray, np.ndarray]:
         """Approximate inverse of :meth:`tangential` (a preconditioner): shear (Pa) from u_t (m).
 
-        The periodic symbol of the pair's tangential block is
-        ``(2/|k|) [(A + S) I - S k k^T/k^2]`` (Cerruti; ``A`` the pair's compliance, ``S`` its
-        shear coupling, so that along ``k`` it is Boussinesq's ``2A/|k|``); its inverse
-        ``(|k|/2) [k k^T/(k^2 A) + (I - k k^T/k^2)/(A + S)]`` is applied with periodic FFTs on
-        the grid (extended like :meth:`inverse_normal`).
+        :func:`cerruti_inverse` applied with periodic FFTs on the grid (extended like
+        :meth:`inverse_normal`).
         """
         if self._tangential_precondition is None:
             real, spectrum, forward, backward, kx, ky = self._periodic_plans((2,))
             nx, ny = real.shape[1:]
             work = np.empty(spectrum.shape[1:], dtype=complex)
-            k2 = kx * kx + ky * ky
-            k = np.sqrt(k2)
-            along = 1.0 / self.pair.compliance
-            across = 1.0 / (self.pair.compliance + self.pair.shear_coupling)
-            ratio = np.divide(1.0, k2, out=np.zeros_like(k2), where=k2 > 0)
-            scale = 0.5 * k / (nx * ny)  # FFTW's backward transform is unnormalised
-            cxx = scale * (across + (along - across) * kx * kx * ratio)
-            cyy = scale * (across + (along - across) * ky * ky * ratio)
-            cxy = scale * (along - across) * kx * ky * ratio
-            self._tangential_precondition = (real, spectrum, work, forward, backward, cxx, cyy, cxy)
+            symbols = cerruti_inverse(self.pair, kx, ky, nx * ny)
+            self._tangential_precondition = (real, spectrum, work, forward, backward, *symbols)
         real, spectrum, work, forward, backward, cxx, cyy, cxy = self._tangential_precondition
         nx, ny = self.grid.shape
         real[...] = 0.0
@@ -245,26 +234,40 @@ class SurfaceOperator:
         uz = self.inverse(s * (k("xp") * sx + k("yp") * sy) + k("zz") * sp)
         return ux, uy, uz
 
+    def batch_transforms(self, lengths: tuple[int, int] | None = None) -> tuple:
+        """Buffers and FFT plans for two fields at once, made once per ``lengths``.
+
+        ``(padded, spectrum, work, output, forward, backward)``: ``padded`` (2, Lx, Ly), zero
+        where no field is written (fields are written into its (nx, ny) corner), ``spectrum``
+        and ``work`` (2, Lx, Ly // 2 + 1), ``output`` (2, Lx, Ly); ``forward`` transforms
+        ``padded`` into ``spectrum``, ``backward`` ``spectrum`` into ``output`` (destroying
+        ``spectrum``).  The padded lengths' (the default) serve :meth:`tangential`; others
+        serve :class:`solver.surface.steady.SteadyOperator` (on the contact's box).
+        """
+        lengths = self.lengths if lengths is None else tuple(lengths)
+        if lengths in self._batches:
+            return self._batches[lengths]
+        lx, ly = lengths
+        padded = empty_aligned((2, lx, ly), dtype="float64")
+        spectrum = empty_aligned((2, lx, ly // 2 + 1), dtype="complex128")
+        work = empty_aligned((2, lx, ly // 2 + 1), dtype="complex128")
+        output = empty_aligned((2, lx, ly), dtype="float64")
+        forward = plan(padded, spectrum, axes=(1, 2), planner=self.planner)
+        backward = plan(
+            spectrum, output, axes=(1, 2), direction="FFTW_BACKWARD", planner=self.planner,
+            extra=("FFTW_DESTROY_INPUT",),
+        )  # fmt: skip
+        padded[...] = 0.0  # after planning, which may write into the arrays
+        self._batches[lengths] = (padded, spectrum, work, output, forward, backward)
+        return self._batches[lengths]
+
     def tangential(self, shear_x: np.ndarray, shear_y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(u_x, u_y) (m) from shear tractions (q_x, q_y) (Pa), the tangential block only.
 
         The slip-stick loop's inner operator: both components go through one batched transform
         pair on preallocated buffers, and the 2x2 spectral product is formed in place.
         """
-        if self._pair is None:
-            lx, ly = self.lengths
-            padded = empty_aligned((2, lx, ly), dtype="float64")
-            spectrum = empty_aligned((2, lx, ly // 2 + 1), dtype="complex128")
-            work = empty_aligned((2, lx, ly // 2 + 1), dtype="complex128")
-            output = empty_aligned((2, lx, ly), dtype="float64")
-            padded[...] = 0.0  # only the (nx, ny) corner is ever written: the padding stays 0
-            forward = plan(padded, spectrum, axes=(1, 2), planner=self._planner)
-            backward = plan(
-                spectrum, output, axes=(1, 2), direction="FFTW_BACKWARD", planner=self._planner,
-                extra=("FFTW_DESTROY_INPUT",),
-            )  # fmt: skip
-            self._pair = (padded, spectrum, work, output, forward, backward)
-        padded, spectrum, work, output, forward, backward = self._pair
+        padded, spectrum, work, output, forward, backward = self.batch_transforms()
         k = self.kernel_spectrum
         nx, ny = self.grid.shape
         padded[0, :nx, :ny] = shear_x
@@ -331,6 +334,29 @@ class SurfaceOperator:
         pair = 4 * real + 4 * spec if tangential else 0  # batched buffers of :meth:`tangential`
         kernels = spec // 2 * (4 if tangential else 1) + (2 * spec if tangential else 0)
         return 2 * real + spec + kernels + pair
+
+
+def cerruti_inverse(
+    pair: Pair, kx: np.ndarray, ky: np.ndarray, cells: int = 1
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The inverse of the pair's periodic tangential symbol over ``cells``: (c_xx, c_yy, c_xy).
+
+    The periodic symbol of the tangential block is ``(2/|k|) [(A + S) I - S k k^T/k^2]``
+    (Cerruti; ``A`` the pair's compliance (1/Pa), ``S`` its shear coupling, so that along ``k``
+    it is Boussinesq's ``2A/|k|``); its inverse is
+    ``(|k|/2) [k k^T/(k^2 A) + (I - k k^T/k^2)/(A + S)]`` (Pa/m; zero at ``k = 0``), at
+    wavenumbers ``kx``, ``ky`` (rad/m, broadcast together), divided by ``cells`` (the FFT's
+    size: FFTW's backward transform is unnormalised).
+    """
+    k2 = kx * kx + ky * ky
+    along = 1.0 / pair.compliance
+    across = 1.0 / (pair.compliance + pair.shear_coupling)
+    ratio = np.divide(1.0, k2, out=np.zeros_like(k2), where=k2 > 0)
+    factor = 0.5 * np.sqrt(k2) / cells
+    cxx = factor * (across + (along - across) * kx * kx * ratio)
+    cyy = factor * (across + (along - across) * ky * ky * ratio)
+    cxy = factor * (along - across) * kx * ky * ratio
+    return cxx, cyy, cxy
 
 
 def wavenumbers(grid: SurfaceGrid, lengths: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:

@@ -65,14 +65,51 @@ def _ylnr(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.where(r2 > 0.0, out, 0.0)
 
 
-_PRIMITIVES = {
-    "inv_r": lambda x, y: _xasinh(x, y) + _xasinh(y, x),
-    "xx_r3": lambda x, y: _xasinh(y, x),
-    "yy_r3": lambda x, y: _xasinh(x, y),
-    "xy_r3": lambda x, y: -np.sqrt(x * x + y * y),
-    "x_r2": lambda x, y: _ylnr(x, y) + _xatan(x, y),
-    "y_r2": lambda x, y: _ylnr(y, x) + _xatan(y, x),
+#: The parts of the primitives, each a function of a corner's (x, y) (m).
+_PARTS = {
+    "x_asinh": lambda x, y: _xasinh(x, y),
+    "y_asinh": lambda x, y: _xasinh(y, x),
+    "minus_r": lambda x, y: -np.sqrt(x * x + y * y),
+    "y_ln_r": lambda x, y: _ylnr(x, y),
+    "x_atan": lambda x, y: _xatan(x, y),
+    "x_ln_r": lambda x, y: _ylnr(y, x),
+    "y_atan": lambda x, y: _xatan(y, x),
 }
+#: Each integrand's primitive: the sum of its parts (module docstring).
+_PRIMITIVES = {
+    "inv_r": ("x_asinh", "y_asinh"),
+    "xx_r3": ("y_asinh",),
+    "yy_r3": ("x_asinh",),
+    "xy_r3": ("minus_r",),
+    "x_r2": ("y_ln_r", "x_atan"),
+    "y_r2": ("x_ln_r", "y_atan"),
+}
+
+
+class _Corners:
+    """The primitives' parts at the four corners of the cells, each part evaluated once.
+
+    Shared by the integrals of one set of offsets (1/r, x^2/r^3 and y^2/r^3 share their
+    asinh terms); the sums are formed in the same order as for one integral alone.
+    """
+
+    def __init__(self, x: np.ndarray, y: np.ndarray, dx: float, dy: float):
+        a, b = 0.5 * dx, 0.5 * dy
+        self.points = ((x + a, y + b), (x + a, y - b), (x - a, y + b), (x - a, y - b))
+        self._parts: dict[str, list[np.ndarray]] = {}
+
+    def _part(self, name: str) -> list[np.ndarray]:
+        if name not in self._parts:
+            self._parts[name] = [_PARTS[name](x, y) for x, y in self.points]
+        return self._parts[name]
+
+    def integral(self, name: str) -> np.ndarray:
+        """The alternating corner sum of primitive ``name`` (of :data:`_PRIMITIVES`)."""
+        first, *rest = (self._part(part) for part in _PRIMITIVES[name])
+        values = first
+        for other in rest:
+            values = [v + w for v, w in zip(values, other, strict=True)]
+        return values[0] - values[1] - values[2] + values[3]
 
 
 def cell_integral(name: str, x: np.ndarray, y: np.ndarray, dx: float, dy: float) -> np.ndarray:
@@ -93,9 +130,7 @@ def cell_integral(name: str, x: np.ndarray, y: np.ndarray, dx: float, dy: float)
     ndarray
         The integral over the cell (units of the integrand times m^2).
     """
-    f = _PRIMITIVES[name]
-    a, b = 0.5 * dx, 0.5 * dy
-    return f(x + a, y + b) - f(x + a, y - b) - f(x - a, y + b) + f(x - a, y - b)
+    return _Corners(x, y, dx, dy).integral(name)
 
 
 def surface_kernels(
@@ -118,7 +153,7 @@ def surface_kernels(
         Cell sizes (m).
     names : tuple of str
         The blocks wanted (of :data:`COMPONENTS`; default all): only their integrals are
-        computed.
+        computed, each corner term once; ``"xp"`` and ``"yp"`` are zero when Dundurs' beta is.
 
     Returns
     -------
@@ -129,14 +164,16 @@ def surface_kernels(
         Units: m/Pa.
     """
     a_c, c_c, beta = pair.compliance, pair.shear_coupling, pair.dundurs_beta
-    inv_r = cell_integral("inv_r", x, y, dx, dy) if {"zz", "xx", "yy"} & set(names) else None
+    corners = _Corners(x, y, dx, dy)
+    cell = corners.integral
+    inv_r = cell("inv_r") if {"zz", "xx", "yy"} & set(names) else None
     blocks = {
         "zz": lambda: a_c / np.pi * inv_r,
-        "xx": lambda: (a_c * inv_r + c_c * cell_integral("xx_r3", x, y, dx, dy)) / np.pi,
-        "yy": lambda: (a_c * inv_r + c_c * cell_integral("yy_r3", x, y, dx, dy)) / np.pi,
-        "xy": lambda: c_c / np.pi * cell_integral("xy_r3", x, y, dx, dy),
-        "xp": lambda: beta * a_c / np.pi * cell_integral("x_r2", x, y, dx, dy),
-        "yp": lambda: beta * a_c / np.pi * cell_integral("y_r2", x, y, dx, dy),
+        "xx": lambda: (a_c * inv_r + c_c * cell("xx_r3")) / np.pi,
+        "yy": lambda: (a_c * inv_r + c_c * cell("yy_r3")) / np.pi,
+        "xy": lambda: c_c / np.pi * cell("xy_r3"),
+        "xp": lambda: beta * a_c / np.pi * cell("x_r2") if beta else np.zeros(np.shape(x)),
+        "yp": lambda: beta * a_c / np.pi * cell("y_r2") if beta else np.zeros(np.shape(x)),
     }
     return {name: blocks[name]() for name in names}
 

@@ -28,13 +28,14 @@ active sets of the last iterate.  On a slip cell the Newton step's component alo
 known outright (P's Jacobian annihilates it), so each Newton system is reduced to the stick
 cells' two components and the slip cells' one (across ``z``).  The reduced system is solved by
 restarted GMRES (:func:`gmres`: classical Gram-Schmidt twice on a preallocated basis, Givens
-rotations; one tangential convolution a product) to a relative residual of
-:data:`GMRES_TOLERANCE`, right-preconditioned by the inverse of ``A`` on the whole plane: the
-upwind difference undone from the leading edge (:func:`undo_upwind`), then the inverse of
-Cerruti's symbol (:meth:`~solver.surface.convolution.SurfaceOperator.inverse_tangential`, a
-quarter of a convolution).  ``A`` is of order zero (``i k_x`` times ``1/|k|``), and so is its
-inverse: with it the iterations of a linear solve no longer grow with the mesh (13-19 against
-48-434 for a circle from 16 to 64 cells across).
+rotations) to a relative residual of :data:`GMRES_TOLERANCE`, right-preconditioned by the
+inverse of ``A`` on the whole plane: the upwind difference undone from the leading edge
+(:func:`undo_upwind`), then the inverse of Cerruti's symbol
+(:func:`~solver.surface.convolution.cerruti_inverse`).  ``A`` is of order zero (``i k_x`` times
+``1/|k|``), and so is its inverse: with it the iterations of a linear solve no longer grow with
+the mesh (14, 18, 21 against 68, 198, 434 for a circle 16, 32, 64 cells across,
+``tests/test_steady.py``).  Both ``A`` and the preconditioner act on the contact's box, one FFT
+pair each (:class:`SteadyOperator`).
 
 A prescribed tangential force adds the creepage (xi, eta) as two unknowns and the force's two
 equations (as mean tractions over the contact) to the same Newton system.
@@ -55,10 +56,13 @@ import numpy as np
 from scipy.linalg import solve_triangular
 from scipy.signal import lfilter
 
-from .convolution import SurfaceOperator
+from ..numerics.grid import fft_length
+from .convolution import SurfaceOperator, cerruti_inverse, wavenumbers
 
 #: Upwind schemes: first order (CONTACT's) and second order.
 ORDERS = (1, 2)
+#: Their coefficients: ``-d_x u_i = sum_s c_s u_(i+s) / dx``, s = 0, 1, ...
+STENCILS = {1: (1.0, -1.0), 2: (1.5, -2.0, 0.5)}
 #: Backtracking halvings of a Newton step before the step is taken as it is.
 LINE_SEARCH_HALVINGS = 12
 #: GMRES restart length and its relative tolerance (relative to the Newton residual).  The
@@ -117,10 +121,11 @@ def upwind(u: np.ndarray, dx: float, order: int = 1) -> np.ndarray:
     must not touch the grid's leading edge.
     """
     out = np.zeros_like(u)
-    out[..., :-1, :] = (u[..., :-1, :] - u[..., 1:, :]) / dx
-    if order == 2:
-        out[..., :-2, :] = (3.0 * u[..., :-2, :] - 4.0 * u[..., 1:-1, :] + u[..., 2:, :]) / (
-            2.0 * dx
+    nx = u.shape[-2]
+    for lower in range(1, order + 1):  # each order overwrites the rows its stencil fits
+        rows = nx - lower
+        out[..., :rows, :] = (
+            sum(c * u[..., s : rows + s, :] for s, c in enumerate(STENCILS[lower])) / dx
         )
     return out
 
@@ -202,6 +207,123 @@ def gmres(matvec, rhs: np.ndarray, tolerance: float, restart: int, budget: int):
     return x, products
 
 
+class SteadyOperator:
+    """``A = -d_x K_t`` on a contact's cells and its whole-plane inverse, one FFT pair each.
+
+    Both act on the contact's box (the smallest block of cells that holds it), zero-padded to
+    :func:`~solver.numerics.grid.fft_length` ``(2 n - 1)`` for its n cells along each open
+    axis (a periodic axis keeps its period): smaller, and for contacts a power of two across,
+    much faster transforms than the grid's.
+
+    ``A``: the upwind stencil (:data:`STENCILS`) is a convolution along x, so ``d_x K_t`` is
+    the convolution with the stencil applied to each kernel of ``K_t`` (the kernels at the
+    box's offsets, from the operator's): one batched transform pair gives ``A v`` at the
+    contact cells.  It equals the upwind difference of ``K_t v`` (:func:`upwind`) there, as
+    the stencil stays on the grid on contact cells (the contact keeps off the grid's last
+    ``order`` rows).  The preconditioner (:meth:`inverse`) undoes the upwind difference from
+    the box's leading edge (the response of :func:`undo_upwind`, a linear convolution along x)
+    and applies the inverse of Cerruti's symbol (:func:`~.convolution.cerruti_inverse`) on the
+    box's padded lengths, in one transform pair: an approximation of ``A^-1`` of the whole
+    plane (order zero, like ``A``).
+
+    Parameters
+    ----------
+    operator : SurfaceOperator
+        The surface operator (its tangential kernels).
+    contact : ndarray of bool
+        The contact cells on the (nx, ny) grid, at least one.
+    order : int
+        The upwind difference's order, 1 or 2.
+    """
+
+    def __init__(self, operator: SurfaceOperator, contact: np.ndarray, order: int):
+        grid = operator.grid
+        ix, iy = np.nonzero(contact)
+        offsets, lengths, corner = [], [], []
+        for index, cells, length in zip((ix, iy), grid.shape, operator.lengths, strict=True):
+            if length < 2 * cells - 1:  # a periodic axis: its period, whole
+                offsets.append(np.arange(length))
+                lengths.append(length)
+                corner.append(0)
+            else:  # the box's offsets -(n - 1) .. n - 1, zero-padded
+                span = int(index.max() - index.min()) + 1
+                offsets.append(np.arange(1 - span, span))
+                lengths.append(fft_length(2 * span - 1))
+                corner.append(int(index.min()))
+        (mx, my), (lx, ly), (lx_grid, ly_grid) = offsets, lengths, operator.lengths
+        #: Flat positions of the contact cells in a field of the box's padded lengths.
+        self.cells = (ix - corner[0]) * ly + (iy - corner[1])
+        source, target = np.ix_(mx % lx_grid, my % ly_grid), np.ix_(mx % lx, my % ly)
+        kernels = []
+        for name in ("xx", "xy", "yy"):  # K_t's kernels on the grid's layout, then D K_t's
+            kernel = np.fft.irfft2(operator.kernel_spectrum(name), (lx_grid, ly_grid))
+            kernel *= lx_grid * ly_grid  # FFTW's backward transform is unnormalised
+            upwinded = (
+                sum(c * np.roll(kernel, -shift, axis=0) for shift, c in enumerate(STENCILS[order]))
+                / grid.dx
+            )
+            boxed = np.zeros((lx, ly))
+            boxed[target] = upwinded[source]
+            kernels.append(np.fft.rfft2(boxed) / (lx * ly))
+        self._kernels = tuple(kernels)
+        #: ``A``'s diagonal (1/Pa): the x-x block's value at zero offset.
+        self.diagonal = float(np.fft.irfft2(kernels[0], (lx, ly))[0, 0]) * lx * ly
+        # undo_upwind's response along x: u_i = sum_m h_m s_(i+m), m = 0 .. span - 1
+        span = (len(mx) + 1) // 2
+        impulse = np.zeros((span, 1))
+        impulse[-1] = 1.0
+        response = np.zeros(lx)
+        response[-np.arange(span) % lx] = undo_upwind(impulse, grid.dx, order)[::-1, 0]
+        undo = np.fft.fft(response)[:, None]
+        kx, ky = wavenumbers(grid, (lx, ly))
+        self._inverse = tuple(c * undo for c in cerruti_inverse(operator.pair, kx, ky, lx * ly))
+        padded, spectrum, work, output, self._forward, self._backward = operator.batch_transforms(
+            (lx, ly)
+        )
+        padded[...] = 0.0  # only the contact's cells are written from here
+        self._input, self._output = padded.reshape(-1), output.reshape(-1)
+        self._spectra, self._work = tuple(spectrum), tuple(work)
+        self._positions = self.positions()
+        #: Applications of ``A``.
+        self.applications = 0
+
+    def positions(self, order: np.ndarray | None = None) -> np.ndarray:
+        """The contact's cells (taken in ``order``) as flat positions in the padded fields.
+
+        The x field's, then the y field's: the ``positions`` of :meth:`apply` and
+        :meth:`inverse`.
+        """
+        cells = self.cells if order is None else self.cells[order]
+        return np.concatenate([cells, cells + self._input.size // 2])
+
+    def _transform(self, values: np.ndarray, positions: np.ndarray, blocks: tuple) -> np.ndarray:
+        """``blocks`` (xx, xy, yy spectra) applied to (2, m) ``values`` at ``positions``."""
+        self._input[positions] = values.ravel()  # the other cells stay zero
+        self._forward.execute()
+        xx, xy, yy = blocks
+        (sx, sy), (wx, wy) = self._spectra, self._work
+        np.multiply(xy, sy, out=wx)
+        np.multiply(xy, sx, out=wy)
+        sx *= xx
+        sx += wx
+        sy *= yy
+        sy += wy
+        self._backward.execute()
+        return self._output[positions].reshape(2, -1)
+
+    def apply(self, values: np.ndarray, positions: np.ndarray | None = None) -> np.ndarray:
+        """``A v`` (1) of shears ``v`` (Pa) on the contact's cells (at :meth:`positions`)."""
+        self.applications += 1
+        where = self._positions if positions is None else positions
+        return self._transform(values, where, self._kernels)
+
+    def inverse(self, values: np.ndarray, positions: np.ndarray | None = None) -> np.ndarray:
+        """The preconditioner: shears (Pa) from slips ``values`` (1) on the contact's cells."""
+        cxx, cyy, cxy = self._inverse
+        where = self._positions if positions is None else positions
+        return self._transform(values, where, (cxx, cxy, cyy))
+
+
 def solve_steady_tangential(
     operator: SurfaceOperator,
     pressure: np.ndarray,
@@ -252,128 +374,93 @@ def solve_steady_tangential(
     """
     if order not in ORDERS:
         raise ValueError(f"order must be one of {ORDERS}, got {order}")
-    dx = operator.grid.dx
     contact = pressure > 0.0
     if contact[-order:].any():
         raise ValueError(
             "the contact reaches the grid's leading edge (largest x): the upwind difference "
             "needs free cells ahead of it; widen the grid along x"
         )
-    bound = friction_coefficient * np.where(contact, pressure, 0.0)[contact]
-    cx, cy = rigid
-    cx, cy = cx[contact], cy[contact]
-    count = int(contact.sum())
-    applications = 0
-    field = np.zeros((2, *pressure.shape))  # (x, y) components, zero off the contact
-    fx, fy = field
-
-    def apply(vx, vy):
-        """``A v`` on the contact cells: ``-d_x K_t v`` (v zero outside)."""
-        nonlocal applications
-        applications += 1
-        fx[contact], fy[contact] = vx, vy
-        ux, uy = operator.tangential(fx, fy)
-        sx, sy = upwind(np.array((ux, uy)), dx, order)
-        return sx[contact], sy[contact], ux, uy
-
-    # the scaling r: the inverse of the operator's diagonal, from one impulse at the centre
-    probe = np.zeros_like(pressure)
-    i, j = (n // 2 for n in pressure.shape)
-    probe[i, j] = 1.0
-    ux, _ = operator.tangential(probe, np.zeros_like(probe))
-    applications += 1
-    r = 1.0 / max(float(upwind(ux, dx, order)[i, j]), 1e-300)
+    steady = SteadyOperator(operator, contact, order)
+    bound = friction_coefficient * pressure[contact]
+    c = np.array([rigid[0][contact], rigid[1][contact]])
+    count = bound.size
+    r = 1.0 / max(steady.diagonal, 1e-300)  # the scaling: the inverse of A's diagonal
     # the residual's scale: the tractions' size, mu p in slip, ~ r |c| near full stick
     area = count * operator.grid.cell_area
-    driven = r * float(np.sqrt(np.mean(cx * cx + cy * cy)))
+    driven = r * float(np.sqrt(np.mean(c[0] * c[0] + c[1] * c[1])))
     if force is not None:
         driven += float(np.hypot(*force)) / area
     norm = max(min(float(np.sqrt(np.mean(bound * bound))), driven), 1e-300)
-
-    def inverse(vx, vy):
-        """The preconditioner: ``A^-1 v`` of the whole plane on the contact cells (v zero off).
-
-        The upwind difference undone from the leading edge, then ``K_t^-1`` (periodic FFTs).
-        """
-        field[...] = 0.0
-        fx[contact], fy[contact] = vx, vy
-        qx, qy = operator.inverse_tangential(*undo_upwind(field, dx, order))
-        return qx[contact], qy[contact]
+    budget = max_iterations
 
     free = force is not None  # the creepage is two more unknowns
     creep = np.array(initial_creepage if free else (0.0, 0.0), dtype=float)
     if initial is None or not (initial[0].any() or initial[1].any()):
         # no start: the stick solution (A q = creepage - c), cut to the disks
-        start = np.concatenate([creep[0] - cx, creep[1] - cy])
-
         def stick(y):
-            vx, vy = inverse(y[:count], y[count:])
-            return np.concatenate(apply(vx, vy)[:2])
+            return steady.apply(steady.inverse(y.reshape(2, count))).ravel()
 
-        y, _ = gmres(stick, start, GMRES_TOLERANCE, GMRES_RESTART, max(max_iterations // 4, 1))
-        qx, qy = inverse(y[:count], y[count:])
-        size = np.hypot(qx, qy)
-        cut = np.divide(bound, size, out=np.ones_like(size), where=size > bound)
-        qx, qy = qx * cut, qy * cut
+        start = (creep[:, None] - c).ravel()
+        y, _ = gmres(stick, start, GMRES_TOLERANCE, GMRES_RESTART, max(budget // 4, 1))
+        q = steady.inverse(y.reshape(2, count))
+        size = np.hypot(q[0], q[1])
+        q *= np.divide(bound, size, out=np.ones_like(size), where=size > bound)
     else:
-        qx, qy = initial[0][contact].copy(), initial[1][contact].copy()
+        q = np.array([initial[0][contact], initial[1][contact]])
     mean_target = np.zeros(2) if force is None else np.asarray(force, dtype=float) / area
 
-    def state(qx, qy, creep):
-        ax, ay, ux, uy = apply(qx, qy)
-        sx, sy = ax + cx - creep[0], ay + cy - creep[1]
-        zx, zy = qx - r * sx, qy - r * sy
-        size = np.hypot(zx, zy)
+    def state(q, creep):
+        s = steady.apply(q) + c - creep[:, None]
+        z = q - r * s
+        size = np.hypot(z[0], z[1])
         scale = np.divide(bound, size, out=np.ones_like(size), where=size > bound)
-        res_x, res_y = qx - scale * zx, qy - scale * zy
-        res_f = np.array([qx.mean(), qy.mean()]) - mean_target if free else np.zeros(0)
-        total = float(np.sum(res_x * res_x + res_y * res_y) + count * np.sum(res_f * res_f))
+        res = q - scale * z
+        res_f = q.mean(axis=1) - mean_target if free else np.zeros(0)
+        total = float(np.sum(res * res) + count * np.sum(res_f * res_f))
         error = float(np.sqrt(total / count)) / norm
-        return (sx, sy, zx, zy, size, res_x, res_y, res_f, ux, uy), error
+        return (s, z, size, res, res_f), error
 
-    current, error = state(qx, qy, creep)
+    current, error = state(q, creep)
     newton, converged, message = 0, error <= tolerance, ""
-    while not converged and newton < max_newton and applications < max_iterations:
+    while not converged and newton < max_newton and steady.applications < budget:
         newton += 1
-        _, _, zx, zy, size, res_x, res_y, res_f, _, _ = current
+        _, z, size, res, res_f = current
         step = _newton_step(
-            zx, zy, size, res_x, res_y, res_f, bound, r, free, apply, inverse,
-            max(max_iterations - applications, 1),
-        )  # fmt: skip
+            steady, z, size, res, res_f, bound, r, free, max(budget - steady.applications, 1)
+        )
         t = 1.0
         for _ in range(LINE_SEARCH_HALVINGS):
-            trial, trial_error = state(
-                qx + t * step[0], qy + t * step[1], creep + t * step[2] if free else creep
-            )
+            trial, trial_error = state(q + t * step[0], creep + t * step[1] if free else creep)
             if trial_error < (1.0 - 1e-4 * t) * error:
                 break
             t *= 0.5
-        qx, qy = qx + t * step[0], qy + t * step[1]
+        q = q + t * step[0]
         if free:
-            creep = creep + t * step[2]
+            creep = creep + t * step[1]
         current, error = trial, trial_error
         converged = error <= tolerance
     if not converged:
         cap = "Newton steps" if newton >= max_newton else "operator applications"
         message = f"not converged: {cap} capped (residual {error:.3g})"
     else:
-        message = f"converged in {newton} Newton steps, {applications} applications"
-    sx, sy, zx, zy, size, _, _, _, ux, uy = current
+        message = f"converged in {newton} Newton steps, {steady.applications} applications"
+    s, _, size, _, _ = current
     stick = np.zeros_like(contact)
     stick[contact] = size <= bound
     out = []
-    for values in (qx, qy, sx, sy):
+    for values in (q[0], q[1], s[0], s[1]):
         full = np.zeros_like(pressure)
         full[contact] = values
         out.append(full)
+    ux, uy = operator.tangential(out[0], out[1])  # K_t q on the grid, for the state
     creepage = (float(creep[0]), float(creep[1]))
     return SteadySolution(
-        *out, ux, uy, stick, creepage, newton, applications, error, converged, message
+        *out, ux, uy, stick, creepage, newton, steady.applications + 1, error, converged, message
     )  # fmt: skip
 
 
-def _newton_step(zx, zy, size, res_x, res_y, res_f, bound, r, free, apply, inverse, budget):
-    """One semi-smooth Newton step ``(dq_x, dq_y, d creepage)``.
+def _newton_step(steady, z, size, res, res_f, bound, r, free, budget):
+    """One semi-smooth Newton step ``(dq, d creepage)``, dq (2, m) on the contact cells.
 
     The Newton system ``J dq = -F`` (module docstring), reduced: on a slip cell the step's
     component along ``h = z / |z|`` is ``-h.F`` outright (P's Jacobian annihilates h), which
@@ -381,64 +468,81 @@ def _newton_step(zx, zy, size, res_x, res_y, res_f, bound, r, free, apply, inver
     ``t = (-h_y, h_x)``, with J's rows ``r ds = -F`` on stick cells and
     ``(1 - k) dq_t + k r t.ds = -t.F`` on slip cells (``k = mu p / |z|``,
     ``ds = A dq - d creepage``); a prescribed force adds ``mean(dq) = -F_force``.  Solved by
-    GMRES with ``apply`` (``A``), right-preconditioned by ``inverse`` (``A^-1`` of the whole
-    plane): a reduced residual is read as the slip ``ds = residual / r`` (along ``t`` on slip
-    cells) and mapped to the step that makes it.
+    GMRES with ``A`` (:meth:`SteadyOperator.apply`), right-preconditioned by its whole-plane
+    inverse (:meth:`SteadyOperator.inverse`): a reduced residual is read as the slip
+    ``ds = residual / r`` (along ``t`` on slip cells) and mapped to the step that makes it.
+    The cells are taken stick first, then slip, so that the reduced unknowns are slices.
     """
     count = size.size
     slip = size > bound
-    st, sl = np.flatnonzero(~slip), np.flatnonzero(slip)
-    ns, nl = st.size, sl.size
-    tangent = slice(2 * ns, 2 * ns + nl)  # the slip cells' unknowns dq_t
-    hx, hy = zx[sl] / size[sl], zy[sl] / size[sl]
-    tx, ty = -hy, hx
-    ratio = bound[sl] / size[sl]
-    along = -(hx * res_x[sl] + hy * res_y[sl])  # the known component of the step along h
-    known_x, known_y = np.zeros(count), np.zeros(count)
-    known_x[sl], known_y[sl] = hx * along, hy * along
-    target = [-res_x[st], -res_y[st], -(tx * res_x[sl] + ty * res_y[sl])]
-    target = np.concatenate([*target, -res_f] if free else target)
+    order = np.concatenate([np.flatnonzero(~slip), np.flatnonzero(slip)])
+    positions = steady.positions(order)
+    ns = count - int(slip.sum())
+    end = count + ns  # the reduced unknowns: stick (x, y), slip (t), then the creepage's
+    h = z[:, slip] / size[slip]
+    tx, ty = -h[1], h[0]
+    ratio = bound[slip] / size[slip]
+    keep, rx, ry = 1.0 - ratio, ratio * tx, ratio * ty
+    res = res[:, order]
+    along = -(h[0] * res[0, ns:] + h[1] * res[1, ns:])  # the known component along h
+    known = np.zeros((2, count))
+    known[:, ns:] = h * along
+    target = np.concatenate([-res[:, :ns].ravel(), -(tx * res[0, ns:] + ty * res[1, ns:]), -res_f])
 
     def expand(w):
-        """The step on the contact cells of the reduced unknowns (without the known part)."""
-        vx, vy = np.zeros(count), np.zeros(count)
-        vx[st], vy[st] = w[:ns], w[ns : 2 * ns]
-        vx[sl], vy[sl] = tx * w[tangent], ty * w[tangent]
-        return vx, vy
+        """The step (2, m) on the ordered cells of the reduced unknowns (no known part)."""
+        v = np.empty((2, count))
+        v[:, :ns] = w[: 2 * ns].reshape(2, ns)
+        v[0, ns:] = tx * w[2 * ns : end]
+        v[1, ns:] = ty * w[2 * ns : end]
+        return v
 
-    def rows(ax, ay, vx, vy, w):
-        """J's reduced rows of ``A dq = (ax, ay)``, the step ``dq = (vx, vy)`` and ``w``."""
+    def rows(a, v, w):
+        """J's reduced rows of ``A dq = a`` for the step ``dq = v`` and ``w``."""
         if free:
-            ax, ay = ax - w[-2], ay - w[-1]
-        out = [r * ax[st], r * ay[st], (1.0 - ratio) * w[tangent]
-               + ratio * r * (tx * ax[sl] + ty * ay[sl])]  # fmt: skip
+            a = a - w[end:, None]
+        out = np.empty(w.size)
+        out[: 2 * ns] = (r * a[:, :ns]).ravel()
+        out[2 * ns : end] = keep * w[2 * ns : end] + r * (rx * a[0, ns:] + ry * a[1, ns:])
         if free:
-            out.append(np.array([vx.mean(), vy.mean()]))
-        return np.concatenate(out)
+            out[end:] = v.mean(axis=1)
+        return out
 
     def precondition(y):
         """Reduced unknowns from a reduced residual ``y`` (the creepage's kept as they are)."""
-        sx, sy = np.zeros(count), np.zeros(count)
-        sx[st], sy[st] = y[:ns] / r, y[ns : 2 * ns] / r
-        sx[sl], sy[sl] = ratio * tx * y[tangent] / r, ratio * ty * y[tangent] / r
-        vx, vy = inverse(sx, sy)
-        slipping = (1.0 - ratio) * y[tangent] + ratio * (tx * vx[sl] + ty * vy[sl])
-        return np.concatenate([vx[st], vy[st], slipping, y[2 * ns + nl :]])
+        s = np.empty((2, count))
+        s[:, :ns] = y[: 2 * ns].reshape(2, ns) / r
+        slipping = y[2 * ns : end] / r
+        s[0, ns:] = rx * slipping
+        s[1, ns:] = ry * slipping
+        v = steady.inverse(s, positions)
+        out = y.copy()  # the creepage's unknowns as they are
+        out[: 2 * ns] = v[:, :ns].ravel()
+        out[2 * ns : end] = keep * y[2 * ns : end] + rx * v[0, ns:] + ry * v[1, ns:]
+        return out
 
     def reduced(y):
         w = precondition(y)
-        vx, vy = expand(w)
-        ax, ay, _, _ = apply(vx, vy)
-        return rows(ax, ay, vx, vy, w)
+        v = expand(w)
+        return rows(steady.apply(v, positions), v, w)
 
     rhs = target
-    if nl:
-        ax, ay, _, _ = apply(known_x, known_y)
-        rhs = target - rows(ax, ay, known_x, known_y, np.zeros(target.size))
+    if ns < count:
+        rhs = target - rows(steady.apply(known, positions), known, np.zeros(target.size))
     y, _ = gmres(reduced, rhs, GMRES_TOLERANCE, GMRES_RESTART, budget)
     w = precondition(y)
-    vx, vy = expand(w)
-    return vx + known_x, vy + known_y, w[2 * ns + nl :]
+    step = np.empty((2, count))
+    step[:, order] = expand(w) + known
+    return step, w[end:]
 
 
-__all__ = ["ORDERS", "SteadySolution", "gmres", "solve_steady_tangential", "undo_upwind", "upwind"]
+__all__ = [
+    "ORDERS",
+    "STENCILS",
+    "SteadyOperator",
+    "SteadySolution",
+    "gmres",
+    "solve_steady_tangential",
+    "undo_upwind",
+    "upwind",
+]
