@@ -117,7 +117,10 @@ def test_beta_zero_normal_loading_gives_no_shear(validation):
     for target in case.step_targets():  # ... and running it anyway changes nothing
         step = slip_stick_step(operators, state, target)
         assert step.converged
+        assert step.iterations["slip"] == 0  # nothing drives the shear: q = 0, no iteration
         state = step.state
+    assert not (state.shear_x.any() or state.shear_y.any())
+    assert not (state.shear_slip_x.any() or state.shear_slip_y.any())  # K_t q
     scale = 0.5 * state.pressure.max()
     assert np.abs(state.shear_x).max() < 1e-10 * scale
     assert np.abs(state.shear_y).max() < 1e-10 * scale

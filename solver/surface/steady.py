@@ -265,10 +265,12 @@ class SteadyOperator:
             boxed = np.zeros((lx, ly))
             boxed[target] = upwinded[source]
             kernels.append(np.fft.rfft2(boxed) / (lx * ly))
+            if name == "xx":
+                #: ``A``'s diagonal (1/Pa): the x-x block's value at zero offset.
+                self.diagonal = float(upwinded[0, 0])
         self._kernels = tuple(kernels)
-        #: ``A``'s diagonal (1/Pa): the x-x block's value at zero offset.
-        self.diagonal = float(np.fft.irfft2(kernels[0], (lx, ly))[0, 0]) * lx * ly
-        # undo_upwind's response along x: u_i = sum_m h_m s_(i+m), m = 0 .. span - 1
+        # undo_upwind's response along x (an open axis: steady rolling runs along it):
+        # u_i = sum_m h_m s_(i+m), m = 0 .. span - 1
         span = (len(mx) + 1) // 2
         impulse = np.zeros((span, 1))
         impulse[-1] = 1.0

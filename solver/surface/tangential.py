@@ -525,6 +525,11 @@ def solve_tangential(
     bound = friction_coefficient * np.where(contact, pressure, 0.0)
     cx, cy = offset
     target = None if force is None else np.array(force, dtype=float) / area
+    if not (cx.any() or cy.any()) and (target is None or not target.any()):
+        # nothing drives the shear (no offset, no force): q = 0 is the energy's unique
+        # minimiser (K_t is positive definite), every contact cell sticks
+        zero = np.zeros_like(pressure)
+        return _solution(zero, zero, zero, zero, cx, cy, (0.0, 0.0), contact, contact, 0, 0.0, True)
     if scale is None:
         scale = np.sqrt(_sum((cx * cx + cy * cy) * contact) / n_contact)
     scale = max(scale, 1e-300)
