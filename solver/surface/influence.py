@@ -86,30 +86,35 @@ _PRIMITIVES = {
 }
 
 
-class _Corners:
-    """The primitives' parts at the four corners of the cells, each part evaluated once.
+def _corner_integrals(
+    names: tuple[str, ...], x: np.ndarray, y: np.ndarray, dx: float, dy: float
+) -> dict[str, np.ndarray]:
+    """The alternating corner sums of the primitives ``names`` (of :data:`_PRIMITIVES`).
 
-    Shared by the integrals of one set of offsets (1/r, x^2/r^3 and y^2/r^3 share their
-    asinh terms); the sums are formed in the same order as for one integral alone.
+    One corner at a time: the parts the primitives share (1/r, x^2/r^3 and y^2/r^3 their
+    asinh terms) are evaluated once per corner and dropped before the next, so the memory is
+    the sums and one corner's parts; the sums are formed in the order of one integral alone.
     """
-
-    def __init__(self, x: np.ndarray, y: np.ndarray, dx: float, dy: float):
-        a, b = 0.5 * dx, 0.5 * dy
-        self.points = ((x + a, y + b), (x + a, y - b), (x - a, y + b), (x - a, y - b))
-        self._parts: dict[str, list[np.ndarray]] = {}
-
-    def _part(self, name: str) -> list[np.ndarray]:
-        if name not in self._parts:
-            self._parts[name] = [_PARTS[name](x, y) for x, y in self.points]
-        return self._parts[name]
-
-    def integral(self, name: str) -> np.ndarray:
-        """The alternating corner sum of primitive ``name`` (of :data:`_PRIMITIVES`)."""
-        first, *rest = (self._part(part) for part in _PRIMITIVES[name])
-        values = first
-        for other in rest:
-            values = [v + w for v, w in zip(values, other, strict=True)]
-        return values[0] - values[1] - values[2] + values[3]
+    a, b = 0.5 * dx, 0.5 * dy
+    sums: dict[str, np.ndarray] = {}
+    for corner, (cx, cy) in enumerate(((a, b), (a, -b), (-a, b), (-a, -b))):
+        px, py = x + cx, y + cy
+        parts: dict[str, np.ndarray] = {}
+        for name in names:
+            for part in _PRIMITIVES[name]:
+                if part not in parts:
+                    parts[part] = _PARTS[part](px, py)
+            first, *rest = (parts[part] for part in _PRIMITIVES[name])
+            value = first
+            for other in rest:
+                value = value + other
+            if corner == 0:
+                sums[name] = value
+            elif corner < 3:
+                sums[name] = sums[name] - value
+            else:
+                sums[name] = sums[name] + value
+    return sums
 
 
 def cell_integral(name: str, x: np.ndarray, y: np.ndarray, dx: float, dy: float) -> np.ndarray:
@@ -130,7 +135,7 @@ def cell_integral(name: str, x: np.ndarray, y: np.ndarray, dx: float, dy: float)
     ndarray
         The integral over the cell (units of the integrand times m^2).
     """
-    return _Corners(x, y, dx, dy).integral(name)
+    return _corner_integrals((name,), x, y, dx, dy)[name]
 
 
 def surface_kernels(
@@ -164,16 +169,20 @@ def surface_kernels(
         Units: m/Pa.
     """
     a_c, c_c, beta = pair.compliance, pair.shear_coupling, pair.dundurs_beta
-    corners = _Corners(x, y, dx, dy)
-    cell = corners.integral
-    inv_r = cell("inv_r") if {"zz", "xx", "yy"} & set(names) else None
+    wanted = {
+        "zz": ("inv_r",), "xx": ("inv_r", "xx_r3"), "yy": ("inv_r", "yy_r3"), "xy": ("xy_r3",),
+        "xp": ("x_r2",) if beta else (), "yp": ("y_r2",) if beta else (),
+    }  # fmt: skip
+    integrals = tuple(dict.fromkeys(i for name in names for i in wanted[name]))
+    cell = _corner_integrals(integrals, x, y, dx, dy)
+    inv_r = cell.get("inv_r")
     blocks = {
         "zz": lambda: a_c / np.pi * inv_r,
-        "xx": lambda: (a_c * inv_r + c_c * cell("xx_r3")) / np.pi,
-        "yy": lambda: (a_c * inv_r + c_c * cell("yy_r3")) / np.pi,
-        "xy": lambda: c_c / np.pi * cell("xy_r3"),
-        "xp": lambda: beta * a_c / np.pi * cell("x_r2") if beta else np.zeros(np.shape(x)),
-        "yp": lambda: beta * a_c / np.pi * cell("y_r2") if beta else np.zeros(np.shape(x)),
+        "xx": lambda: (a_c * inv_r + c_c * cell["xx_r3"]) / np.pi,
+        "yy": lambda: (a_c * inv_r + c_c * cell["yy_r3"]) / np.pi,
+        "xy": lambda: c_c / np.pi * cell["xy_r3"],
+        "xp": lambda: beta * a_c / np.pi * cell["x_r2"] if beta else np.zeros(np.shape(x)),
+        "yp": lambda: beta * a_c / np.pi * cell["y_r2"] if beta else np.zeros(np.shape(x)),
     }
     return {name: blocks[name]() for name in names}
 
