@@ -156,6 +156,38 @@ def test_solver_imports_nothing_of_study():
     assert not [t for n, ts in edges.items() if n.startswith("solver") for t in ts if "study" in t]
 
 
+def test_a_solve_loads_no_analysis_library():
+    """Solving a case (a tangential load, a steady rolling state) loads neither dask, xarray,
+    pandas (pyFFTW's dask interface, hidden: :func:`solver.numerics.fftw._pyfftw`), nor
+    scipy.optimize (the shakedown theorem's, imported by its method) nor scipy.signal; a
+    process that imported dask's FFT first keeps it, and pyFFTW's dask interface can still be
+    imported after the solve."""
+    import subprocess
+    import sys
+
+    code = """
+import sys, solver
+elastic = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
+base = {"body1": {**elastic, "radius": 0.05}, "body2": elastic, "friction": {"coefficient": 0.3},
+        "grid": {"n": [20, 20], "size": [0.0025, 0.0025]}}
+shear = {**base, "load": {"normal_force": 3000.0, "tangential_force": [300.0, 0.0]}}
+steady = {**base, "load": {"path": [{"normal_force": 3000.0},
+                                    {"steady": True, "creepage": [0.002, 0.0]}]}}
+for table in (shear, steady):
+    assert solver.solve(solver.Case.from_dict(table)).converged
+heavy = {"dask", "xarray", "pandas", "scipy.optimize", "scipy.signal"} & set(sys.modules)
+assert not heavy, heavy
+assert "pyfftw" in sys.modules and "dask.array.fft" not in sys.modules
+import pyfftw.interfaces.dask_fft
+"""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert done.returncode == 0, done.stderr
+    first = "import dask.array.fft, sys, solver.numerics.fftw as f; f._pyfftw(); "
+    first += "assert sys.modules['dask.array.fft'] is not None"
+    done = subprocess.run([sys.executable, "-c", first], capture_output=True, text=True, cwd=ROOT)
+    assert done.returncode == 0, done.stderr
+
+
 def test_reading_cases_loads_no_solve_library_and_every_module_stays_reachable():
     """``import solver``, a case table read and a campaign expanded load neither pyFFTW,
     scipy.signal nor scipy.optimize (seconds that ``study validate`` and ``status`` do not

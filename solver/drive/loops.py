@@ -71,7 +71,6 @@ from .steps import (
     slip_stick_step,
     steady_step,
 )
-from .theorem import solve_static_shakedown
 from .window import Follower, shifted
 
 #: Halvings of an increment whose plasticity loop does not converge (down to 1/8 of it).
@@ -261,6 +260,8 @@ def solve(case: Case) -> Result:
         ``Result.converged`` and ``Result.notes``, never raised.
     """
     if case.solver.method == "static_shakedown":
+        from .theorem import solve_static_shakedown  # scipy.optimize: for this method only
+
         return solve_static_shakedown(case)
     if case.plastic_body1:
         return _relabelled(solve(case.swapped()), case)

@@ -22,6 +22,7 @@ from ..spec.case import Case
 from ..spec.options import SolverOptions
 from ..surface.convolution import SurfaceOperator, surface_operator
 from ..surface.periodic import periodic_surface_operator, y_periodic_surface_operator
+from ..surface.steady import SteadyOperator
 from ..volume.eigenstrain import VOLUME_PRECISIONS, EigenstrainOperator
 from ..volume.stress import SubsurfaceStressOperator
 
@@ -186,11 +187,11 @@ class CaseOperators:
         """Peak bytes the bundle and the solver's work arrays are expected to need.
 
         The interpreter with numpy and pyfftw (:data:`PROCESS_BYTES`), the surface operator
-        and ~40 surface work arrays; with a volume grid the stress operator
-        (kernels of the tractions in use) and an evaluated stress field; for elastic-plastic
-        cases the eigenstrain operator and the plasticity loop's arrays (plastic strain and
-        its increment, trial stress, Anderson history: :func:`plastic_work_arrays` six-component
-        fields).
+        and ~40 surface work arrays (a steady rolling solve's boxes too); with a volume grid
+        the stress operator (kernels of the tractions in use) and an evaluated stress field;
+        for elastic-plastic cases the eigenstrain operator and the plasticity loop's arrays
+        (plastic strain and its increment, trial stress, Anderson history:
+        :func:`plastic_work_arrays` six-component fields).
         """
         nx, ny = case.grid.nx, case.grid.ny
         tangential = case.friction_coefficient > 0
@@ -198,6 +199,8 @@ class CaseOperators:
         total += 8 * nx * ny * 40 + 8 * 16 * case.total_steps
         volume = case.volume_grid
         window = case.moving_window
+        if any(stage.motion == "steady" for stage in case.stages):  # the contact's boxes
+            total += SteadyOperator.memory_bytes(case.surface_grid)
         if window is not None:  # the window's own surface operator
             cells_grid = SurfaceGrid(*window, case.surface_grid.dx, case.surface_grid.dy)
             total += SurfaceOperator.memory_bytes(cells_grid, tangential)
@@ -232,8 +235,10 @@ class CaseOperators:
         return total
 
 
-#: Resident memory of a Python process that imported the solver (numpy, pyfftw), measured here
-#: (118 MiB on 2026-11-25: Linux, Python 3.11.7, numpy 2).
+#: Resident memory of a rank's interpreter besides its case: 118 MiB measured on 2026-11-25
+#: (Linux, Python 3.11.7, numpy 2) when pyFFTW still loaded dask, xarray and pandas.  Kept as
+#: a margin for the study's own libraries: a worker rank of tiny cases peaks at 100 MiB since
+#: (2026-11-28), a process that only solves at about 67 MiB.
 PROCESS_BYTES = 118 * 2**20
 #: Six-component float64 volume fields the plasticity loop holds at once besides Anderson's:
 #: previous strain, increment, strain (rewritten in place), the last step's increment (the next

@@ -50,13 +50,12 @@ says so (``converged = False``).
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import solve_triangular
-from scipy.signal import lfilter
 
-from ..numerics.grid import fft_length
+from ..numerics.grid import SurfaceGrid, fft_length
 from .convolution import SurfaceOperator, cerruti_inverse, wavenumbers
 
 #: Upwind schemes: first order (CONTACT's) and second order.
@@ -134,14 +133,19 @@ def undo_upwind(s: np.ndarray, dx: float, order: int = 1) -> np.ndarray:
     """The ``u`` whose :func:`upwind` difference is ``s`` (along x), zero ahead of the grid.
 
     First order: the sum from the leading edge, ``u_i = dx sum_{j >= i} s_j``; second order
-    the recursion ``u_i = (4 u_{i+1} - u_{i+2} + 2 dx s_i) / 3`` from it (a stable filter: its
-    roots are 1 and 1/3), both along x (the last axis but one) towards the trailing edge.
+    the recursion ``u_i = (4 u_{i+1} - u_{i+2} + 2 dx s_i) / 3`` from it, whose roots 1 and 1/3
+    give the response ``dx (1 - 3^-(k + 1))`` to ``s`` k rows ahead: that sum less a geometric
+    one, ``g_i = (g_(i+1) + s_i) / 3``.  Both along x (the last axis but one) towards the
+    trailing edge.
     """
     backwards = s[..., ::-1, :]
-    if order == 1:
-        return dx * np.cumsum(backwards, axis=-2)[..., ::-1, :]
-    filtered = lfilter([2.0 * dx / 3.0], [1.0, -4.0 / 3.0, 1.0 / 3.0], backwards, axis=-2)
-    return filtered[..., ::-1, :]
+    total = np.cumsum(backwards, axis=-2)
+    if order == 2:
+        carried = np.zeros_like(backwards[..., 0, :])
+        for i in range(backwards.shape[-2]):
+            carried = (carried + backwards[..., i, :]) / 3.0
+            total[..., i, :] -= carried
+    return dx * total[..., ::-1, :]
 
 
 def gmres(matvec, rhs: np.ndarray, tolerance: float, restart: int, budget: int):
@@ -157,6 +161,8 @@ def gmres(matvec, rhs: np.ndarray, tolerance: float, restart: int, budget: int):
     products : int
         Applications of ``matvec``.
     """
+    from scipy.linalg import solve_triangular  # here: a case's memory estimate imports us
+
     n = rhs.size
     x = np.zeros(n)
     basis = np.empty((restart + 1, n))
@@ -207,6 +213,72 @@ def gmres(matvec, rhs: np.ndarray, tolerance: float, restart: int, budget: int):
     return x, products
 
 
+@dataclass(frozen=True)
+class _Box:
+    """What :class:`SteadyOperator` takes from a box of given spans: kernels, lengths."""
+
+    lengths: tuple[int, int]
+    kernels: tuple[np.ndarray, ...]  # D K_t's xx, xy, yy spectra on the padded box
+    inverse: tuple[np.ndarray, ...]  # the preconditioner's xx, yy, xy spectra
+    diagonal: float  # A's diagonal (1/Pa): the x-x block's value at zero offset
+
+
+#: Boxes built per operator, by (spans, order); an operator's entries go with it.
+_BOXES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: Boxes kept per operator, the latest (a steady stage's contact keeps its box from one
+#: creepage to the next).
+_BOXES_KEPT = 2
+
+
+def _box(operator: SurfaceOperator, spans: tuple[int, int], order: int) -> _Box:
+    """The box of ``spans`` cells (0: a periodic axis, whole), built once per operator."""
+    kept = _BOXES.setdefault(operator, {})
+    key = (spans, order)
+    if key not in kept:
+        if len(kept) >= _BOXES_KEPT:
+            del kept[next(iter(kept))]
+        kept[key] = _build_box(operator, spans, order)
+    return kept[key]
+
+
+def _build_box(operator: SurfaceOperator, spans: tuple[int, int], order: int) -> _Box:
+    grid = operator.grid
+    offsets, lengths = [], []
+    for span, length in zip(spans, operator.lengths, strict=True):
+        if span == 0:  # a periodic axis: its period, whole
+            offsets.append(np.arange(length))
+            lengths.append(length)
+        else:  # the box's offsets -(n - 1) .. n - 1, zero-padded
+            offsets.append(np.arange(1 - span, span))
+            lengths.append(fft_length(2 * span - 1))
+    (mx, my), (lx, ly), (lx_grid, ly_grid) = offsets, lengths, operator.lengths
+    source, target = np.ix_(mx % lx_grid, my % ly_grid), np.ix_(mx % lx, my % ly)
+    kernels, diagonal = [], 0.0
+    for name in ("xx", "xy", "yy"):  # K_t's kernels on the grid's layout, then D K_t's
+        kernel = np.fft.irfft2(operator.kernel_spectrum(name), (lx_grid, ly_grid))
+        kernel *= lx_grid * ly_grid  # FFTW's backward transform is unnormalised
+        upwinded = (
+            sum(c * np.roll(kernel, -shift, axis=0) for shift, c in enumerate(STENCILS[order]))
+            / grid.dx
+        )
+        boxed = np.zeros((lx, ly))
+        boxed[target] = upwinded[source]
+        kernels.append(np.fft.rfft2(boxed) / (lx * ly))
+        if name == "xx":
+            diagonal = float(upwinded[0, 0])
+    # undo_upwind's response along x (an open axis: steady rolling runs along it):
+    # u_i = sum_m h_m s_(i+m), m = 0 .. span - 1
+    span = (len(mx) + 1) // 2
+    impulse = np.zeros((span, 1))
+    impulse[-1] = 1.0
+    response = np.zeros(lx)
+    response[-np.arange(span) % lx] = undo_upwind(impulse, grid.dx, order)[::-1, 0]
+    undo = np.fft.fft(response)[:, None]
+    kx, ky = wavenumbers(grid, (lx, ly))
+    inverse = tuple(c * undo for c in cerruti_inverse(operator.pair, kx, ky, lx * ly))
+    return _Box((lx, ly), tuple(kernels), inverse, diagonal)
+
+
 class SteadyOperator:
     """``A = -d_x K_t`` on a contact's cells and its whole-plane inverse, one FFT pair each.
 
@@ -237,48 +309,20 @@ class SteadyOperator:
     """
 
     def __init__(self, operator: SurfaceOperator, contact: np.ndarray, order: int):
-        grid = operator.grid
         ix, iy = np.nonzero(contact)
-        offsets, lengths, corner = [], [], []
-        for index, cells, length in zip((ix, iy), grid.shape, operator.lengths, strict=True):
-            if length < 2 * cells - 1:  # a periodic axis: its period, whole
-                offsets.append(np.arange(length))
-                lengths.append(length)
-                corner.append(0)
-            else:  # the box's offsets -(n - 1) .. n - 1, zero-padded
-                span = int(index.max() - index.min()) + 1
-                offsets.append(np.arange(1 - span, span))
-                lengths.append(fft_length(2 * span - 1))
-                corner.append(int(index.min()))
-        (mx, my), (lx, ly), (lx_grid, ly_grid) = offsets, lengths, operator.lengths
+        spans, corner = [], []
+        for index, cells, length in zip(
+            (ix, iy), operator.grid.shape, operator.lengths, strict=True
+        ):
+            periodic = length < 2 * cells - 1  # a periodic axis: its period, whole
+            spans.append(0 if periodic else int(index.max() - index.min()) + 1)
+            corner.append(0 if periodic else int(index.min()))
+        box = _box(operator, (spans[0], spans[1]), order)  # built once per operator and box
+        (lx, ly), self._kernels, self._inverse = box.lengths, box.kernels, box.inverse
+        #: ``A``'s diagonal (1/Pa): the x-x block's value at zero offset.
+        self.diagonal = box.diagonal
         #: Flat positions of the contact cells in a field of the box's padded lengths.
         self.cells = (ix - corner[0]) * ly + (iy - corner[1])
-        source, target = np.ix_(mx % lx_grid, my % ly_grid), np.ix_(mx % lx, my % ly)
-        kernels = []
-        for name in ("xx", "xy", "yy"):  # K_t's kernels on the grid's layout, then D K_t's
-            kernel = np.fft.irfft2(operator.kernel_spectrum(name), (lx_grid, ly_grid))
-            kernel *= lx_grid * ly_grid  # FFTW's backward transform is unnormalised
-            upwinded = (
-                sum(c * np.roll(kernel, -shift, axis=0) for shift, c in enumerate(STENCILS[order]))
-                / grid.dx
-            )
-            boxed = np.zeros((lx, ly))
-            boxed[target] = upwinded[source]
-            kernels.append(np.fft.rfft2(boxed) / (lx * ly))
-            if name == "xx":
-                #: ``A``'s diagonal (1/Pa): the x-x block's value at zero offset.
-                self.diagonal = float(upwinded[0, 0])
-        self._kernels = tuple(kernels)
-        # undo_upwind's response along x (an open axis: steady rolling runs along it):
-        # u_i = sum_m h_m s_(i+m), m = 0 .. span - 1
-        span = (len(mx) + 1) // 2
-        impulse = np.zeros((span, 1))
-        impulse[-1] = 1.0
-        response = np.zeros(lx)
-        response[-np.arange(span) % lx] = undo_upwind(impulse, grid.dx, order)[::-1, 0]
-        undo = np.fft.fft(response)[:, None]
-        kx, ky = wavenumbers(grid, (lx, ly))
-        self._inverse = tuple(c * undo for c in cerruti_inverse(operator.pair, kx, ky, lx * ly))
         padded, spectrum, work, output, self._forward, self._backward = operator.batch_transforms(
             (lx, ly)
         )
@@ -288,6 +332,18 @@ class SteadyOperator:
         self._positions = self.positions()
         #: Applications of ``A``.
         self.applications = 0
+
+    @staticmethod
+    def memory_bytes(grid: SurfaceGrid) -> int:
+        """Bytes steady solves on ``grid`` hold at most beside the surface operator.
+
+        The batched buffers of :meth:`SurfaceOperator.batch_transforms` on a box and the kept
+        boxes' six spectra each, bounded by the grid's padded lengths (a box's are at most
+        those).
+        """
+        lx, ly = SurfaceOperator.padded_lengths(grid)
+        real, spectrum = 8 * lx * ly, 16 * lx * (ly // 2 + 1)
+        return 4 * real + 4 * spectrum + _BOXES_KEPT * 6 * spectrum
 
     def positions(self, order: np.ndarray | None = None) -> np.ndarray:
         """The contact's cells (taken in ``order``) as flat positions in the padded fields.
