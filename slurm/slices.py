@@ -159,8 +159,8 @@ def _merge(args: argparse.Namespace) -> int:
     path = assemble_to_file(args.out, campaign)
     print(
         f"merged {counts['linked']} new case(s) into {args.out}: {counts['finished']}/"
-        f"{len(campaign.cases)} finished, {counts['failed']} failed, {counts['pending']} pending;"
-        f" assembled {path}"
+        f"{len(campaign.distinct_cases())} finished, {counts['failed']} failed, "
+        f"{counts['pending']} pending; assembled {path}"
     )
     if counts["failed"]:
         return 1

@@ -161,13 +161,20 @@ def build_parser() -> argparse.ArgumentParser:
 
     assemble = sub.add_parser(
         "assemble",
-        help="(re)build OUT/<campaign>.nc from the case files",
-        description="Assemble the campaign dataset from the per-case files.",
+        help="(re)build OUT/<campaign>.nc from the stored cases",
+        description="Assemble the campaign dataset from the finished cases stored under "
+        "OUT/cases (the ranks' bundles, and per-case files of older runs).",
     )
     assemble.add_argument("target", metavar="FILE_OR_OUT", help="campaign file or output folder")
     assemble.add_argument("--out", help="output folder (with a campaign file)")
 
-    bench = sub.add_parser("bench", help="benchmarks against closed forms and peer codes")
+    bench = sub.add_parser(
+        "bench",
+        help="benchmarks against closed forms and peer codes",
+        description="Run a benchmark scene: our solver against its closed form and, with "
+        "--peers, the peer codes installed here, on the same grids; prints a table (time, "
+        "CPU, memory, error, iterations).",
+    )
     from .bench.registry import SCENES
 
     bench.add_argument("scene", choices=list(SCENES), help="benchmark scene")
@@ -451,24 +458,30 @@ def _validate(args: argparse.Namespace) -> int:
 
 
 # -- status and assemble -------------------------------------------------------------------------
-def _resolve(args: argparse.Namespace):
-    """(campaign, out) from a campaign file or an output folder."""
+def _resolve(target: str, out: str | None = None):
+    """(campaign, out) from a campaign file or an output folder (``--out``: another folder)."""
     from pathlib import Path
 
+    from .campaign import CampaignError
     from .run import storage
 
-    target = Path(args.target)
-    if target.is_dir():
-        out = Path(args.out) if args.out else target
-        return storage.read_campaign(out), out
-    campaign = load_campaign_file(target)
-    return campaign, Path(args.out or campaign.settings.output)
+    path = Path(target)
+    if path.is_dir():
+        folder = Path(out) if out else path
+        return storage.read_campaign(folder), folder
+    if not path.exists() and path.suffix != ".toml":
+        raise CampaignError(
+            f"{target}: no such output folder or campaign file; give the folder a run wrote "
+            "(after the run) or the campaign's .toml file"
+        )
+    campaign = load_campaign_file(path)
+    return campaign, Path(out or campaign.settings.output)
 
 
 def _status(args: argparse.Namespace) -> int:
     from .run import storage
 
-    campaign, out = _resolve(args)
+    campaign, out = _resolve(args.target, args.out)
     storage.remove_temporaries(out)  # of processes that are gone; live ones are left alone
     index = storage.case_index(out)
     states = storage.case_states(out, campaign, index)
@@ -480,16 +493,18 @@ def _status(args: argparse.Namespace) -> int:
     for state in states.values():
         state = "failed" if state == "corrupt" else state  # its data is lost until re-run
         counts[state] = counts.get(state, 0) + 1
-    total = len(campaign.cases)
+    total = len(states)  # distinct cases: a design's repeated rows are solved once
+    rows = len(campaign.cases)
     done = sum(counts[name] for name in SOLVE_STATUSES)
     finished = ", ".join(  # "truncated" and "surface flow" only when there are such cases
         f"{counts[n]} {n.replace('_', ' ')}"
         for n in SOLVE_STATUSES
         if counts[n] or n in ("converged", "not_converged")
     )
+    repeated = f"; {rows} rows of the design, {total} distinct cases" if rows > total else ""
     print(
         f"campaign {campaign.name} in {out}: {done}/{total} finished ({finished}), "
-        f"{counts['failed']} failed, {counts['pending']} pending"
+        f"{counts['failed']} failed, {counts['pending']} pending{repeated}"
     )
     for name, problem in sorted(corrupt.items()):
         if name.endswith(storage.bundle.SUFFIX):
@@ -497,7 +512,7 @@ def _status(args: argparse.Namespace) -> int:
                 f"  corrupt bundle cases/{name}: {problem}; its cases count as pending (run "
                 "moves it aside and computes them again)"
             )
-    for case in campaign.cases:
+    for case in campaign.distinct_cases():
         if states[case.case_id] == "corrupt":
             print(
                 f"  corrupt {case.case_id} [{case.label}]: cases/{case.case_id}.nc "
@@ -519,7 +534,9 @@ def _assemble(args: argparse.Namespace) -> int:
     from .run.progress import configure_logging
 
     logger = configure_logging()
-    campaign, out = _resolve(args)
+    campaign, out = _resolve(args.target, args.out)
+    if not (out / storage.CAMPAIGN_FILE).is_file():  # never run: nothing to assemble
+        storage.read_campaign(out)  # raises its "run the campaign first"
     storage.remove_temporaries(out)  # of processes that are gone; live ones are left alone
     path = _assemble_or_say_why(out, campaign, logger)
     if path is None:
@@ -543,6 +560,8 @@ def _report(report_main):
         from .run.progress import configure_logging
 
         logger = configure_logging()
+        if Path(args.out).suffix == ".toml":  # a campaign file: its output folder
+            args.out = str(_resolve(args.out)[1])
         out = Path(args.out)
         if out.is_dir() and (out / storage.CAMPAIGN_FILE).exists():
             campaign = storage.read_campaign(out)

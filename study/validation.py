@@ -211,9 +211,12 @@ def describe_campaign(
     from .campaign.sample import SAMPLE_DIM
     from .run import calibration as machine
 
-    cases = campaign.cases
+    cases = campaign.distinct_cases()  # a design's repeated rows: one case, solved once
+    count = f"{len(campaign.cases)} cases"
+    if len(cases) < len(campaign.cases):
+        count = f"{len(campaign.cases)} rows of {len(cases)} distinct cases (each solved once)"
     lines = [
-        f"campaign {campaign.name} ({campaign.source or 'table'}): {len(cases)} cases, "
+        f"campaign {campaign.name} ({campaign.source or 'table'}): {count}, "
         f"shape {' x '.join(map(str, campaign.shape))}, output {campaign.settings.output}",
         "axes:",
     ]

@@ -354,6 +354,29 @@ def test_missing_file_and_bad_options(tmp_path, capsys):
     assert "--time-limit" in capsys.readouterr().err
 
 
+def test_status_assemble_and_report_before_and_after_a_run(tmp_path, capsys):
+    """A campaign file or its output folder alike; before the run, a missing folder or
+    nothing to assemble is said in one line (status still counts the pending cases)."""
+    path = small_campaign(tmp_path)
+    out = tmp_path / "out"
+    assert main(["status", str(path), "--out", str(out)]) == 0
+    assert "0/4 finished (0 converged" in capsys.readouterr().out
+    for command in ("assemble", "report"):
+        argv = [command, str(path)] + (["--out", str(out)] if command == "assemble" else [])
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "run the campaign first" in err, err
+    for command in ("status", "assemble"):
+        assert main([command, str(tmp_path / "never")]) == 2
+        assert "no such output folder or campaign file" in capsys.readouterr().err
+    assert main(["run", str(path), "--out", str(out), "--mpi", "off", "--no-assemble"]) == 0
+    assert main(["assemble", str(out)]) == 0
+    capsys.readouterr()
+    path.write_text(path.read_text().replace("[campaign]", f'[campaign]\noutput = "{out}"'))
+    assert main(["report", str(path), "--no-plots"]) == 0, capsys.readouterr().err
+    assert (out / "report.md").is_file()
+
+
 def test_validate_prints_summary(tmp_path, capsys):
     assert main(["validate", str(small_campaign(tmp_path))]) == 0
     out = capsys.readouterr().out

@@ -82,6 +82,12 @@ def test_gross_sliding_rejected(hertz_table):
         solver.Case.from_dict(table)
 
 
+def test_a_campaign_table_read_as_a_case_says_so(hertz_table):
+    campaign = {"base": hertz_table, "sweep": {"friction.coefficient": [0.1, 0.2]}}
+    with pytest.raises(SpecError, match=r"^base: this is a campaign.*python -m study"):
+        solver.Case.from_dict(campaign)
+
+
 def test_case_id_normalises_numbers(hertz_table):
     a = solver.Case.from_dict(hertz_table)
     b = solver.Case.from_dict(

@@ -300,3 +300,13 @@ def test_the_plastic_load_sweep_how_to_opens_its_fields_as_written(tmp_path, mon
         import matplotlib.pyplot as plt
 
         plt.close("all")
+
+
+@pytest.mark.parametrize("page", ["README.md", "docs/getting-started.md"])
+def test_the_one_case_snippet_runs_as_written(page):
+    """The "one case from Python" block solves its own case (no file to fetch first)."""
+    text = (ROOT / page).read_text()
+    (snippet,) = [b for b in re.findall(r"```python\n(.*?)```", text, re.S) if "Case.from" in b]
+    namespace: dict = {}
+    exec(compile(snippet, page, "exec"), namespace)
+    assert namespace["result"].converged and "pressure" in namespace["ds"]

@@ -17,6 +17,7 @@ import xarray as xr
 from study import bundle
 from study.analysis import morris_indices, sobol_indices
 from study.campaign import CampaignError, expand_campaign
+from study.campaign.cost import REFERENCE
 from study.campaign.sample import Distribution, parse_sample
 from study.campaign.validate import normalise_key
 from study.report import build_report
@@ -207,7 +208,7 @@ def test_a_swept_key_beside_a_design_gives_one_design_per_value():
     assert campaign.dims == ("friction_coefficient", "sample") and len(campaign.cases) == 10
 
 
-def test_repeated_rows_are_one_case_computed_once(tmp_path):
+def test_repeated_rows_are_one_case_computed_once(tmp_path, capsys):
     sample = {
         "method": "saltelli", "count": 8, "seed": 2,
         "load.normal_force": {"distribution": "discrete", "values": [50.0, 100.0]},
@@ -226,6 +227,19 @@ def test_repeated_rows_are_one_case_computed_once(tmp_path):
     assert bool((ds["status"] == 1).all())
     force = ds["normal_force"].values
     assert force == pytest.approx(ds["load_normal_force"].values)  # every row filled, its own
+    # validate and status count the distinct cases, and say how many rows the design has
+    from study.cli import main
+    from study.validation import describe_campaign
+
+    text = describe_campaign(campaign, list_cases=True, calibration=REFERENCE)
+    assert f"32 rows of {distinct} distinct cases" in text
+    listed = [
+        line.split()[0] for line in text.splitlines() if line.startswith("  ") and " s  " in line
+    ]
+    assert len(listed) == len(set(listed)) == distinct
+    assert main(["status", str(tmp_path / "sampled")]) == 0
+    line = capsys.readouterr().out.splitlines()[0]
+    assert f"{distinct}/{distinct} finished" in line and "32 rows of the design" in line, line
 
 
 # -- the closed-form check through the pipeline ----------------------------------------------------

@@ -127,13 +127,16 @@ def test_run_writes_cases_and_assembles(small, capsys):
 
 def test_rerun_skips_finished_cases(small):
     campaign, out = small
-    run_campaign(campaign, out)
+    first = run_campaign(campaign, out)
     stamps = {p.name: p.stat().st_mtime_ns for p in (out / "cases").glob("*" + bundle.SUFFIX)}
     summary = run_campaign(campaign, out)
     assert summary.skipped == 4 and summary.converged == 0 and summary.exit_status == 0
     assert stamps and stamps == {
         p.name: p.stat().st_mtime_ns for p in (out / "cases").glob("*" + bundle.SUFFIX)
     }
+    # the overhead is stated when cases were solved, left out when none was (not "nan")
+    assert ("overhead" in first.describe()) == (first.converged > 0)
+    assert "nan" not in summary.describe() and "overhead" not in summary.describe()
 
 
 def test_failures_are_isolated_and_retried(small):

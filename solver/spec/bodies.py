@@ -249,7 +249,7 @@ def parse_body(table: Any, path: str, read_surface: SurfaceReader | None = None)
         return Body("rigid", rx, ry, profile=profile, surface=surface, roughness=roughness)
     for key in ("E", "nu"):
         if key not in table:
-            fail(f"{path}.{key}", f"missing required field for a {behaviour} body")
+            fail(f"{path}.{key}", f"missing required field for an {behaviour} body")
     young = number(table["E"], f"{path}.E", positive=True)
     low, high = MODULUS_RANGE
     if not low <= young <= high:
@@ -259,6 +259,12 @@ def parse_body(table: Any, path: str, read_surface: SurfaceReader | None = None)
         fail(f"{path}.nu", f"Poisson's ratio must be in (-1, 0.5], got {nu}")
     hardening = None
     if behaviour == "elastic-plastic":
+        if nu == 0.5:
+            fail(
+                f"{path}.nu",
+                "an elastic-plastic body must be compressible, nu < 0.5: its eigenstrain's "
+                "stress takes Lame's lambda = 2 G nu / (1 - 2 nu), infinite at 0.5",
+            )
         if "hardening" not in table:
             fail(f"{path}.hardening", "missing: an elastic-plastic body needs a hardening table")
         hardening = _parse_hardening(table["hardening"], f"{path}.hardening")

@@ -159,6 +159,13 @@ class Case:
         string or a path, a roughness as its table or a :class:`~solver.bodies.heights.Roughness`; a
         boolean is never a number.
         """
+        if isinstance(table, dict) and "base" in table:  # a campaign table, not a case's
+            fail(
+                "base",
+                "this is a campaign ([base] with [sweep], [zip] or [sample]), not one case: run "
+                "it with python -m study validate / run FILE, or give a case's own tables "
+                "(body1, body2, load, grid, ...)",
+            )
         check_keys(table, "", table_keys(""), required_keys(""))
         if table.get("model", MODEL_VERSION) != MODEL_VERSION:
             fail(

@@ -54,8 +54,9 @@ def speed_error_table(dataset):
     pandas.DataFrame
         One row per finished case: axis values, ``cells`` (:func:`cell_counts`; -1 unknown),
         ``wall_time`` (s), ``peak_rss_mib``,
-        ``err_<quantity>`` (signed relative error), ``error_basis`` ("closed form" or
-        "extrapolated"), ``error`` and ``pareto``.
+        ``err_<quantity>`` (signed relative error), ``error_basis`` (of the quantities with
+        an error in this case: "closed form", "extrapolated", each quantity's when they
+        differ, or "none"), ``error`` and ``pareto``.
     """
     import pandas as pd
 
@@ -102,10 +103,14 @@ def speed_error_table(dataset):
             row[f"err_{q}"] = e
             if np.isfinite(e):
                 errors.append(abs(e))
+        used = {q: basis[q] for q in targets if np.isfinite(row[f"err_{q}"])}
+        kinds = set(used.values())
         row["error_basis"] = (
-            "closed form"
-            if set(basis.values()) == {"closed form"}
-            else (", ".join(f"{q}: {b}" for q, b in basis.items()))
+            "none"  # no closed form and no extrapolation for this case
+            if not kinds
+            else kinds.pop()
+            if len(kinds) == 1
+            else ", ".join(f"{q}: {b}" for q, b in used.items())
         )
         row["error"] = max(errors) if errors else math.nan
         rows.append(row)

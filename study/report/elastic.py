@@ -233,7 +233,7 @@ def plot_speed_error(table, title: str, path: str | Path) -> Path | None:
         bar.set_ticks(ticks, labels=[f"{t:g}" for t in ticks])
         bar.minorticks_off()
     grid = "" if varying or not len(known) else f", every case {int(known[0])} cells"
-    basis = data["error_basis"].iloc[0]
+    basis = "; ".join(dict.fromkeys(data["error_basis"]))
     suptitle(fig, f"{title}: speed versus error ({basis}{grid})", speed_error_note(table))
     save(plt, fig, path)
     return Path(path)

@@ -194,7 +194,8 @@ class RunSummary:
         Cases computed by each rank.
     overhead : float
         Mean time (s) per case spent outside the solve on the computing rank (case set-up,
-        checks, dataset building, compressed atomic write).
+        checks, dataset building, compressed atomic write); NaN when no case was solved (and
+        not said in :meth:`describe`).
     """
 
     campaign: str
@@ -230,12 +231,13 @@ class RunSummary:
         )
         if self.surface_flow:
             cut += f"{self.surface_flow} surface flow (the surface shear past the body's limit), "
+        overhead = "" if math.isnan(self.overhead) else f"overhead {self.overhead:.4f} s per case; "
         text = (
             f"campaign {self.campaign}: {self.total} cases; this run {self.converged} converged, "
             f"{self.not_converged} not converged, {cut}{self.failed} failed; {self.skipped} "
             f"finished earlier; {self.pending} pending, {self.failed_total} failed in all; elapsed "
-            f"{format_duration(self.elapsed)} ({ranks or 'no cases computed'}); overhead "
-            f"{self.overhead:.4f} s per case; output {self.out}"
+            f"{format_duration(self.elapsed)} ({ranks or 'no cases computed'}); {overhead}"
+            f"output {self.out}"
         )
         if self.stopped:
             text += f"\nstopped early: {self.stopped}"
