@@ -128,9 +128,15 @@ def campaign_keys_page() -> str:
     return "\n".join(lines + _keys_section(CAMPAIGN_KEYS, title))
 
 
+def _flags(flags: dict[str, int]) -> str:
+    return "int8 flags: " + ", ".join(f"{value} {name}" for name, value in flags.items())
+
+
 def dataset_page() -> str:
     """Every variable of a case's dataset and of a campaign's assembled dataset."""
-    from solver.result import STATUS_FLAGS
+    from solver.numerics.tensor import COMPONENTS
+    from solver.result import CONTACT_STATES, STATUS_FLAGS
+    from solver.theory.shakedown import SHAKEDOWN_FLAGS
     from solver.variables import CYCLE_QUANTITIES, FIELDS, HISTORIES
     from study.run.assemble import BOOKKEEPING, SCALARS
 
@@ -155,6 +161,13 @@ def dataset_page() -> str:
     lines += ["## Fields", "", "In a case's dataset (and the lazy loader `open_fields`).", ""]
     rows = [[f"`{n}`", ", ".join(f.dims), f.units, f.long_name] for n, f in FIELDS.items()]
     lines += _table(["name", "dims", "units", "long_name"], rows)
+    lines += ["## Flags and coordinates of a case's dataset", ""]
+    rows = [
+        ["`contact_state`", "x, y", _flags(CONTACT_STATES)],
+        ["`shakedown`", "(scalar, cyclic paths)", _flags(SHAKEDOWN_FLAGS)],
+        ["`component`", "coordinate", "tensor fields' order: " + ", ".join(COMPONENTS)],
+    ]
+    lines += _table(["name", "dims", "values"], rows)
     lines += ["## Per-cycle quantities (dimension `cycle`)", ""]
     rows = [[f"`{n}`", units, long] for n, (units, long) in CYCLE_QUANTITIES.items()]
     lines += _table(["name", "units", "long_name"], rows)
@@ -162,8 +175,7 @@ def dataset_page() -> str:
     rows = [[f"`{n}`", units, long] for n, (units, long) in SCALARS.items()]
     lines += _table(["name", "units", "long_name"], rows)
     lines += ["## Per-case bookkeeping of a campaign dataset", ""]
-    flags = ", ".join(f"{value} {name}" for name, value in STATUS_FLAGS.items())
-    notes = {"status": f"int8 flags: {flags}"}
+    notes = {"status": _flags(STATUS_FLAGS)}
     rows = [[f"`{n}`", long, notes.get(n, "")] for n, long in BOOKKEEPING.items()]
     lines += _table(["name", "long_name", "values"], rows)
     return "\n".join(lines)

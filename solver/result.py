@@ -32,6 +32,8 @@ HISTORY_META = {name: (h.units, h.long_name) for name, h in HISTORIES.items()}
 
 #: Values of ``contact_state``.
 SEPARATED, STICK, SLIP = 0, 1, 2
+#: Flags of ``contact_state`` (CF ``flag_values`` / ``flag_meanings``).
+CONTACT_STATES = {"separated": SEPARATED, "stick": STICK, "slip": SLIP}
 #: What a solve says of itself (:attr:`Result.status`).
 SOLVE_STATUSES = ("converged", "not_converged", "truncated", "surface_flow")
 #: Flags of a case's status in a campaign dataset: a solve's status, or ``pending`` (not run
@@ -208,8 +210,8 @@ class Result:
                     self.contact_state.astype(np.int8),
                     {
                         "long_name": "contact state",
-                        "flag_values": np.array([SEPARATED, STICK, SLIP], dtype=np.int8),
-                        "flag_meanings": "separated stick slip",
+                        "flag_values": np.array(list(CONTACT_STATES.values()), dtype=np.int8),
+                        "flag_meanings": " ".join(CONTACT_STATES),
                     },
                 ),
             }
@@ -234,7 +236,11 @@ class Result:
         for name, values in self.fields.items():
             declared = FIELDS[name]
             if "component" in declared.dims:
-                coords["component"] = ("component", list(COMPONENTS))
+                coords["component"] = (
+                    "component",
+                    list(COMPONENTS),
+                    {"long_name": "tensor component (tensor values: e_xz is half gamma_xz)"},
+                )
             data[name] = (declared.dims, values, _cf(declared))
         for name, values in self.history.items():
             units, long_name = HISTORY_META[name]

@@ -88,6 +88,18 @@ def test_a_campaign_table_read_as_a_case_says_so(hertz_table):
         solver.Case.from_dict(campaign)
 
 
+def test_a_rectangular_grid_too_narrow_for_the_contact_names_the_cells_it_needs(hertz_table):
+    """Square cells: n = [64, 16] is a quarter as wide along y; the message's count holds."""
+    import re
+
+    with pytest.raises(SpecError, match=r"^grid.n: with square cells") as info:
+        solver.Case.from_dict(mutate(hertz_table, "grid.n", [64, 16]))
+    need = int(re.search(r"ny >= (\d+)", str(info.value)).group(1))
+    solver.Case.from_dict(mutate(hertz_table, "grid.n", [64, need]))
+    with pytest.raises(SpecError, match="grid.n"):
+        solver.Case.from_dict(mutate(hertz_table, "grid.n", [64, need - 1]))
+
+
 def test_case_id_normalises_numbers(hertz_table):
     a = solver.Case.from_dict(hertz_table)
     b = solver.Case.from_dict(

@@ -60,7 +60,7 @@ OUT_OF_RANGE = {
     "load.steps": [1e300, 0, 2.5, 10**6, -(10**30)],
     "grid.n": [1e300, 5e-324, 3, 10**18, 8193],
     "grid.half_width": [1e300, 5e-324, 1e6, 0.5, math.inf],
-    "friction.coefficient": [-1e300, -5e-324, math.inf, 1e300],
+    "friction.coefficient": [-1e300, -5e-324, math.inf, 1e300, 5e-324, 1e-9],
     "solver.normal_tolerance": [1e300, 0.1, 0, math.inf, -1e-8],
 }
 #: (where the fault goes, the value (DELETE removes the key), the field the message names).

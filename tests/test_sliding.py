@@ -195,3 +195,24 @@ def test_a_track_too_long_for_the_grid_is_refused_by_the_slide(travel):
     path = [{"normal_force": FORCE}, {"slide": [travel, 0.0], "steps": 2}]
     with pytest.raises(SpecError, match=r"^load\.path \(slide\): mesh too coarse for the sliding"):
         _case(path, n=(64, 32))
+
+
+def test_the_cells_a_too_coarse_plastic_slide_is_told_to_take_are_accepted():
+    """The message's n keeps the volume's cells: taken as written, the case is accepted."""
+    import re
+
+    table = {
+        "body1": {"behaviour": "rigid", "radius": 0.015},
+        "body2": {
+            "behaviour": "elastic-plastic", "radius": "inf", "E": 210e9, "nu": 0.3,
+            "hardening": {"law": "perfect", "yield_stress": 1e9},
+        },
+        "friction": {"coefficient": 0.3},
+        "load": {"path": [{"hertz_pressure": 2e9}, {"slide": [5e-4, 0.0], "steps": 4}]},
+        "grid": {"n": [16, 16, 16]},
+    }  # fmt: skip
+    with pytest.raises(SpecError, match="mesh too coarse for the sliding") as info:
+        solver.Case.from_dict(table)
+    told = re.search(r"n = \[([\d, ]+)\]", str(info.value)).group(1)
+    table["grid"]["n"] = [int(v) for v in told.split(",")]
+    assert len(table["grid"]["n"]) == 3 and solver.Case.from_dict(table).grid.nz == 16

@@ -489,3 +489,19 @@ def test_the_force_projection_stays_finite_when_no_cell_can_carry_the_force():
     bound = np.full((4, 4), 0.5)
     qx, qy, _ = project_onto_feasible(z, 0 * z, bound, np.array([2.0, 0.0]), np.zeros(2))
     assert qx.sum() == pytest.approx(2.0, rel=1e-12) and np.all(np.hypot(qx, qy) <= bound + 1e-15)
+
+
+def test_a_ramp_a_steady_stage_follows_is_not_flagged():
+    """A steady rolling state does not depend on the path to it: no path-dependence note."""
+    from solver.drive.record import path_dependence_notes
+
+    soft = {"behaviour": "elastic", "E": 70e9, "nu": 0.3}
+    table = {
+        "body1": {"behaviour": "elastic", "radius": 0.05, "E": 210e9, "nu": 0.3},
+        "body2": soft, "friction": {"coefficient": 0.3}, "grid": {"n": [20, 20]},
+        "load": {"path": [{"normal_force": 3000.0}, {"steady": True, "creepage": [1e-3, 0.0]}]},
+    }  # fmt: skip
+    assert path_dependence_notes(solver.Case.from_dict(table)) == []
+    table["load"]["path"] += [{"normal_force": 0.0}, {"normal_force": 4000.0}]
+    notes = path_dependence_notes(solver.Case.from_dict(table))  # the ramp after it is
+    assert len(notes) == 1 and "load stage 4 (1 step)" in notes[0], notes

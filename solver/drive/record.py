@@ -383,10 +383,19 @@ def failure_notes(failures: list[tuple[int, str]]) -> list[str]:
 
 
 def path_dependence_notes(case: Case) -> list[str]:
-    """One note naming every stage that raises the normal force in too few steps."""
+    """One note naming every stage that raises the normal force in too few steps.
+
+    Not a stage a steady rolling stage follows: a steady state does not depend on the path
+    that led to it.
+    """
     few, previous_force = [], 0.0
     for i, stage in enumerate(case.stages):
-        if stage.normal_force > previous_force and stage.steps < MIN_COUPLED_STEPS:
+        forgotten = any(later.motion == "steady" for later in case.stages[i + 1 :])
+        if (
+            stage.normal_force > previous_force
+            and stage.steps < MIN_COUPLED_STEPS
+            and not forgotten
+        ):
             few.append(f"{i + 1} ({stage.steps} step{'s' if stage.steps > 1 else ''})")
         previous_force = stage.normal_force
     if not few:

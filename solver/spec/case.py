@@ -34,6 +34,7 @@ from ..keys import (
     MAX_AUTO_HALF_WIDTH,
     MAX_CREEPAGE,
     MAX_FRICTION,
+    MIN_FRICTION,
     MIN_PLASTIC_HALF_WIDTH,
     MOVING_DEPTH_MARGIN,
     PLASTIC_WIDTH_MARGIN,
@@ -59,6 +60,7 @@ from .notes import (
     narrow_window_note,
     plastic_regime,
     profile_regime,
+    rolling_step_note,
     surface_shear_note,
     window_note,
     window_unbuilt,
@@ -222,6 +224,12 @@ class Case:
             fail(
                 "friction.coefficient",
                 f"must be in [0, {MAX_FRICTION:g}] (a contact sticks fully long before), got {mu}",
+            )
+        if 0 < mu < MIN_FRICTION:
+            fail(
+                "friction.coefficient",
+                f"{mu:g} is frictionless to the solver's tolerances (the tangential solve's "
+                f"scales underflow below {MIN_FRICTION:g}): give 0, or at least {MIN_FRICTION:g}",
             )
         for stage, path in zip(stages, paths, strict=True):
             q = math.hypot(*stage.tangential_force)
@@ -476,7 +484,10 @@ class Case:
         if solver.method == "static_shakedown":  # no loops: the theorem's own notes
             notes = check_static_shakedown(case)
         else:
-            notes = (layer_note(case), surface_shear_note(case), window_note(case))
+            notes = (
+                layer_note(case), surface_shear_note(case), window_note(case),
+                rolling_step_note(case),
+            )  # fmt: skip
             notes = tuple(filter(None, notes))
         if notes:
             case = dataclasses.replace(case, warnings=(*case.warnings, *notes))
@@ -485,7 +496,7 @@ class Case:
             if reach > MAX_CREEPAGE:  # the spin's rigid slip at the contact's edge
                 fail(
                     f"{path}.spin",
-                    f"the spin's rigid slip at the contact's edge, |spin| a = {reach:.3g}, "
+                    f"the spin's rigid slip at the contact's edge, |spin| a = {reach:.6g}, "
                     f"must be within {MAX_CREEPAGE:g} like a creepage (a = "
                     f"{case.reference.max_semi_axis:.4g} m), got spin = {stage.spin:g} 1/m",
                 )

@@ -276,6 +276,19 @@ def check_resolution(case) -> None:
                 f"{reference.semi_axis_y:.4g} m along y): use grid.size >= "
                 f"[{need[0]:.4g}, {need[1]:.4g}] m, or give half_width instead",
             )
+        nx, ny = case.grid.nx, case.grid.ny
+        if nx != ny and not case.moving:  # square cells: the short side is half_width n / n_max
+            axis, short, long = ("y", ny, nx) if nx > ny else ("x", nx, ny)
+            half = min(half_x, half_y) / reference.max_semi_axis
+            semi = reference.semi_axis_y if axis == "y" else reference.semi_axis_x
+            need = math.ceil(short * 1.05 * semi / min(half_x, half_y))
+            fix = f"n{axis} >= {need}" if need <= long else f"n = {long} (square)"
+            fail(
+                "grid.n",
+                f"with square cells, n = [{nx}, {ny}] makes the window {half:.3g} a_H wide along "
+                f"{axis} (half-width), too narrow for the contact (semi-axis "
+                f"{semi / reference.max_semi_axis:.3g} a_H): use {fix}, or a larger half_width",
+            )
         fail(
             "grid.half_width",
             f"domain cannot hold the contact: half_width = {case.grid.half_width:g} a_H; "
@@ -294,6 +307,7 @@ def check_resolution(case) -> None:
             cell = 2 * semi_min / MIN_CELLS_ACROSS  # the largest cell that resolves it
             half = case.grid.half_width * reference.max_semi_axis
             counts = [math.ceil((2 * half + hi - lo) / cell) for lo, hi in ((x0, x1), (y0, y1))]
+            counts += [case.grid.nz] if case.grid.nz else []  # the volume's cells kept
             fail(
                 f"load.path ({key})",
                 f"mesh too coarse for the {moving} track ({x1 - x0:.4g} m along x, "

@@ -13,7 +13,7 @@ import math
 from typing import Any
 
 from ..bodies.materials import Body, Pair
-from ..keys import MAX_AUTO_HALF_WIDTH, MAX_PERIODIC_DEPTH, PLASTIC_WIDTH_MARGIN
+from ..keys import MAX_AUTO_HALF_WIDTH, MAX_PERIODIC_DEPTH, MAX_ROLLING_STEP, PLASTIC_WIDTH_MARGIN
 from .grid import GridSpec, require_yield_cells
 from .reading import fail
 from .sizing import slope_index
@@ -427,6 +427,35 @@ def window_note(case) -> str | None:
         "every increment is solved on the whole track, not on a window that follows the "
         f"contact ({', '.join(reasons)}: the window is not built for them): the same "
         "answer, slower"
+    )
+
+
+def rolling_step_note(case) -> str | None:
+    """A note when a rolling stage with friction rolls too far per increment.
+
+    More than :data:`MAX_ROLLING_STEP` contact semi-axes (along the roll) per increment; the
+    stage that rolls most per step is named: a transient roll's tractions converge with the
+    step.
+    """
+    reference = case.reference
+    if reference is None or not case.needs_slip_stick:
+        return None
+    worst = (0.0, 0, None)
+    for i, stage in enumerate(case.stages):
+        if stage.motion != "roll" or stage.normal_force == 0.0:  # unloaded: no tractions
+            continue
+        dx, dy = stage.travel
+        semi = reference.semi_axis_x if abs(dx) >= abs(dy) else reference.semi_axis_y
+        worst = max(worst, (math.hypot(dx, dy) / stage.steps / semi, i, stage), key=lambda w: w[0])
+    per_step, i, stage = worst
+    if per_step <= MAX_ROLLING_STEP:
+        return None
+    need = math.ceil(stage.steps * per_step / MAX_ROLLING_STEP)
+    return (
+        f"load stage {i + 1} rolls {per_step:.2g} contact semi-axes per increment: a transient "
+        "roll's tractions converge with the step (first order; a quarter semi-axis per step put "
+        f"a creep force 6 % off), so give steps >= {need} ({MAX_ROLLING_STEP:g} a per step), or "
+        "steady = true for the steady state"
     )
 
 

@@ -273,7 +273,8 @@ def _layout(campaign, cases, axes, opened: dict, names, align: str, selection: d
     for name in names:
         template = opened[holding[name][0]][name]
         if "component" in template.dims:
-            coords["component"] = ("component", template["component"].values)
+            component = template["component"]
+            coords["component"] = ("component", component.values, component.attrs)
     for axis in axes:
         coords.update(_coordinates(axis))
     ids = np.full(shape, "", dtype=object)
