@@ -158,7 +158,14 @@ def dataset_page() -> str:
         for name, h in HISTORIES.items()
     ]
     lines += _table(["name", "units", "long_name", "campaign reduction", "scalar"], rows)
-    lines += ["## Fields", "", "In a case's dataset (and the lazy loader `open_fields`).", ""]
+    lines += [
+        "## Fields",
+        "",
+        "In a case's dataset (and the lazy loader `open_fields`).  Surface fields are indexed",
+        '`(x, y)`: `ds.pressure.plot(x="x")` puts x along the abscissa (a height map is given',
+        "the other way, `height(y, x)`, as an image).",
+        "",
+    ]
     rows = [[f"`{n}`", ", ".join(f.dims), f.units, f.long_name] for n, f in FIELDS.items()]
     lines += _table(["name", "dims", "units", "long_name"], rows)
     lines += ["## Flags and coordinates of a case's dataset", ""]
