@@ -320,25 +320,3 @@ def test_a_rank_keeps_the_volume_operators_of_one_case_only():
     other = CaseOperators.build(solver.Case.from_dict(table(1.8)))
     assert other.eigenstrain is not first.eigenstrain
     assert [key[0] for key in operators._VOLUME_OPERATORS] == [other.case.volume_grid]
-
-
-def test_an_increment_in_surface_flow_is_not_halved():
-    """A surface shear past the body's limit has no equilibrium within yield at any step:
-    the increment is not retried in halves (each half with the whole iteration cap: minutes
-    at 16^3 and mu = 1); it ends not converged after the cap, in surface flow, finite."""
-    rigid = {"behaviour": "rigid", "radius": 0.015}
-    plastic = {
-        "behaviour": "elastic-plastic", "radius": "inf", "E": 210e9, "nu": 0.3,
-        "hardening": {"law": "perfect", "yield_stress": 1e9},
-    }  # fmt: skip
-    table = {"body1": rigid, "body2": plastic, "grid": {"n": [16, 16, 16]}}
-    force = solver.Case.from_dict({**table, "load": {"hertz_pressure": 2e9}}).hertz.normal_force
-    cap = 10
-    case = solver.Case.from_dict({
-        **table, "friction": {"coefficient": 1.0}, "solver": {"plastic_max_iterations": cap},
-        "load": {"path": [{"normal_force": force}, {"tangential_force": [0.99 * force, 0.0]}]},
-    })  # fmt: skip
-    result = solver.solve(case)
-    assert result.surface_flow and result.status == "not_converged"
-    assert result.history["plastic_iterations"][-1] == cap  # one try, not 1 + 2 + ... halves
-    assert np.isfinite(result.shear_x).all() and np.isfinite(result.pressure).all()

@@ -133,9 +133,7 @@ def _halving_plastic_step(
 
     A load increment (or a travel: under a moving load the plastic strain is laid down where
     the contact passes) whose fixed point the loop cannot reach from the last state is retried
-    as two halves from the same state, down to 1/2^:data:`MAX_SPLITS` of it; not in surface
-    flow (:func:`~solver.drive.record.shear_excess` above 1: a surface shear that no stress
-    field within yield carries, whatever the step).  A converged
+    as two halves from the same state, down to 1/2^:data:`MAX_SPLITS` of it.  A converged
     increment is untouched (the same bits as without halving).  The halves' iterations,
     friction work and plastic increments add up; a half that still fails is the answer, not
     converged, with its message (the whole increment's best iterate when the first half
@@ -144,8 +142,6 @@ def _halving_plastic_step(
     step = plastic_step(operators, step_of, state, plastic_state, target, guess, before_guess)
     if step.converged or splits == MAX_SPLITS:
         return step
-    if shear_excess(operators.case, step.contact.state) > 1.0:
-        return step  # surface flow: no equilibrium within yield at any step size (no halving)
     middle = tuple(0.5 * (a + b) for a, b in zip(start, target, strict=True))
     half = None if guess is None else 0.5 * guess
     first = _halving_plastic_step(
