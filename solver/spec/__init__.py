@@ -10,6 +10,7 @@ One module per table of a case file, each with the parser of that table:
 - :mod:`.options`: ``[solver]`` and ``[output]``;
 - :mod:`.sizing`: the window, depth and plastic box a case without them gets;
 - :mod:`.notes`: every note a case carries and the plastic regimes it refuses;
+- :mod:`.volume`: an open case's window, depths and plastic box sized, its volume grids checked;
 - :mod:`.case`: :class:`Case`, which holds the validated values and the quantities derived
   from them.
 

@@ -8,9 +8,9 @@ so ``1`` and ``1.0`` give the same id.
 
 Each table is parsed by the module of :mod:`solver.spec` that holds it (:mod:`.bodies`,
 :mod:`.path`, :mod:`.grid`, :mod:`.options`); here they are put together, the rules that join
-tables are checked, the window and the plastic box are sized (:mod:`.sizing`), the notes are
-gathered (:mod:`.notes`), and :class:`Case` derives the grids, the reference contact and the
-increments from the validated values.
+tables are checked, the window and the plastic box are sized (:mod:`.volume`, :mod:`.sizing`),
+the notes are gathered (:mod:`.notes`), and :class:`Case` derives the grids, the reference
+contact and the increments from the validated values.
 """
 
 from __future__ import annotations
@@ -29,17 +29,10 @@ import numpy as np
 
 from ..bodies.materials import Body, Pair
 from ..keys import (
-    DEFAULT_DEPTH,
-    DEFAULT_HALF_WIDTH,
-    MAX_AUTO_HALF_WIDTH,
     MAX_CREEPAGE,
     MAX_FRICTION,
     MIN_FRICTION,
-    MIN_PLASTIC_HALF_WIDTH,
-    MOVING_DEPTH_MARGIN,
-    PLASTIC_WIDTH_MARGIN,
     SOLVER_DEFAULTS,
-    YIELD_DEPTH_MARGIN,
     required_keys,
     table_keys,
 )
@@ -47,7 +40,7 @@ from ..numerics.grid import IndexBox, SurfaceGrid, VolumeGrid, fft_size
 from ..theory.hertz import HertzContact, hertz
 from ..theory.sneddon import SneddonContact
 from .bodies import body_spec, check_surfaces, parse_body
-from .grid import GridSpec, check_resolution, check_volume, domain_half_widths, parse_grid
+from .grid import GridSpec, check_resolution, domain_half_widths, parse_grid
 from .notes import (
     check_line_scene,
     check_periodic_load,
@@ -57,9 +50,6 @@ from .notes import (
     check_static_shakedown,
     check_steady_scene,
     layer_note,
-    narrow_window_note,
-    plastic_regime,
-    profile_regime,
     rolling_step_note,
     surface_shear_note,
     window_note,
@@ -79,18 +69,14 @@ from .path import (
     check_mean_pressure,
     parse_path,
     parse_stage,
-    profile_radius,
     slides,
     swap_rolling,
 )
 from .reading import SurfaceReader, check_keys, entries, fail, json_number, number, plain
 from .sizing import (
-    auto_depth,
-    auto_plastic_half_width,
-    elastic_yield_region,
     periodic_depth,
-    resolved_half_width,
 )
+from .volume import size_open_volume
 
 #: Version of the physical model: part of every case id, so that files computed by an older
 #: model are never reused (version 1: elastic-plastic bodies solved as elastic; version 2: a
@@ -304,112 +290,10 @@ class Case:
             note = check_periodic_volume(grid.depth, grid.nz, region, min(grid.size), given_key)
             warnings += [note] if note else []
         elif not grid.periodic:
-            # no window given: an elastic-plastic case's window holds its plastic box
-            window_free = grid.size is None and "half_width" not in table["grid"] and not moving
-            region = None  # a profile's computed elastic yield region (units of its contact radius)
-            if plastic is not None and not geometry.hertzian:
-                scale = profile_radius(geometry, force, e_star)
-                trial = grid
-                while True:
-                    found = elastic_yield_region(
-                        pair, domain_half_widths(trial, scale), (grid.nx, grid.ny), force, ratio,
-                        plastic.hardening.initial_yield_stress, plastic.nu, scale,
-                    )  # fmt: skip
-                    region = (found.top / scale, found.bottom / scale, found.half_width / scale)
-                    # a box wider than the domain: look again on a wider trial domain
-                    wider = min(MAX_AUTO_HALF_WIDTH, 1.5 * trial.half_width)
-                    clipped = PLASTIC_WIDTH_MARGIN * region[2] >= trial.half_width
-                    if not (clipped and wider > trial.half_width):
-                        break
-                    trial = dataclasses.replace(trial, half_width=wider)
-                p_max = found.max_pressure
-
-            def yield_depth(body: Body) -> float:
-                if region is not None:
-                    return max(DEFAULT_DEPTH, YIELD_DEPTH_MARGIN * region[1])
-                return auto_depth(p_max, body.hardening.initial_yield_stress, body.nu)
-
-            def auto_width(body: Body, depth: float, window: float) -> float:
-                if region is not None:
-                    width = max(MIN_PLASTIC_HALF_WIDTH, PLASTIC_WIDTH_MARGIN * region[2])
-                    return min(window, math.ceil(width * 1000.0 - 1e-6) / 1000.0)
-                return auto_plastic_half_width(
-                    p_max, body.hardening.initial_yield_stress, body.nu, ratio, depth, window
-                )
-
-            if grid.plastic_half_width is not None and plastic is None:
-                fail(
-                    "grid.plastic_half_width",
-                    "only an elastic-plastic body has a plastic box; leave the key out",
-                )
-            two_fields = len(plastics) == 2 and body1 != body2  # a volume grid each
-            if grid.depth_body1 is not None and not two_fields:
-                fail(
-                    "grid.depth_body1",
-                    "only two different elastic-plastic bodies have a volume grid each; use "
-                    "grid.depth",
-                )
-            if two_fields and grid.depth_body1 is None:
-                depth1 = grid.depth if grid.depth is not None else yield_depth(body1)
-                grid = dataclasses.replace(grid, depth_body1=depth1)
-            if grid.depth is None:
-                depth = yield_depth(plastic) if plastic is not None else DEFAULT_DEPTH
-                if plastic is not None and moving:
-                    depth *= MOVING_DEPTH_MARGIN / YIELD_DEPTH_MARGIN  # passes drive it deeper
-                grid = dataclasses.replace(grid, depth=depth)
-            if plastic is not None:
-
-                def box_width(window: float) -> float:
-                    return max(
-                        auto_width(
-                            body,
-                            grid.depth_body1 if body is body1 and two_fields else grid.depth,
-                            window,
-                        )  # fmt: skip
-                        for body in plastics
-                    )
-
-                auto = box_width(grid.half_width)
-                if auto >= grid.half_width and not moving:  # the box fills the window: is it wider?
-                    zone = box_width(MAX_AUTO_HALF_WIDTH)
-                    if window_free:  # as wide as the zone asks and the cells resolve the contact
-                        contact = hertz(force, e_star, (kx, ky)) if region is None else None
-                        widest = resolved_half_width(grid, contact)
-                        window = max(DEFAULT_HALF_WIDTH, min(zone, widest))
-                        grid = dataclasses.replace(grid, half_width=window)
-                        auto = grid.half_width
-                    if zone > grid.half_width or (window_free and zone >= MAX_AUTO_HALF_WIDTH):
-                        warnings.append(narrow_window_note(grid, zone, window_free))
-                chosen = grid.plastic_half_width
-                if moving:  # the box covers the track: the window
-                    if chosen is not None:
-                        fail(
-                            "grid.plastic_half_width",
-                            "a sliding case's plastic box is the whole window (it covers the "
-                            "track); leave the key out",
-                        )
-                    auto = grid.half_width
-                width = auto if chosen is None else chosen
-                # the whole window given while the automatic box is narrower: said in the spec
-                box_key = width if width < grid.half_width or auto < grid.half_width else None
-                grid = dataclasses.replace(
-                    grid, plastic_half_width=width if width < grid.half_width else None
-                )
-            peak = max(range(len(stages)), key=lambda i: stages[i].normal_force)
-            for body, name in ((body2, "body 2"), (body1, "body 1")):
-                if body.behaviour != "elastic-plastic" or (name == "body 1" and body1 == body2):
-                    continue
-                own = name == "body 1" and two_fields  # body 1's own volume grid
-                keys = ("depth_body1", "depth") if own else ("depth",)  # what sets its depth
-                given_key = next((f"grid.{k}" for k in keys if k in table["grid"]), "grid.n")
-                if region is None:
-                    note = plastic_regime(body, p_max, paths[peak], name)  # first: it may refuse
-                else:
-                    note = profile_regime(body, pair, scale, paths[peak], name)
-                if note:
-                    warnings.append(note)
-                depth = grid.depth_body1 if own else grid.depth
-                check_volume(body, depth, grid.nz, p_max, given_key, region)
+            grid, box_key, notes = size_open_volume(
+                table["grid"], grid, pair, stages, paths, force, ratio, p_max, moving
+            )
+            warnings += notes
         solver = parse_solver(table.get("solver", {}))
         if solver.method == "static_shakedown" and "residual_print" in table.get("solver", {}):
             fail(
