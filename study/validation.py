@@ -7,6 +7,7 @@ and :class:`ProgressLine` for a long expansion.  Imports no MPI.
 
 from __future__ import annotations
 
+import heapq
 import os
 import sys
 from typing import TYPE_CHECKING
@@ -228,9 +229,10 @@ def describe_campaign(
             kind = f"{design.method} design, count {design.count}, seed {design.seed}"
         lines.append(f"  {axis.name} ({kind}, {axis.size} values)")
         for c in axis.coordinates:
-            values = ", ".join(format_value(v) for v in c.values)
             if axis.name == SAMPLE_DIM and c.key in spread:
                 values = spread[c.key].describe()
+            else:
+                values = ", ".join(format_value(v) for v in c.values)
             units = f" [{c.units}]" if c.units else ""
             lines.append(f"    {c.name} = {c.key}{units}: {values}")
     calibration = calibration or machine.calibration()
@@ -263,11 +265,15 @@ def describe_campaign(
         f"estimated memory per case: min {min(memory) / 2**20:.1f} MiB, "
         f"max {max(memory) / 2**20:.1f} MiB"
     )
-    shown = sorted(cases, key=lambda c: (-seconds[c.number], c.number))
-    if not list_cases and len(shown) > 20:
+
+    def costliest(case) -> tuple[float, int]:
+        return -seconds[case.number], case.number
+
+    if not list_cases and len(cases) > 20:
         lines.append("costliest 20 cases (--list for all):")
-        shown = shown[:20]
+        shown = heapq.nsmallest(20, cases, key=costliest)
     else:
+        shown = sorted(cases, key=costliest)
         lines.append("cases, costliest first:")
     for c in shown:
         lines.append(

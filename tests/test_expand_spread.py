@@ -2,20 +2,28 @@
 
 The reference is the expansion in a single process: the spread one must give equal cases (ids,
 tables, costs, memory, work, order) and the same error for the same bad case, whichever share
-builds it, also when a worker dies.
+builds it, also when a worker dies.  And a case of a batch (its table the base copied on write,
+its shared sub-tables parsed once) is the case built alone from a deep copy.
 """
 
 from __future__ import annotations
 
+import copy
+import hashlib
+import json
 import subprocess
 import sys
 
 import pytest
 
+import solver
+from solver.spec.batch import SharedTables, case_hash
 from study.campaign import CampaignError, expand_campaign
 from study.campaign import parallel as parallel_module
 from study.campaign.expand import Expansion, serial
+from study.campaign.model import BETA_KEY
 from study.campaign.parallel import processes
+from study.campaign.validate import _apply_beta, _value, assign
 
 BASE = {
     "body1": {"behaviour": "elastic", "radius": 0.01, "E": 210e9, "nu": 0.3},
@@ -96,3 +104,91 @@ def test_a_small_campaign_starts_no_worker(monkeypatch):
 
     monkeypatch.setattr(parallel_module, "_start", refuse)
     assert expand_campaign(_table(count=8), spread=processes(4)) == expand_campaign(_table(count=8))
+
+
+# -- a batch of cases from one base (copy on write, SharedTables) ----------------------------------
+def _mixed_table() -> dict:
+    """Sweeps that change a body key, a whole body (by name), the grid, Dundurs' beta, a solver
+    key and the output, and a path stage by index, on a sampled load and friction."""
+    return {
+        "campaign": {"name": "mixed", "fields": []},
+        "base": {
+            **BASE,
+            "grid": {"n": [16, 16, 8]},
+            "load": {"path": [{"normal_force": 100.0, "steps": 2}]},
+            "solver": {"fft_threads": 1},
+            "output": {"fields": []},
+        },
+        "define": {
+            "flat": {"behaviour": "elastic", "radius": "inf", "E": 210e9, "nu": 0.3},
+            "soft": {"behaviour": "elastic", "radius": "inf", "E": 70e9, "nu": 0.33},
+            "few": {"fields": []},
+            "more": {"fields": ["stress"]},
+        },
+        "sweep": {
+            "body2": ["flat", "soft"],
+            "grid.nz": [8, 10],
+            "materials.dundurs_beta": [-0.1, 0.0],
+            "solver.slip_tolerance": [1e-6, 1e-7],
+            "output": ["few", "more"],
+        },
+        "sample": {
+            "method": "lhs",
+            "count": 3,
+            "seed": 5,
+            "load.path.0.normal_force": {"distribution": "log-uniform", "range": [10.0, 1e3]},
+            "friction.coefficient": {"distribution": "uniform", "range": [0.1, 0.5]},
+        },
+    }
+
+
+def _alone(expansion: Expansion, case) -> solver.Case:
+    """A campaign case built on its own: the base deep-copied, its coordinates set, no sharing."""
+
+    table, beta = copy.deepcopy(expansion.base), None
+    for axis, i in zip(expansion.axes, case.index, strict=True):
+        for c in axis.coordinates:
+            if c.key == BETA_KEY:
+                beta = float(c.values[i])
+            else:
+                assign(table, c.key, copy.deepcopy(_value(c.key, c.values[i], expansion.defined)))
+    if beta is not None:
+        _apply_beta(table, beta)
+    return solver.Case.from_dict(table)
+
+
+def test_a_batch_builds_every_case_as_it_is_built_alone():
+    table = _mixed_table()
+    campaign = expand_campaign(table)
+    expansion = Expansion.of(campaign.base, campaign.axes, table["define"])
+    base = copy.deepcopy(expansion.base)
+    assert len(campaign.cases) == 2**5 * 3
+    for case in expansion.cases(serial(expansion, None)):
+        alone = _alone(expansion, case)
+        assert (case.case_id, case.spec) == (alone.case_id, alone.spec)
+        assert case.warnings == alone.warnings
+        assert case.case().fields == alone.fields and case.case().solver == alone.solver
+    assert expansion.base == base  # copied on write: the base is left as it was
+
+
+def test_the_case_id_is_the_hash_of_the_sorted_json_of_its_table():
+    shared = SharedTables()
+    campaign = expand_campaign(_mixed_table())
+    for c in campaign.cases[:12]:
+        spec = json.loads(json.dumps(c.spec))  # fresh tables: nothing shared
+        spec["solver"] = {k: v for k, v in spec["solver"].items() if not k.startswith("fft_")}
+        text = json.dumps(spec, sort_keys=True, separators=(",", ":"))
+        expected = hashlib.sha256(text.encode()).hexdigest()[:16]
+        case = solver.Case.from_dict(c.spec, None, shared)
+        assert c.case_id == case.case_id == solver.Case.from_dict(c.spec).case_id == expected
+        assert case_hash(case.spec) == case_hash(case.spec, shared.text) == expected
+
+
+def test_shared_tables_keep_no_failed_parse():
+    shared = SharedTables()
+    bad = {**BASE, "body1": {**BASE["body1"], "E": -1.0}}
+    for _ in range(2):  # refused each time, not taken from a cache
+        with pytest.raises(solver.SpecError, match="body1.E"):
+            solver.Case.from_dict(bad, None, shared)
+    good = {**bad, "body1": BASE["body1"]}
+    assert solver.Case.from_dict(good, None, shared) == solver.Case.from_dict(good)

@@ -8,6 +8,7 @@ One module per table of a case file, each with the parser of that table:
 - :mod:`.substeps`: the load sub-steps of coupled scenes, for the solve and its cost;
 - :mod:`.grid`: ``[grid]`` and the resolution checks;
 - :mod:`.options`: ``[solver]`` and ``[output]``;
+- :mod:`.batch`: the case id, and the sub-tables a batch of cases from one base shares;
 - :mod:`.sizing`: the window, depth and plastic box a case without them gets;
 - :mod:`.notes`: every note a case carries and the plastic regimes it refuses;
 - :mod:`.volume`: an open case's window, depths and plastic box sized, its volume grids checked;

@@ -15,15 +15,14 @@ contact and the increments from the validated values.
 
 from __future__ import annotations
 
-import dataclasses
 import functools
-import hashlib
 import json
 import math
 import tomllib
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -39,6 +38,7 @@ from ..keys import (
 from ..numerics.grid import IndexBox, SurfaceGrid, VolumeGrid, fft_size
 from ..theory.hertz import HertzContact, hertz
 from ..theory.sneddon import SneddonContact
+from .batch import NO_TABLE, SharedTables, case_hash
 from .bodies import body_spec, check_surfaces, parse_body
 from .grid import GridSpec, check_resolution, domain_half_widths, parse_grid
 from .notes import (
@@ -56,7 +56,6 @@ from .notes import (
     window_unbuilt,
 )
 from .options import (
-    EXECUTION_KEYS,
     FIELD_OUTPUTS,
     ID_SILENT_DEFAULTS,
     METHOD_KEYS,
@@ -83,6 +82,51 @@ from .volume import size_open_volume
 #: plastic increment whose loop did not converge was kept as it was, where version 3 halves
 #: it, and a sliding increment's friction work missed the step after a reversal).
 MODEL_VERSION = 3
+
+
+def _parser(shared: SharedTables | None) -> Callable[[str, Any, Callable], Any]:
+    """``parse(kind, table, parser)``: ``parser(table)``, once per shared table with ``shared``."""
+    return shared.parse if shared is not None else lambda kind, table, parser: parser(table)
+
+
+def _body(read_surface: SurfaceReader | None, path: str) -> Callable[[Any], tuple[Body, dict]]:
+    """A ``[bodyN]`` table's parser: the body and its normalised table."""
+
+    def parse(table: Any) -> tuple[Body, dict]:
+        body = parse_body(table, path, read_surface)
+        return body, body_spec(body)
+
+    return parse
+
+
+def _solver(table: Any) -> tuple[SolverOptions, dict]:
+    """The options of a ``[solver]`` table and their normalised table.
+
+    FFT threads and planner are kept (a campaign's cases are solved from this table) but
+    change no result beyond round-off: not in the case id (EXECUTION_KEYS); the keys added
+    later only when not their default (the older cases' ids stay).
+    """
+    solver = parse_solver(table)
+    spec = {
+        k: json_number(getattr(solver, k))
+        for k in SOLVER_RULES
+        if (
+            METHOD_KEYS[k] == solver.method
+            if k in METHOD_KEYS
+            else getattr(solver, k) != SOLVER_DEFAULTS[k] or k not in ID_SILENT_DEFAULTS
+        )
+    }
+    return solver, spec
+
+
+def _output(table: Any) -> tuple[tuple[str, ...], dict]:
+    """The field outputs of an ``[output]`` table (sorted) and its normalised table."""
+    output = check_keys(table, "output", table_keys("output"))
+    form = f"a list drawn from {list(FIELD_OUTPUTS)}"
+    fields = [plain(f) for f in entries(output.get("fields", []), "output.fields", form)]
+    if any(not isinstance(f, str) or f not in FIELD_OUTPUTS for f in fields):
+        fail("output.fields", f"must be a list drawn from {list(FIELD_OUTPUTS)}")
+    return tuple(sorted(fields)), {"fields": sorted(fields)}
 
 
 @dataclass(frozen=True)
@@ -128,11 +172,18 @@ class Case:
             return cls.from_dict(tomllib.load(handle), read_surface)
 
     @classmethod
-    def from_dict(cls, table: dict, read_surface: SurfaceReader | None = None) -> Case:
+    def from_dict(
+        cls,
+        table: dict,
+        read_surface: SurfaceReader | None = None,
+        shared: SharedTables | None = None,
+    ) -> Case:
         """Validate a case table (see the README for the format) and build the case.
 
         ``read_surface`` reads the height-map files the bodies name (``bodyN.surface``):
         ``study.campaign.surfaces.read_surface``; without it such a case is refused.
+        ``shared`` (:class:`~solver.spec.batch.SharedTables`) parses the sub-tables that a
+        batch of tables built from one base shares once; the case is the same without it.
 
         Raises
         ------
@@ -161,14 +212,15 @@ class Case:
                 f"this case was written by model version {table['model']!r}; this solver is "
                 f"version {MODEL_VERSION}: remove the key to solve it with the current model",
             )
-        body1 = parse_body(table["body1"], "body1", read_surface)
-        body2 = parse_body(table["body2"], "body2", read_surface)
+        parse = _parser(shared)
+        body1, body1_spec = parse("body1", table["body1"], _body(read_surface, "body1"))
+        body2, body2_spec = parse("body2", table["body2"], _body(read_surface, "body2"))
         if body1.rigid and body2.rigid:
             fail("body2.behaviour", "both bodies are rigid; make at least one elastic")
         pair = Pair(body1, body2)
         kx, ky = pair.curvature
         geometry = pair.geometry
-        grid = parse_grid(table["grid"])
+        grid = parse("grid", table["grid"], parse_grid)
         if grid.periodic_y:
             pass  # a line contact: check_line_scene below, with the stages
         elif geometry.profiles:
@@ -294,7 +346,7 @@ class Case:
                 table["grid"], grid, pair, stages, paths, force, ratio, p_max, moving
             )
             warnings += notes
-        solver = parse_solver(table.get("solver", {}))
+        solver, solver_spec = parse("solver", table.get("solver", NO_TABLE), _solver)
         if solver.method == "static_shakedown" and "residual_print" in table.get("solver", {}):
             fail(
                 "solver.residual_print",
@@ -310,11 +362,7 @@ class Case:
                 "solver.residual_print",
                 "only an elastic-plastic body leaves a print to ignore: leave the key out",
             )
-        output = check_keys(table.get("output", {}), "output", table_keys("output"))
-        form = f"a list drawn from {list(FIELD_OUTPUTS)}"
-        fields = [plain(f) for f in entries(output.get("fields", []), "output.fields", form)]
-        if any(not isinstance(f, str) or f not in FIELD_OUTPUTS for f in fields):
-            fail("output.fields", f"must be a list drawn from {list(FIELD_OUTPUTS)}")
+        fields, output_spec = parse("output", table.get("output", NO_TABLE), _output)
         if "stress" in fields and not grid.nz:
             fail("output.fields", "stress needs a volume grid: give grid.n = [nx, ny, nz]")
         if "stress" in fields and plastic is body1 and body1 != body2:
@@ -331,8 +379,8 @@ class Case:
 
         spec = {
             "model": MODEL_VERSION,
-            "body1": body_spec(body1),
-            "body2": body_spec(body2),
+            "body1": body1_spec,
+            "body2": body2_spec,
             "load": {"path": given},
             "friction": {"coefficient": mu},
             "grid": {
@@ -345,24 +393,13 @@ class Case:
                 **({"periodic": True} if grid.periodic else {}),
                 **({"periodic": "y"} if grid.periodic_y else {}),
             },
-            # FFT threads and planner are kept (a campaign's cases are solved from this table)
-            # but change no result beyond round-off: not in the case id (EXECUTION_KEYS); the
-            # keys added later only when not their default (the older cases' ids stay)
-            "solver": {
-                k: json_number(getattr(solver, k))
-                for k in SOLVER_RULES
-                if (
-                    METHOD_KEYS[k] == solver.method
-                    if k in METHOD_KEYS
-                    else getattr(solver, k) != SOLVER_DEFAULTS[k] or k not in ID_SILENT_DEFAULTS
-                )
-            },
-            "output": {"fields": sorted(fields)},
+            "solver": solver_spec,
+            "output": output_spec,
         }
         case = cls(
-            body1, body2, tuple(stages), mu, grid, solver, tuple(sorted(fields)), spec,
-            tuple(warnings),
+            body1, body2, tuple(stages), mu, grid, solver, fields, spec, tuple(warnings)
         )  # fmt: skip
+        case.__dict__["pair"] = pair  # the cached Case.pair: the same bodies, built once
         check_resolution(case)
         check_surfaces(case)
         if solver.method == "static_shakedown":  # no loops: the theorem's own notes
@@ -373,8 +410,8 @@ class Case:
                 rolling_step_note(case),
             )  # fmt: skip
             notes = tuple(filter(None, notes))
-        if notes:
-            case = dataclasses.replace(case, warnings=(*case.warnings, *notes))
+        if notes:  # the case is not yet given out: its cached quantities stay
+            object.__setattr__(case, "warnings", (*case.warnings, *notes))
         for stage, path in zip(stages, paths, strict=True):
             reach = abs(stage.spin) * case.reference.max_semi_axis if stage.spin else 0.0
             if reach > MAX_CREEPAGE:  # the spin's rigid slip at the contact's edge
@@ -384,6 +421,8 @@ class Case:
                     f"must be within {MAX_CREEPAGE:g} like a creepage (a = "
                     f"{case.reference.max_semi_axis:.4g} m), got spin = {stage.spin:g} 1/m",
                 )
+        if shared is not None:  # the id from the texts of the tables the batch shares
+            case.__dict__["case_id"] = case_hash(spec, shared.text)
         return case
 
     @property
@@ -680,22 +719,14 @@ class Case:
             any(stage.tangential_force) or stage.creepage is not None for stage in self.stages
         )
 
-    @property
+    @functools.cached_property
     def case_id(self) -> str:
-        """Content hash of the normalised specification (16 hex digits).
+        """Content hash of the normalised specification (16 hex digits, :func:`case_hash`).
 
-        Without :data:`EXECUTION_KEYS`, which change no result beyond round-off.
+        Without :data:`~solver.spec.options.EXECUTION_KEYS`, which change no result beyond
+        round-off.
         """
-        spec = dict(self.spec)  # the tables changed below are copied, the rest shared
-        spec["solver"] = {k: v for k, v in spec["solver"].items() if k not in EXECUTION_KEYS}
-        for body in ("body1", "body2"):  # a map is its content, wherever its file lies
-            if "surface" in spec[body]:
-                surface = {
-                    k: v for k, v in spec[body]["surface"].items() if k not in ("file", "case")
-                }
-                spec[body] = {**spec[body], "surface": surface}
-        text = json.dumps(spec, sort_keys=True, separators=(",", ":"))
-        return hashlib.sha256(text.encode()).hexdigest()[:16]
+        return case_hash(self.spec)
 
     def to_dict(self) -> dict:
         """The normalised case table (a deep copy); ``Case.from_dict(c.to_dict()) == c``."""

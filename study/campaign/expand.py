@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import solver
+from solver.spec.batch import SharedTables
 
 from .cost import REFERENCE, count, seconds
 from .model import (
@@ -314,11 +315,18 @@ class Expansion:
         product = itertools.product(*(range(axis.size) for axis in self.axes))
         cases: list[CampaignCase] = []
         failures: list[tuple[int, str, str]] = []
+        # every case table is the base with its coordinates set, copied on write: the tables
+        # no swept key changes are the base's own, parsed once (SharedTables)
+        base = _copy_table(self.base)
+        if self.folder is not None:
+            absolute_surfaces(base, self.folder)
+        shared = SharedTables()
         for number, index in enumerate(itertools.islice(product, start, stop), start):
             done = number - start
             if progress is not None and done and done % PROGRESS_EVERY == 0:
                 progress(min(n * done, total), total)
-            table = _copy_table(self.base)
+            table = dict(base)
+            owned = {id(table)}
             coords: dict[str, Any] = {}
             beta = None
             for axis, i in zip(self.axes, index, strict=True):
@@ -328,13 +336,14 @@ class Expansion:
                     if coordinate.key == BETA_KEY:
                         beta = float(value)
                     else:
-                        assign(table, coordinate.key, _value(coordinate.key, value, self.defined))
+                        value = _value(coordinate.key, value, self.defined)
+                        assign(table, coordinate.key, value, owned)
             try:
                 if beta is not None:
                     _apply_beta(table, beta)
                 if self.folder is not None:
                     absolute_surfaces(table, self.folder)
-                case = solver.Case.from_dict(table, read_surface)
+                case = solver.Case.from_dict(table, read_surface, shared)
             except (solver.SpecError, CampaignError) as error:
                 failures.append((number, self._where(number, coords), str(error)))
                 continue

@@ -243,7 +243,11 @@ def _read_netcdf(path: str) -> HeightMap:
 
 
 def absolute_surfaces(table: dict, folder: Path) -> dict:
-    """The case table with the bodies' relative height-map paths made absolute from ``folder``."""
+    """The case table with the bodies' relative height-map paths made absolute from ``folder``.
+
+    Changes ``table`` in place, but not the body tables it holds: a body whose paths change is
+    a new table (a campaign's case tables share their base's).
+    """
     for name in ("body1", "body2"):
         body = table.get(name)
         if not isinstance(body, dict) or "surface" not in body:
@@ -255,5 +259,7 @@ def absolute_surfaces(table: dict, folder: Path) -> dict:
             if isinstance(file, str) and file and not Path(file).expanduser().is_absolute():
                 resolved = str((folder / file).resolve())
                 given = {**given, key: resolved}
-        body["surface"] = given if isinstance(surface, dict) else given["file"]
+        given = given if isinstance(surface, dict) else given["file"]
+        if given != surface:
+            table[name] = {**body, "surface": given}
     return table

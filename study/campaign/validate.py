@@ -86,10 +86,13 @@ def _segments(key: str) -> list[str | int]:
     return [int(s) if s.isdigit() else s for s in key.split(".")]
 
 
-def assign(table: dict, key: str, value: Any) -> None:
+def assign(table: dict, key: str, value: Any, owned: set[int] | None = None) -> None:
     """Set the dotted ``key`` of a case table to ``value`` (in place).
 
-    Missing tables on the path are created; integer segments index arrays of tables.
+    Missing tables on the path are created; integer segments index arrays of tables.  With
+    ``owned`` (the ids of the containers this table owns, ``table`` among them), copy on
+    write: a table or array on the path that the table shares with others (its base) is
+    copied before it is changed, and its copy added to ``owned``.
 
     Raises
     ------
@@ -116,7 +119,7 @@ def assign(table: dict, key: str, value: Any) -> None:
             if last:
                 node[segment] = value
             else:
-                node = node[segment]
+                node = _own(node, segment, owned)
         else:
             if isinstance(node, list):
                 raise CampaignError(
@@ -129,8 +132,18 @@ def assign(table: dict, key: str, value: Any) -> None:
             else:
                 if segment not in node:
                     node[segment] = {}
-                node = node[segment]
+                node = _own(node, segment, owned)
         done.append(str(segment))
+
+
+def _own(node: Any, segment: str | int, owned: set[int] | None) -> Any:
+    """``node[segment]``, copied into ``node`` first if shared (:func:`assign`'s ``owned``)."""
+    child = node[segment]
+    if owned is None or id(child) in owned or not isinstance(child, dict | list):
+        return child
+    child = node[segment] = child.copy()
+    owned.add(id(child))
+    return child
 
 
 # -- expansion -----------------------------------------------------------------------------------
@@ -191,7 +204,7 @@ def _apply_beta(table: dict, beta: float) -> None:
         young, nu = body1_for_beta(beta, body1, body2, BETA_KEY)
     except ValueError as error:
         raise CampaignError(str(error)) from None
-    raw1["E"], raw1["nu"] = young, nu
+    table["body1"] = {**raw1, "E": young, "nu": nu}  # the base's body1 is left as it was
 
 
 def _explain(message: str, axes: tuple[Axis, ...]) -> str:
