@@ -5,7 +5,8 @@ Build offline, warnings as errors::
     python -m sphinx -W -b html docs docs/_build/html
 
 The reference pages (``reference/*.md``) are written by :mod:`docs.generate` from the code's
-own declarations before every build, so they cannot drift from the code.
+own declarations before every build, so they cannot drift from the code (the repository keeps
+them too, checked by ``tests/test_docs.py``).
 """
 
 from __future__ import annotations

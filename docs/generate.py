@@ -1,6 +1,8 @@
 """Write the guide's reference pages from the code's own declarations.
 
-Run by ``docs/conf.py`` before every build (and by the tests), so the pages cannot drift:
+Run by ``docs/conf.py`` before every build; the pages are also kept in the repository, so that
+the guide's links to them work where it is read unbuilt, and a test fails when they differ from
+what the code declares (``python docs/generate.py`` rewrites them):
 
 - ``case-keys.md``: :data:`solver.keys.CASE_KEYS` (the parser takes its accepted keys from it);
 - ``campaign-keys.md``: :data:`study.campaign.CAMPAIGN_KEYS`;
@@ -330,3 +332,7 @@ def write_all(folder: Path) -> None:
         path = folder / name
         if not path.exists() or path.read_text() != text:
             path.write_text(text)
+
+
+if __name__ == "__main__":
+    write_all(Path(__file__).resolve().parent / "reference")

@@ -38,6 +38,17 @@ BASE = {
 }
 
 
+def test_the_reference_pages_kept_in_the_repository_are_current(tmp_path):
+    generate.write_all(tmp_path)
+    stale = [
+        page.name
+        for page in sorted(tmp_path.iterdir())
+        if not (kept := ROOT / "docs" / "reference" / page.name).exists()
+        or kept.read_text() != page.read_text()
+    ]
+    assert not stale, f"{', '.join(stale)} differ from the code: run python docs/generate.py"
+
+
 def test_every_case_key_is_on_the_case_keys_page():
     page = generate.case_keys_page()
     for key in CASE_KEYS:
