@@ -39,7 +39,6 @@ from .validate import (
     _check_values,
     _copy_table,
     _explain,
-    _value,
     assign,
     normalise_key,
 )
@@ -336,7 +335,8 @@ class Expansion:
                     if coordinate.key == BETA_KEY:
                         beta = float(value)
                     else:
-                        value = _value(coordinate.key, value, self.defined)
+                        if "." not in coordinate.key:  # a [define] table: shared, not copied
+                            value = self.defined[value]
                         assign(table, coordinate.key, value, owned)
             try:
                 if beta is not None:
