@@ -192,3 +192,14 @@ def test_shared_tables_keep_no_failed_parse():
             solver.Case.from_dict(bad, None, shared)
     good = {**bad, "body1": BASE["body1"]}
     assert solver.Case.from_dict(good, None, shared) == solver.Case.from_dict(good)
+
+
+def test_the_collector_is_paused_while_a_campaign_is_built_and_sent():
+    import gc
+
+    from study.run.driver import broadcast_campaign
+
+    seen = []
+    assert gc.isenabled()
+    broadcast_campaign(lambda spread: seen.append(gc.isenabled()))
+    assert seen == [False] and gc.isenabled()

@@ -235,7 +235,7 @@ def _keep_volume_depth(base: dict, keys: set[str]) -> dict:
 
 
 @contextlib.contextmanager
-def _collector_paused():
+def collector_paused():
     """Pause Python's cyclic garbage collector.
 
     A case builds many small containers and no cycles; the collector's passes over every case
@@ -305,7 +305,7 @@ class Expansion:
         gets ``(done, total)`` with this part's count scaled by ``n`` (an estimate of all
         parts' progress when they run side by side).
         """
-        with _collector_paused():
+        with collector_paused():
             return self._part(k, n, progress)
 
     def _part(self, k: int, n: int, progress: Progress | None) -> Part:

@@ -24,7 +24,7 @@ import threading
 from collections.abc import Callable
 from pathlib import Path
 
-from .expand import Expansion, Part, Spread, serial
+from .expand import Expansion, Part, Spread, collector_paused, serial
 from .model import Progress
 
 #: Fewest cases worth a worker process (its start-up costs about as much as a thousand).
@@ -84,6 +84,10 @@ def processes(workers: int | None = None) -> Spread:
     workers = workers or os.cpu_count() or 1
 
     def spread(expansion: Expansion, progress: Progress | None) -> list[Part]:
+        with collector_paused():  # the workers' parts unpickled without the collector's passes
+            return _spread(expansion, progress)
+
+    def _spread(expansion: Expansion, progress: Progress | None) -> list[Part]:
         total = expansion.total
         helpers = min(workers, total // MIN_CASES) - 1
         if helpers < 1:

@@ -51,7 +51,7 @@ from solver.numerics import fftw
 from .. import bundle
 from ..bundle import Entry
 from ..campaign import MAX_CASE_TIMEOUT, Campaign, CampaignCase, CampaignError, Progress
-from ..campaign.expand import Expansion, Part, Spread, serial
+from ..campaign.expand import Expansion, Part, Spread, collector_paused, serial
 from ..campaign.surfaces import read_surface
 from . import storage, wisdom
 from .assemble import case_summary, profile_coordinate
@@ -271,6 +271,12 @@ def broadcast_campaign(load: Callable[[Spread], Campaign | None], comm=None) -> 
     CampaignError
         On every rank, with rank 0's message, when the campaign is bad.
     """
+    with collector_paused():  # 10^5 cases unpickled, a tenth of the time without its passes
+        return _broadcast(load, comm)
+
+
+def _broadcast(load: Callable[[Spread], Campaign | None], comm) -> Campaign | None:
+    """:func:`broadcast_campaign`'s work, with the cyclic garbage collector paused."""
     if comm is None or comm.Get_size() == 1:
         return load(serial)
     if comm.Get_rank() != 0:
