@@ -224,12 +224,11 @@ def _axis_search(parts, coarse: tuple, nu: float, level: float | None = None):
     # runs of adjacent open intervals, each sampled in full with its ends
     cut = np.flatnonzero(np.diff(open_) > 1)
     runs = [(run[0], run[-1]) for run in np.split(open_, cut + 1) if run.size]
-    keep = np.ones(coarse.size, dtype=bool)
-    spans = []
+    pieces, start = [], 0  # in order: the coarse samples before a run, then the run in full
     for first, last in runs:
-        keep[first : last + 2] = False
-        spans.append(np.arange(coarse[first], coarse[last + 1] + 1))
-    index = np.sort(np.concatenate([coarse[keep], *spans]))
+        pieces += [coarse[start:first], np.arange(coarse[first], coarse[last + 1] + 1)]
+        start = last + 2
+    index = np.concatenate([*pieces, coarse[start:]])
     return index, _axis_stress(tuple(p[index] for p in parts), nu)[2]
 
 
@@ -250,6 +249,7 @@ def _coarse_samples(zeta, parts: tuple) -> tuple:
     return coarse, tuple(p[coarse] for p in parts), bend, hump, z1 - z0
 
 
+@functools.lru_cache(maxsize=64)  # a case asks twice: for its depth and for its volume check
 def hertz_yield_region(max_pressure: float, yield_stress: float, nu: float) -> tuple[float, float]:
     """Depths z / a (top, bottom) between which the Hertz von Mises stress on the axis yields.
 
