@@ -51,8 +51,8 @@ def _table(count: int = 60, sweep: dict | None = None) -> dict:
 
 @pytest.fixture
 def small_shares(monkeypatch):
-    """Workers for a small campaign: 2 processes from 20 cases, shares of 7 cases."""
-    monkeypatch.setattr(parallel_module, "MIN_CASES", 10)
+    """Workers for a small campaign: shares of 7 cases, a worker worth starting for any."""
+    monkeypatch.setattr(parallel_module, "WORKER_SECONDS", 1e-9)
     monkeypatch.setattr(parallel_module, "SHARE", 7)
 
 
@@ -104,6 +104,16 @@ def test_a_small_campaign_starts_no_worker(monkeypatch):
 
     monkeypatch.setattr(parallel_module, "_start", refuse)
     assert expand_campaign(_table(count=8), spread=processes(4)) == expand_campaign(_table(count=8))
+
+
+def test_no_worker_when_the_first_share_says_the_rest_is_quick(monkeypatch):
+    def refuse():
+        raise AssertionError("a worker was started for shares quicker than its start-up")
+
+    monkeypatch.setattr(parallel_module, "_start", refuse)
+    monkeypatch.setattr(parallel_module, "SHARE", 7)  # 17 shares of 120 cases
+    monkeypatch.setattr(parallel_module, "WORKER_SECONDS", 1e9)
+    assert expand_campaign(_table(), spread=processes(4)) == expand_campaign(_table())
 
 
 # -- a batch of cases from one base (copy on write, SharedTables) ----------------------------------

@@ -1,10 +1,12 @@
 """Expanding a large campaign in several processes (``python -m study validate``).
 
-Building and checking a case is Python work of a fraction of a millisecond, so a design of
-10^5 cases takes tens of seconds in one process.  :func:`processes` gives a
-:data:`~study.campaign.expand.Spread` that builds the expansion in shares of :data:`SHARE`
-cases: the calling process and worker processes each take the next share when done with one,
-so a worker's start-up or a busy core costs no balance.
+Building and checking a case is Python work of a fraction of a millisecond (several with an
+elastic-plastic body), so a design of 10^5 cases takes tens of seconds in one process.
+:func:`processes` gives a :data:`~study.campaign.expand.Spread` that builds the expansion in
+shares of :data:`SHARE` cases: the calling process builds the first, timed, and starts
+workers when the rest would take it longer than :data:`WORKER_SECONDS` each; then it and the
+workers each take the next share when done with one, so a worker's start-up or a busy core
+costs no balance.
 
 A worker is ``python -m study.campaign.parallel`` with the same code tree: it reads the
 pickled expansion on its input, then share numbers, and writes each built part on its output.
@@ -16,21 +18,25 @@ are built in the calling process.
 from __future__ import annotations
 
 import itertools
+import math
 import os
 import pickle
 import subprocess
 import sys
 import threading
+import time
 from collections.abc import Callable
 from pathlib import Path
 
 from .expand import Expansion, Part, Spread, collector_paused, serial
 from .model import Progress
 
-#: Fewest cases worth a worker process (its start-up costs about as much as a thousand).
-MIN_CASES = 2500
 #: Cases per share: the calling process and the workers each take the next share when done.
 SHARE = 500
+#: Seconds of building a worker process must have to be worth starting (its start-up, about a
+#: second of imports, on another core): the first share's time times the shares left, per
+#: worker.
+WORKER_SECONDS = 2.0
 
 
 def _start() -> subprocess.Popen | None:
@@ -78,8 +84,9 @@ def processes(workers: int | None = None) -> Spread:
     Parameters
     ----------
     workers : int, optional
-        Processes in all; the cores of this machine by default.  A campaign of fewer than
-        :data:`MIN_CASES` cases per worker gets fewer workers (none below 2 MIN_CASES).
+        Processes in all; the cores of this machine by default.  Fewer when the shares left
+        after the first would take less than :data:`WORKER_SECONDS` per worker (none for a
+        campaign of one share).
     """
     workers = workers or os.cpu_count() or 1
 
@@ -89,12 +96,17 @@ def processes(workers: int | None = None) -> Spread:
 
     def _spread(expansion: Expansion, progress: Progress | None) -> list[Part]:
         total = expansion.total
-        helpers = min(workers, total // MIN_CASES) - 1
-        if helpers < 1:
-            return serial(expansion, progress)
         n = -(-total // SHARE)
+        if workers < 2 or n < 2:
+            return serial(expansion, progress)
         parts: list[Part | None] = [None] * n
-        numbers, lock = itertools.count(), threading.Lock()
+        clock = time.perf_counter()
+        parts[0] = expansion.part(0, n)
+        if progress is not None:
+            progress(total // n, total)
+        rest = (time.perf_counter() - clock) * (n - 1)  # the shares left, built here
+        helpers = min(workers - 1, math.floor(rest / WORKER_SECONDS))
+        numbers, lock = itertools.count(1), threading.Lock()
 
         def take() -> int:
             with lock:
