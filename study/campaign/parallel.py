@@ -36,7 +36,7 @@ SHARE = 500
 #: Seconds of building a worker process must have to be worth starting (its start-up, about a
 #: second of imports, on another core): the first share's time times the shares left, per
 #: worker.
-WORKER_SECONDS = 2.0
+WORKER_SECONDS = 1.0
 
 
 def _start() -> subprocess.Popen | None:
