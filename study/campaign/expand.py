@@ -39,6 +39,7 @@ from .validate import (
     _check_values,
     _copy_table,
     _explain,
+    _value,
     assign,
     normalise_key,
 )
@@ -335,8 +336,7 @@ class Expansion:
                     if coordinate.key == BETA_KEY:
                         beta = float(value)
                     else:
-                        if "." not in coordinate.key:  # a [define] table: shared, not copied
-                            value = self.defined[value]
+                        value = _value(coordinate.key, value, self.defined)  # shared
                         assign(table, coordinate.key, value, owned)
             try:
                 if beta is not None:

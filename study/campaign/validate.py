@@ -157,17 +157,22 @@ def _copy_table(value: Any) -> Any:
 
 
 def _value(key: str, value: Any, defined: dict[str, dict]) -> Any:
-    """What a swept value sets: the ``[define]`` table it names for a whole-table key."""
-    return _copy_table(defined[value]) if "." not in key else value
+    """What a swept value sets: the ``[define]`` table it names for a whole-table key.
+
+    The table itself, shared: set it with :func:`assign`'s copy on write (``owned``).
+    """
+    return defined[value] if "." not in key else value
 
 
 def _check_paths(base: Mapping, axes: tuple[Axis, ...], defined: dict[str, dict]) -> None:
     probe = copy.deepcopy(dict(base))
+    owned = {id(probe)}
     for axis in axes:
         for coordinate in axis.coordinates:
             if coordinate.key == BETA_KEY:
                 continue
-            assign(probe, coordinate.key, _value(coordinate.key, coordinate.values[0], defined))
+            value = _value(coordinate.key, coordinate.values[0], defined)
+            assign(probe, coordinate.key, value, owned)
     load = base.get("load")
     for axis in axes:
         for c in axis.coordinates:
