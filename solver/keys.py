@@ -219,8 +219,10 @@ CASE_KEYS: tuple[Key, ...] = (
         "Tolerances, iteration caps and FFT settings of the loops."),
     Key("", "output", "table", "", "optional", "an output table", "every case",
         "Optional field outputs."),
-    Key("", "model", "integer", "", "the current model", "the current model version only",
-        "every case", "The model version a normalised case was written by (part of the case id)."),
+    Key("", "model", "integer", "", "the current model",
+        "a version that solves the case as the current model does",
+        "every case", "The model version a normalised case was written by (part of the case "
+        "id): the last version that changed how such a case is solved."),
     # bodies
     Key("bodyN", "behaviour", "string", "", "required", "rigid, elastic or elastic-plastic",
         "every body", "Constitutive behaviour (at least one body deforms)."),
@@ -355,10 +357,11 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("load", "spin", "number", "1/m", "0",
         f"|spin| a within {MAX_CREEPAGE:g} (a the contact radius); roll stages only; mu > 0",
         "rolling contacts", "Rigid rotation of body 1 relative to body 2 about z per unit "
-        "distance rolled, counter-clockwise from x to y, about the contact's centre."),
+        "distance rolled, counter-clockwise from x to y, about the contact's centre; with "
+        "creepage (the force a result) or tangential_force (the creepage a result)."),
     Key("load", "steady", "boolean", "", "false",
-        "with creepage and/or spin, or tangential_force (|Q| < mu W, no spin); no roll or "
-        "slide; elastic bodies; mu > 0", "steady rolling",
+        "with creepage and/or spin, or tangential_force (|Q| < mu W) with or without spin; "
+        "no roll or slide; elastic bodies; mu > 0", "steady rolling",
         "The steady state of rolling along +x at the stage's creepage and spin, or at its "
         "tangential force (the creepage then a result, histories creepage_x/y), solved "
         "directly (solver.surface.steady: Kalker's steady slip, an upwind difference along "
@@ -389,7 +392,8 @@ CASE_KEYS: tuple[Key, ...] = (
         f"|spin| a within {MAX_CREEPAGE:g}; roll stages only",
         "rolling contacts", "As load.spin."),
     Key("load.path[i]", "steady", "boolean", "", "false",
-        "with creepage and/or spin, or tangential_force; not with roll or slide",
+        "with creepage and/or spin, or tangential_force with or without spin; not with roll "
+        "or slide",
         "steady rolling", "As load.steady."),
     Key("load.path[i]", "steps", "integer", "1", "1", f"[1, {MAX_STAGE_STEPS:,}]", "load paths",
         "As load.steps."),

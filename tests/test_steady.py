@@ -222,6 +222,83 @@ def test_a_prescribed_force_finds_the_creepage_that_gives_it():
     assert 0.0 < found.history["creepage_x"][1] < 0.5 * 0.002
 
 
+def test_a_prescribed_force_with_spin_finds_the_creepage_that_gives_it():
+    """Creepage and spin given, then their force prescribed with the same spin ramp: the
+    creepage comes back at every point of the ramp, and the spin is recorded as given."""
+    tight = {"solver": {"slip_tolerance": 1e-10, "steady_order": 2}}
+    spin = 3.0  # 1/m: spin a = 1.7e-3, a third of the lateral force
+    given = _steady({"creepage": [0.001, 0.0005], "spin": spin, "steps": 2}, 8, **tight)
+    given = solver.solve(given)
+    force = [float(given.history[f"tangential_force_{c}"][-1]) for c in "xy"]
+    found = solver.solve(_steady({"tangential_force": force, "spin": spin, "steps": 2}, 8, **tight))
+    assert found.status == "converged"
+    assert found.history["creepage_x"][-1] == pytest.approx(0.001, rel=1e-6)
+    assert found.history["creepage_y"][-1] == pytest.approx(0.0005, rel=1e-5)
+    np.testing.assert_array_equal(found.history["spin"], given.history["spin"])
+    assert found.history["spin"][1] == pytest.approx(0.5 * spin)  # ramped like a creepage
+    # without the spin the same force takes another lateral creepage
+    plain = solver.solve(_steady({"tangential_force": force, "steps": 1}, 8, **tight))
+    assert plain.history["creepage_y"][-1] > 0.0005 * 1.2
+
+
+@pytest.mark.validation
+def test_spin_at_zero_force_takes_kalkers_lateral_creepage(validation):
+    """A free contact (zero tangential force) spinning at small phi creeps laterally by
+    eta = -C23 a phi / C22 (Kalker's linear theory): no lateral force.
+
+    Against the grid's own coefficients (from creepage and spin solved alone) to the
+    tolerance (the force and spin enter linearly near full stick), and against Kalker's
+    table within 1 %, closer at a/16 than at a/8.
+    """
+    c22, c23 = KALKER_CIRCLE_COEFFICIENTS[NU][1:]
+    spin = 1e-2  # 1/m: linear
+    errors = []
+    for cells in (8, 16):
+        case = _steady({"tangential_force": [0.0, 0.0], "spin": spin}, cells)
+        result = solver.solve(case)
+        assert result.status == "converged"
+        a = case.hertz.radius
+        eta = result.history["creepage_y"][-1]
+        assert abs(result.history["creepage_x"][-1]) < 1e-6 * abs(eta)
+        own = _coefficients(cells, 2)
+        assert eta == pytest.approx(-own[2] * a * spin / own[1], rel=2e-4)
+        errors.append(eta / (-c23 * a * spin / c22) - 1.0)
+    assert abs(errors[1]) < abs(errors[0]) < 0.01
+    validation(
+        "Steady rolling at a prescribed force with spin (solver.surface.steady)",
+        f"Kalker 1967: zero force at spin phi gives eta = -C23 a phi / C22 (nu = {NU})",
+        f"eta {errors[0]:+.2%} at a/8, {errors[1]:+.2%} at a/16 (second order)",
+    )
+
+
+def test_the_march_at_a_prescribed_force_and_spin_ends_at_the_steady_creepage():
+    """Rolled 4 a in one-cell steps at the force and spin of a first-order steady state (from
+    a Cattaneo start at that force), the march's creepage (its shift per distance rolled)
+    ends at the steady creepage."""
+    xi, spin = (0.001, 0.0005), 3.0
+    steady = _steady({"creepage": list(xi), "spin": spin}, 8, order=1)
+    a, dx = steady.hertz.radius, steady.surface_grid.dx
+    result = solver.solve(steady)
+    force = [float(result.history[f"tangential_force_{c}"][-1]) for c in "xy"]
+    travel = 4.0 * a
+    path = [
+        {"normal_force": W},
+        {"tangential_force": force, "steps": 4},
+        {"roll": [travel, 0.0], "tangential_force": force, "spin": spin,
+         "steps": round(travel / dx)},
+    ]  # fmt: skip
+    march = solver.Case.from_dict(
+        {**BODIES, "load": {"path": path}, "grid": {"n": [52, 20], "half_width": 1.25}}
+    )
+    assert march.surface_grid.dx == pytest.approx(dx)
+    rolled = solver.solve(march)
+    assert rolled.status == "converged"
+    for component, target in zip("xy", xi, strict=True):
+        creep = np.diff(rolled.history[f"tangential_shift_{component}"]) / dx
+        assert creep[-1] == pytest.approx(target, rel=1e-3)
+        assert abs(creep[-1] - target) < 0.5 * abs(creep[-17] - target)  # closing on it
+
+
 def test_a_creep_curve_rises_to_mu_w():
     case = _steady({"creepage": [0.004, 0.0], "steps": 8}, 8)
     result = solver.solve(case)
@@ -275,7 +352,7 @@ def test_a_contact_at_the_leading_edge_is_told_not_solved():
     [
         ({"roll": [1e-4, 0.0], "creepage": [0.001, 0.0]}, "roll"),
         ({}, "steady"),
-        ({"tangential_force": [10.0, 0.0], "spin": 3.0}, "tangential_force"),
+        ({"tangential_force": [10.0, 0.0], "creepage": [0.001, 0.0]}, "tangential_force"),
         ({"creepage": [0.001, 0.0], "steady": "yes"}, "steady"),
     ],
 )

@@ -101,7 +101,7 @@ def _increment_step(contact_step, stage, moving: bool, creep=None) -> Callable[.
         return functools.partial(steady_step, creepage=creep[0], spin=creep[1])
     if moving and stage.motion == "slide":
         return sliding_step
-    if stage.creepage is not None and contact_step is slip_stick_step:
+    if (stage.creepage is not None or stage.spin) and contact_step is slip_stick_step:
         return functools.partial(slip_stick_step, creepage=stage.creepage, spin=stage.spin)
     return contact_step
 

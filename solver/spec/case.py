@@ -19,7 +19,7 @@ import functools
 import json
 import math
 import tomllib
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -78,10 +78,26 @@ from .sizing import (
 from .volume import size_open_volume
 
 #: Version of the physical model: part of every case id, so that files computed by an older
-#: model are never reused (version 1: elastic-plastic bodies solved as elastic; version 2: a
-#: plastic increment whose loop did not converge was kept as it was, where version 3 halves
-#: it, and a sliding increment's friction work missed the step after a reversal).
-MODEL_VERSION = 3
+#: model are never reused.  A case records the version of the last change that alters its
+#: solution (:func:`case_model`), so a change reaches only the ids of the cases it alters.
+#: Version 1: elastic-plastic bodies solved as elastic; 2: a plastic increment whose loop did
+#: not converge was kept as it was, where 3 halves it, and a sliding increment's friction work
+#: missed the step after a reversal (3 alters every case); then :data:`MODEL_CHANGES`.
+MODEL_VERSION = 4
+#: The oldest version a case may be solved by (the last change that altered every case).
+OLDEST_MODEL = 3
+#: The changes after :data:`OLDEST_MODEL`: version -> what it alters (:func:`case_model`).
+MODEL_CHANGES = {
+    4: "a transient roll's spin turns body 1 about the contact's position at the end of each "
+    "increment, no longer about the travel's midpoint",
+}
+
+
+def case_model(stages: Sequence[LoadStage]) -> int:
+    """The model version that solves a load path as this code does (:data:`MODEL_CHANGES`)."""
+    if any(stage.motion == "roll" and stage.spin for stage in stages):
+        return 4
+    return OLDEST_MODEL
 
 
 def _parser(shared: SharedTables | None) -> Callable[[str, Any, Callable], Any]:
@@ -206,10 +222,11 @@ class Case:
                 "(body1, body2, load, grid, ...)",
             )
         check_keys(table, "", table_keys(""), required_keys(""))
-        if table.get("model", MODEL_VERSION) != MODEL_VERSION:
+        model = table.get("model", MODEL_VERSION)
+        if model not in range(OLDEST_MODEL, MODEL_VERSION + 1) or isinstance(model, bool):
             fail(
                 "model",
-                f"this case was written by model version {table['model']!r}; this solver is "
+                f"this case was written by model version {model!r}; this solver is "
                 f"version {MODEL_VERSION}: remove the key to solve it with the current model",
             )
         parse = _parser(shared)
@@ -255,6 +272,14 @@ class Case:
         else:
             stage, spec = parse_stage(load, "load", (0.0, (0.0, 0.0), False), pair, True)
             stages, paths, given = [stage], ["load"], [spec]
+        version = case_model(stages)
+        if model < version:
+            fail(
+                "model",
+                f"this case was written by model version {model}, and version {version} "
+                f"changed how it is solved ({MODEL_CHANGES[version]}): remove the key to solve "
+                "it with the current model",
+            )
 
         friction = check_keys(table.get("friction", {}), "friction", table_keys("friction"))
         mu = number(friction.get("coefficient", 0.0), "friction.coefficient")
@@ -311,9 +336,10 @@ class Case:
                 "axis), which the half-space contact sees alike",
             )
         for stage, path in zip(stages, paths, strict=True):
-            if stage.creepage is not None and mu == 0.0 and (any(stage.creepage) or stage.spin):
+            creeps = stage.creepage is not None and any(stage.creepage)
+            if mu == 0.0 and (creeps or stage.spin):
                 fail(
-                    f"{path}.creepage",
+                    f"{path}.{'creepage' if creeps else 'spin'}",
                     "friction.coefficient is 0: a frictionless contact has no creep force; "
                     "remove creepage and spin or give a friction coefficient",
                 )
@@ -378,7 +404,7 @@ class Case:
                 fail("output.fields", f"{name} needs an elastic-plastic body")
 
         spec = {
-            "model": MODEL_VERSION,
+            "model": version,
             "body1": body1_spec,
             "body2": body2_spec,
             "load": {"path": given},
@@ -648,9 +674,9 @@ class Case:
         """((xi, eta), spin) of every increment of a steady stage, None for others, in order.
 
         A steady stage ramps linearly from the previous steady stage's creepage and spin (from
-        zero after any other stage, or after a steady stage at a prescribed force, whose
-        increments give ``(None, 0)``: the creepage is a result): its increments are the
-        points of a creep curve.
+        zero after any other stage): its increments are the points of a creep curve.  A
+        steady stage at a prescribed force gives ``(None, spin)``, its spin ramped alike: the
+        creepage is a result, and the next stage's creepage ramps from zero.
         """
         start = ((0.0, 0.0), 0.0)
         for stage in self.stages:
@@ -658,11 +684,12 @@ class Case:
                 start = ((0.0, 0.0), 0.0)
                 yield from (None for _ in range(stage.steps))
                 continue
-            if stage.creepage is None:  # a prescribed force: the creepage is a result
-                start = ((0.0, 0.0), 0.0)
-                yield from ((None, 0.0) for _ in range(stage.steps))
-                continue
             (xi0, eta0), spin0 = start
+            if stage.creepage is None:  # a prescribed force: the creepage is a result
+                for k in range(1, stage.steps + 1):
+                    yield None, spin0 + k / stage.steps * (stage.spin - spin0)
+                start = ((0.0, 0.0), stage.spin)
+                continue
             xi1, eta1 = stage.creepage
             for k in range(1, stage.steps + 1):
                 f = k / stage.steps
@@ -714,9 +741,10 @@ class Case:
 
     @property
     def has_tangential_load(self) -> bool:
-        """True when any stage prescribes a tangential force or rolls at given creepages."""
+        """True when any stage prescribes a tangential force or rolls at given creepages or spin."""
         return any(
-            any(stage.tangential_force) or stage.creepage is not None for stage in self.stages
+            any(stage.tangential_force) or stage.creepage is not None or stage.spin
+            for stage in self.stages
         )
 
     @functools.cached_property

@@ -370,11 +370,12 @@ def _parse_creepage(table: Any, path: str, previous: tuple, motion: str, given: 
             else "a sliding stage slips everywhere (mu p along the motion): remove "
             f"{creep_keys[0]} or roll instead of slide",
         )
-    if creep_keys and "tangential_force" in table:
+    if "creepage" in table and "tangential_force" in table:
         fail(
             f"{path}.tangential_force",
             "a rolling stage takes either the creepages (the force is then a result) or the "
-            "tangential force (the creepage is then a result), not both",
+            "tangential force (the creepage is then a result), not both; a spin goes with "
+            "either",
         )
     if previous[2] and "tangential_force" in table:
         fail(
@@ -386,7 +387,8 @@ def _parse_creepage(table: Any, path: str, previous: tuple, motion: str, given: 
         # after a creepage stage the force stays free: the rigid shift is held (no travel) or
         # rolls on at no creepage; else the force is prescribed
         return ((0.0, 0.0) if previous[2] and "tangential_force" not in table else None), 0.0
-    creepage = (0.0, 0.0)
+    # with a prescribed force the creepage is a result, the spin still given
+    creepage = None if "tangential_force" in table else (0.0, 0.0)
     if "creepage" in table:
         form = "xi or [xi, eta] (dimensionless)"
         value = entries(table["creepage"], f"{path}.creepage", form, (2,), scalar=True)

@@ -75,6 +75,9 @@ PHI_N = (0.3, 1.0, 3.0)
 #: CONTACT's spin CPHI (rad/mm) per our spin (1/m, x turned towards y) times 1e-3.
 SPIN_SIGN = 1.0  # the same sense: checked on the spin rows (both forces +y)
 XI_N = (0.1, 0.3, 0.5, 0.7, 1.0)
+#: ``--steady``'s point at a prescribed force with spin (the circle): the force on body 2 over
+#: mu W and the spin over Kalker's linear saturation spin (:data:`PHI_N`'s unit).
+FORCE_SPIN = ((0.1, 0.05), 0.3)
 LINEAR = 1e-3
 TRAVEL, AVERAGE = 6.0, 2.0  # contact radii rolled; the last ones averaged
 #: CONTACT's elements across the contact (its smaller axis) of the reference rows, by a/b: an
@@ -271,13 +274,17 @@ def steady_table(
     steps: int = 1,
     spin: float = 0.0,
     a_over_b: float = 1.0,
+    force: tuple[float, float] | None = None,
 ) -> dict:
     """The case table: load, then the steady state at ``xi`` and ``spin`` (1/m).
 
     The stage ramps from zero in ``steps`` increments (a creep curve); the contact is
-    :func:`shape` ``(a_over_b)`` on :func:`steady_grid`.
+    :func:`shape` ``(a_over_b)`` on :func:`steady_grid`.  ``force``: the tangential force on
+    body 2 over mu W prescribed instead of ``xi``.
     """
-    rigid = {"creepage": list(xi)} if any(xi) else {}
+    rigid = {"creepage": list(xi)} if any(xi) and force is None else {}
+    if force is not None:
+        rigid["tangential_force"] = [f * MU * FORCE for f in force]
     rigid.update({"spin": spin} if spin else {})
     return {
         **BODIES,
@@ -298,10 +305,11 @@ def _ours_steady(
     spin: float = 0.0,
     a_over_b: float = 1.0,
     repeat: int = 1,
+    force: tuple[float, float] | None = None,
 ) -> dict:
     from solver.surface.convolution import surface_operator
 
-    table = steady_table(across, xi, order, spin=spin, a_over_b=a_over_b)
+    table = steady_table(across, xi, order, spin=spin, a_over_b=a_over_b, force=force)
     runs = []
     for _ in range(repeat):  # best of: a point takes milliseconds
         surface_operator.cache_clear()  # each run builds its operator, as each CONTACT run does
@@ -311,6 +319,7 @@ def _ours_steady(
     axis = "x" if xi[0] else "y"
     return {
         "force": float(result.history[f"tangential_force_{axis}"][-1]), "cpu": cpu,
+        "creepage": tuple(float(result.history[f"creepage_{c}"][-1]) for c in "xy"),
         "wall": wall, "memory": memory,
         "iterations": int(result.history["slip_iterations"].sum()), "status": result.status,
     }  # fmt: skip
@@ -322,6 +331,53 @@ def _steady_curve(across: int) -> dict:
     _, result, wall, cpu, _ = timed_solve(table)
     forces = [float(f) for f in result.history["tangential_force_x"][1:]]
     return {"forces": forces, "cpu": cpu, "wall": wall, "status": result.status}
+
+
+def _force_spin_comparison(sizes: list[int], executable: str | None, repeat: int) -> list[str]:
+    """The circle at a prescribed force with spin (:data:`FORCE_SPIN`): the creepage found.
+
+    Ours (both orders) and CONTACT (``F = 2``) on each size, best of ``repeat`` runs each;
+    the difference from CONTACT on the largest size (CONTACT prints four digits).
+    """
+    (fx, fy), phi_n = FORCE_SPIN
+    spin = phi_n * MU * FORCE / (SHEAR * RADIUS**3 * C23)
+    runs = []
+    for across in sizes:
+        for code, order in (("steady", 2), ("steady o1", 1)):
+            status, out = isolated(
+                _ours_steady, across, (0.0, 0.0), order, spin, 1.0, repeat, (fx, fy),
+                timeout=7200.0,
+            )  # fmt: skip
+            runs.append((code, across, status, out))
+        if executable:
+            status, out = isolated(
+                _contact, executable, across, (0.0, 0.0), spin, 1.0, repeat, (fx, fy),
+                timeout=7200.0,
+            )  # fmt: skip
+            runs.append(("CONTACT", across, status, out))
+    reference = next(
+        (out["creepage"] for code, n, status, out in runs
+         if code == "CONTACT" and n == max(sizes) and status == "ok"),
+        None,
+    )  # fmt: skip
+    rows = []
+    for code, across, status, out in runs:
+        if status != "ok":
+            rows.append({"code": code, "across": across, "status": out})
+            continue
+        row = {"code": code, "across": across}
+        for c, value in zip("xy", out["creepage"], strict=True):
+            row[f"creepage_{c}"] = f"{value:.5g}"
+            off = None if reference is None else 100 * (value / reference["xy".index(c)] - 1)
+            row[f"{c}_vs_CONTACT_%"] = None if off is None else round(off, 2)
+        row.update(cpu_s=round(out["cpu"], 3), wall_s=round(out["wall"], 3), status=out["status"])
+        rows.append(row)
+    return [
+        f"# prescribed force with spin (the circle): F / (mu W) = ({fx:g}, {fy:g}) on body 2, "
+        f"spin phi_n = {phi_n:g} ({spin:.4g} 1/m); the creepage found; against CONTACT "
+        f"(F = 2) at {max(sizes)} across",
+        format_table(rows),
+    ]
 
 
 def _curve_comparison(across: int) -> list[str]:
@@ -366,28 +422,35 @@ def contact_elements(across: int, a_over_b: float = 1.0) -> tuple[int, int, floa
 
 
 def _contact_input(
-    across: int, xi: tuple[float, float], spin: float = 0.0, a_over_b: float = 1.0
+    across: int,
+    xi: tuple[float, float],
+    spin: float = 0.0,
+    a_over_b: float = 1.0,
+    force: tuple[float, float] | None = None,
 ) -> str:
     """CONTACT's input (module 3, units mm, N, N/mm^2) for steady rolling at ``xi``.
 
     Hertzian semi-axes ``AA`` (x, rolling) and ``BB`` (y) of :func:`shape` prescribed
     (``IPOTCN = -3``), :func:`contact_elements`; the rolling step ``DQ`` one element along x.
+    ``force``: the tangential force on body 2 over mu W prescribed instead of ``xi``
+    (``F = 2``: CONTACT's ``FXREL``, ``FYREL``, its force on body 1 over ``FSTAT FN``).
     """
     contact = shape(a_over_b)
     mx, my, scale = contact_elements(across, a_over_b)
     aa, bb = contact.semi_x * 1e3, contact.semi_y * 1e3  # mm
     step = 2.0 * aa * scale / mx
+    given = xi if force is None else (-force[0], -force[1])
     shear = SHEAR * 1e-6
     lines = [
         f"% slipstick bench rolling: steady rolling, Hertzian ellipse a = {aa:.4f} mm, "
         f"b = {bb:.4f} mm",
         " 3  MODULE",
-        "  203100     P-B-T-N-F-S",  # steady rolling (T = 3), Hertzian normal problem
+        f"  2031{0 if force is None else 2}0     P-B-T-N-F-S",  # steady (T = 3), Hertzian
         "  022020     L-D-C-M-Z-E",
         " 0000331   H-G-I-A-O-W-R",
         "   999   200    30     1   1e-6    MAXGS, MAXIN, MAXNR, MAXOUT, EPS",
-        f"  {FORCE:.6f}  {xi[0]:.10e}  {xi[1]:.10e}  {SPIN_SIGN * spin * 1e-3:.10e}"
-        "    FN, CKSI, CETA, CPHI",
+        f"  {FORCE:.6f}  {given[0]:.10e}  {given[1]:.10e}  {SPIN_SIGN * spin * 1e-3:.10e}"
+        f"    FN, {'CKSI, CETA' if force is None else 'FXREL, FYREL'}, CPHI",
         f"  {MU:.3f}  {MU:.3f}    FSTAT, FKIN",
         f"  0.000  {step:.8f}  1000.0    CHI, DQ, VELOC",
         f"  {NU:.4f}  {NU:.4f}  {shear:.4f}  {shear:.4f}    POISS 1,2, GG 1,2",
@@ -407,15 +470,17 @@ def _contact(
     spin: float = 0.0,
     a_over_b: float = 1.0,
     repeat: int = 1,
+    force: tuple[float, float] | None = None,
 ) -> dict:
     """Run CONTACT on the scene; its force on body 2 (the opposite of its force on body 1).
 
-    Wall and CPU time of its whole process, best of ``repeat`` runs.
+    Wall and CPU time of its whole process, best of ``repeat`` runs; ``force`` as in
+    :func:`_contact_input` (the creepage it finds is in ``creepage``).
     """
     folder = tempfile.mkdtemp(prefix="contact_")
     try:
         with open(os.path.join(folder, "bench.inp"), "w") as handle:
-            handle.write(_contact_input(across, xi, spin, a_over_b))
+            handle.write(_contact_input(across, xi, spin, a_over_b, force))
         wall = cpu = math.inf
         for _ in range(repeat):
             before = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -434,8 +499,11 @@ def _contact(
             lines = handle.read().splitlines()
         totals = next(k for k, line in enumerate(lines) if line.split()[:3] == ["FN", "FX", "FY"])
         fn, fx, fy = (float(v) for v in lines[totals + 1].split()[:3])
+        creep = next(k for k, line in enumerate(lines) if "CREEP X" in line)
+        found = tuple(float(v) for v in lines[creep + 1].split()[1:3])
         return {
-            "force": -(fx if xi[0] else fy), "normal": fn, "cpu": cpu, "wall": wall,
+            "force": -(fx if xi[0] else fy), "creepage": found, "normal": fn, "cpu": cpu,
+            "wall": wall,
             "memory": after.ru_maxrss / 1024.0, "iterations": None, "status": "converged",
         }  # fmt: skip
     finally:
@@ -603,6 +671,8 @@ def run_rolling(
     extrapolate(rows, max(sizes))
     print(format_table(rows))
     if steady and 1.0 in shapes:
+        for line in _force_spin_comparison(sizes, executable, repeat):
+            print(line)
         for line in _curve_comparison(min(sizes)):
             print(line)
     return 1 if failures else 0
