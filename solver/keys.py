@@ -472,7 +472,7 @@ CASE_KEYS: tuple[Key, ...] = (
         "that on the period's length Ly (the rigid approach is then defined up to a constant, "
         "the plane-strain displacement's), normal, tangential and steady rolling stages."),
     Key("grid", "depth_body1", "number", "a_H", "depth if given, else body 1's yield depth",
-        "as grid.depth", "two different elastic-plastic bodies",
+        "as grid.depth", "two elastic-plastic bodies, different or loaded tangentially",
         "Depth of body 1's own volume grid."),
     # output
     Key("output", "fields", "array of strings", "", "[]", ", ".join(OPTIONAL_FIELDS),

@@ -269,6 +269,44 @@ def test_two_plastic_bodies_agree_with_the_symmetric_pair(validation):
     )
 
 
+@pytest.mark.validation
+def test_identical_plastic_bodies_sheared_mirror_each_other(validation):
+    """Identical Swift spheres pressed to p_H = 5 GPa, then sheared to Q = 0.5 mu W (mu = 0.3):
+    each body has its own field.  Exchanging the bodies and reflecting x maps the problem onto
+    itself (body 1 sees the opposite shear in its frame (x, -y, -z)), so body 1's field is
+    body 2's reflected in x, to the plasticity tolerance, while the shear makes each field
+    lopsided; and the pair that differs by 1e-9 in B (two fields before) gives the same."""
+
+    def sheared(hardening1):
+        case = ep_ep(hardening1, mu=0.3)
+        table = case.to_dict()
+        force = case.stages[-1].normal_force
+        table["load"]["path"].append({"tangential_force": [0.5 * 0.3 * force, 0.0], "steps": 3})
+        return solver.Case.from_dict(table)
+
+    case = sheared(SWIFT)
+    assert case.plastic_bodies == (2, 1) and not case.symmetric_plastic
+    result = solver.solve(case)
+    assert result.status == "converged", result.notes
+    assert "slip_stick" in result.loops
+    tolerance = 10 * case.solver.plastic_tolerance * 945e6 / 210e9  # yield-strain scale
+    body2, body1 = result.fields["plastic_strain"], result.fields["plastic_strain_body1"]
+    assert body2.max() > 0
+    mirrored = np.abs(body1 - body2[::-1]).max()
+    lopsided = np.abs(body2 - body2[::-1]).max()
+    assert mirrored < tolerance < 0.01 * lopsided
+    near = solver.solve(sheared(dict(SWIFT, B=SWIFT["B"] * (1 + 1e-9))))
+    for field in ("plastic_strain", "plastic_strain_body1"):
+        np.testing.assert_allclose(near.fields[field], result.fields[field], atol=tolerance)
+    validation(
+        "identical elastic-plastic spheres (Swift), p_H = 5 GPa, then Q = 0.5 mu W, mu = 0.3, "
+        "24^2 x 14: a plastic strain field each",
+        "the symmetry of the pair: body 1's field is body 2's reflected in x",
+        f"within {mirrored:.1e} (the field's asymmetry {lopsided:.1e}); the pair differing by "
+        "1e-9 in B the same within the tolerance",
+    )
+
+
 def test_dissimilar_plastic_pair_reports_both_bodies():
     """A softer linear-hardening body 1 on the Swift steel body 2, with friction (four loops):
     both bodies yield, the softer more, and the body-1 fields come with the result."""
@@ -304,7 +342,7 @@ def test_depth_body1_only_for_two_plastic_fields():
     assert solver.Case.from_dict(table).grid.depth_body1 == 3.0
     symmetric = ep_ep(SWIFT).to_dict()
     symmetric["grid"]["depth_body1"] = 3.0
-    with pytest.raises(solver.SpecError, match="grid.depth_body1: only two different"):
+    with pytest.raises(solver.SpecError, match="grid.depth_body1: only two elastic-plastic"):
         solver.Case.from_dict(symmetric)
 
 

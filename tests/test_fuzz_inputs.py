@@ -181,7 +181,7 @@ PLASTIC_FAULTS = [
     ("base.grid.depth", -1.0, "grid.depth: must be > 0"),
     ("base.grid.depth", "deep", "grid.depth: must be a number"),
     ("base.grid.depth", math.inf, "grid.depth: must be finite"),
-    ("base.grid.depth_body1", 3.0, "grid.depth_body1: only two different"),
+    ("base.grid.depth_body1", 3.0, "grid.depth_body1: only two elastic-plastic"),
     ("base.grid.plastic_half_width", 5.0, "grid.plastic_half_width: must be in [0.25, half_width"),
     ("base.grid.plastic_half_width", 0.1, "grid.plastic_half_width: must be in [0.25"),
     ("base.grid.plastic_half_width", -1.0, "grid.plastic_half_width: must be > 0"),

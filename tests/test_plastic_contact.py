@@ -199,17 +199,28 @@ def test_unbuilt_plastic_scenes_are_refused(change, field):
         solver.Case.from_dict(table)
 
 
-def test_tangential_load_on_the_symmetric_pair_is_refused():
+def test_a_tangential_load_gives_each_body_of_the_symmetric_pair_a_field():
+    """Identical elastic-plastic bodies under normal load are the symmetric pair (eq. 2: one
+    field); a tangential load breaks the symmetry, so each body gets its own field and volume
+    grid (of the same depth), and the four loops run."""
     body = {"radius": 0.015, "behaviour": "elastic-plastic", **STEEL, "hardening": SWIFT}
     table = {
         "body1": dict(body),
         "body2": copy.deepcopy(body),
-        "load": {"path": [{"normal_force": 1000.0}, {"tangential_force": 100.0}]},
+        "load": {"path": [{"normal_force": 1000.0}]},
         "friction": {"coefficient": 0.3},
         "grid": {"n": [16, 16, 16]},
     }
-    with pytest.raises(solver.SpecError, match=r"load\.tangential_force"):
-        solver.Case.from_dict(table)
+    pressed = solver.Case.from_dict(table)
+    assert pressed.symmetric_plastic and pressed.plastic_bodies == (2,)
+    assert pressed.grid.depth_body1 is None and not pressed.needs_slip_stick
+    table["load"]["path"].append({"tangential_force": 100.0})
+    sheared = solver.Case.from_dict(table)
+    assert not sheared.symmetric_plastic and sheared.plastic_bodies == (2, 1)
+    assert sheared.grid.depth_body1 == sheared.grid.depth and sheared.needs_slip_stick
+    table["grid"]["depth_body1"] = 2.0
+    with pytest.raises(solver.SpecError, match=r"^grid\.depth_body1"):
+        solver.Case.from_dict({**table, "load": {"path": table["load"]["path"][:1]}})
 
 
 def test_residual_stress_needs_a_plastic_body():

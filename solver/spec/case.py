@@ -70,6 +70,7 @@ from .path import (
     parse_stage,
     slides,
     swap_rolling,
+    symmetric_pair,
 )
 from .reading import SurfaceReader, check_keys, entries, fail, json_number, number, plain
 from .sizing import (
@@ -453,8 +454,8 @@ class Case:
 
     @property
     def symmetric_plastic(self) -> bool:
-        """True for the symmetric elastic-plastic pair (seed eq. 2): identical bodies."""
-        return self.body1.behaviour == "elastic-plastic" and self.body1 == self.body2
+        """True for the symmetric elastic-plastic pair (seed eq. 2), :func:`symmetric_pair`."""
+        return symmetric_pair(self.body1, self.body2, self.stages)
 
     @functools.cached_property
     def needs_slip_stick(self) -> bool:

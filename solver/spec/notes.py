@@ -218,12 +218,12 @@ def check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> Non
     Solved: one elastic-plastic body against a rigid or elastic one (frictionless: the
     plasticity loop around the normal step; with friction or a tangential load: the four
     loops; an elastic-plastic body 1 is solved with the bodies relabelled, :meth:`Case.swapped`),
-    two different elastic-plastic bodies (a plastic strain field in each), and the symmetric
-    pair (eq. 2) under normal load with any friction.
+    two elastic-plastic bodies (a plastic strain field in each: different bodies, or
+    identical ones loaded tangentially), and the symmetric pair (eq. 2) under normal load with
+    any friction.
     """
     plastic1 = body1.behaviour == "elastic-plastic"
     plastic2 = body2.behaviour == "elastic-plastic"
-    symmetric = plastic1 and body1 == body2
     if not (plastic1 or plastic2):
         return
     profiled = body1.profile is not None or body2.profile is not None
@@ -257,15 +257,6 @@ def check_plastic_scene(body1: Body, body2: Body, stages, grid: GridSpec) -> Non
             "an elastic-plastic case needs a radius (a quadric shape under the heights): the "
             "volume depth and the plastic box are sized from the Hertz stress of the smooth "
             "shape",
-        )
-    if symmetric and any(
-        any(stage.tangential_force) or any(stage.travel) or stage.creepage is not None
-        for stage in stages
-    ):
-        fail(
-            "load.tangential_force",
-            "a tangential load breaks the symmetry of the elastic-plastic pair (eq. 2); make "
-            "one body elastic or rigid to run the four loops, or remove tangential_force",
         )
     if not grid.nz:
         fail(

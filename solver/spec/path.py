@@ -415,6 +415,25 @@ def slides(stages) -> bool:
     return any(any(stage.travel) for stage in stages)
 
 
+def shears(stages) -> bool:
+    """True when a stage loads the contact tangentially: a force, a travel, a creepage or spin."""
+    return any(
+        any(stage.tangential_force) or any(stage.travel) or stage.creepage is not None
+        or stage.spin
+        for stage in stages
+    )  # fmt: skip
+
+
+def symmetric_pair(body1, body2, stages) -> bool:
+    """True for the symmetric elastic-plastic pair (seed eq. 2).
+
+    Identical elastic-plastic bodies under normal load only: their plastic strain fields
+    coincide (one field, the print doubled).  A tangential load (:func:`shears`) breaks the
+    symmetry: then each body has its own field.
+    """
+    return body1.behaviour == "elastic-plastic" and body1 == body2 and not shears(stages)
+
+
 def swap_rolling(table: dict, stages: list[dict]) -> None:
     """A rolling case's table told in body 1's frame (x, -y, -z), in place (:meth:`Case.swapped`).
 

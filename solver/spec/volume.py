@@ -25,7 +25,7 @@ from ..keys import (
 from ..theory.hertz import hertz
 from .grid import GridSpec, check_volume, domain_half_widths
 from .notes import narrow_window_note, plastic_regime, profile_regime
-from .path import LoadStage, profile_radius
+from .path import LoadStage, profile_radius, symmetric_pair
 from .reading import fail
 from .sizing import (
     auto_depth,
@@ -122,11 +122,13 @@ def size_open_volume(
             "grid.plastic_half_width",
             "only an elastic-plastic body has a plastic box; leave the key out",
         )
-    two_fields = len(plastics) == 2 and body1 != body2  # a volume grid each
+    # a volume grid each: two different elastic-plastic bodies, or identical ones sheared
+    two_fields = len(plastics) == 2 and not symmetric_pair(body1, body2, stages)
     if grid.depth_body1 is not None and not two_fields:
         fail(
             "grid.depth_body1",
-            "only two different elastic-plastic bodies have a volume grid each; use grid.depth",
+            "only two elastic-plastic bodies with a plastic strain field each (different, or "
+            "loaded tangentially) have a volume grid each; use grid.depth",
         )
     if two_fields and grid.depth_body1 is None:
         depth1 = grid.depth if grid.depth is not None else yield_depth(body1)
