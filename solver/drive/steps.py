@@ -285,9 +285,9 @@ def slip_stick_step(
     relative to body 2 per unit distance rolled, ``(xi d, eta d) + spin d (-(y - y_c),
     x - x_c)`` over a travel d, about the contact's position (x_c, y_c) at the end of the
     increment (the march of one-cell steps then ends at the first-order steady state, spin
-    included: :mod:`solver.surface.steady`); the tangential force is
-    then a result and the target's ignored.  ``creepage`` None: the force is prescribed and
-    the rigid shift a result (a ``spin`` still turns body 1).
+    included: :mod:`solver.surface.steady`); the tangential force is then a result and the
+    target's ignored.  ``creepage`` None: the force is prescribed and the rigid shift a
+    result (a ``spin`` still turns body 1).
     """
     case, surface = operators.case, operators.surface
     options = case.solver
