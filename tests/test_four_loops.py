@@ -307,6 +307,28 @@ def test_identical_plastic_bodies_sheared_mirror_each_other(validation):
     )
 
 
+def test_a_sheared_identical_plastic_pair_at_high_friction_reverses_and_ends_with_a_status():
+    """A hard case: identical Swift spheres at p_H = 3 GPa, mu = 1, sheared to 0.9 mu W and
+    reversed to -0.9 mu W (a fretting half cycle) on 16^3: a status, finite histories, and
+    the two bodies' largest plastic strains equal (the pair's symmetry)."""
+    sphere = {"radius": 0.015, "behaviour": "elastic-plastic", **STEEL, "hardening": SWIFT}
+    probe = {"body1": sphere, "body2": sphere, "load": {"hertz_pressure": 3e9}}
+    force = solver.Case.from_dict({**probe, "grid": {"n": [16, 16, 16]}}).stages[0].normal_force
+    shear = 0.9 * force
+    path = [
+        {"normal_force": force, "steps": 3},
+        {"tangential_force": [shear, 0.0], "steps": 4},
+        {"tangential_force": [-shear, 0.0], "steps": 8},
+    ]
+    table = {**probe, "load": {"path": path}, "friction": {"coefficient": 1.0}}
+    result = solver.solve(solver.Case.from_dict({**table, "grid": {"n": [16, 16, 16]}}))
+    assert result.status in ("converged", "truncated", "not_converged")
+    h = result.history
+    assert all(np.isfinite(np.asarray(v, float)).all() for v in h.values())
+    assert h["max_plastic_strain"][-1] > 0
+    assert h["max_plastic_strain_body1"][-1] == pytest.approx(h["max_plastic_strain"][-1])
+
+
 def test_dissimilar_plastic_pair_reports_both_bodies():
     """A softer linear-hardening body 1 on the Swift steel body 2, with friction (four loops):
     both bodies yield, the softer more, and the body-1 fields come with the result."""

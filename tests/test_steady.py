@@ -323,6 +323,12 @@ def test_a_creep_curve_rises_to_mu_w():
             {"creepage": [0.002, 0.0]},
             {"body2": {"behaviour": "rigid"}},  # beta = +0.33: a steel ball on a rigid flat
         ),
+        # a prescribed force near saturation with a spin past its own, and one with beta != 0
+        ({"tangential_force": [0.99 * MU * W, 0.0], "spin": 50.0}, {}),
+        (
+            {"tangential_force": [0.5 * MU * W, 0.0], "spin": 20.0},
+            {"body1": {"behaviour": "rigid", "radius": 0.025}},
+        ),
     ],
 )
 def test_hard_cases_end_with_a_status(stage, changes):
