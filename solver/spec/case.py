@@ -71,6 +71,7 @@ from .path import (
     slides,
     swap_rolling,
     symmetric_pair,
+    tangential_load,
 )
 from .reading import SurfaceReader, check_keys, entries, fail, json_number, number, plain
 from .sizing import (
@@ -743,10 +744,7 @@ class Case:
     @property
     def has_tangential_load(self) -> bool:
         """True when any stage prescribes a tangential force or rolls at given creepages or spin."""
-        return any(
-            any(stage.tangential_force) or stage.creepage is not None or stage.spin
-            for stage in self.stages
-        )
+        return tangential_load(self.stages)
 
     @functools.cached_property
     def case_id(self) -> str:

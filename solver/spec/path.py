@@ -415,13 +415,16 @@ def slides(stages) -> bool:
     return any(any(stage.travel) for stage in stages)
 
 
-def shears(stages) -> bool:
-    """True when a stage loads the contact tangentially: a force, a travel, a creepage or spin."""
+def tangential_load(stages) -> bool:
+    """True when a stage prescribes a tangential force or rolls at given creepages or spin."""
     return any(
-        any(stage.tangential_force) or any(stage.travel) or stage.creepage is not None
-        or stage.spin
-        for stage in stages
-    )  # fmt: skip
+        any(stage.tangential_force) or stage.creepage is not None or stage.spin for stage in stages
+    )
+
+
+def shears(stages) -> bool:
+    """True when a stage loads the contact tangentially: a force, a creepage or spin, a travel."""
+    return tangential_load(stages) or slides(stages)
 
 
 def symmetric_pair(body1, body2, stages) -> bool:
