@@ -370,7 +370,10 @@ def _force_spin_comparison(sizes: list[int], executable: str | None, repeat: int
             row[f"creepage_{c}"] = f"{value:.5g}"
             off = None if reference is None else 100 * (value / reference["xy".index(c)] - 1)
             row[f"{c}_vs_CONTACT_%"] = None if off is None else round(off, 2)
-        row.update(cpu_s=round(out["cpu"], 3), wall_s=round(out["wall"], 3), status=out["status"])
+        row.update(
+            cpu_s=round(out["cpu"], 3), wall_s=round(out["wall"], 3),
+            peak_MB=round(out["memory"]), status=out["status"],
+        )  # fmt: skip
         rows.append(row)
     return [
         f"# prescribed force with spin (the circle): F / (mu W) = ({fx:g}, {fy:g}) on body 2, "
