@@ -20,7 +20,7 @@ The parts, from the bottom up; each imports only those listed before it (tested)
 - :mod:`solver.volume`: subsurface stress, eigenstrain operator, cuboid kernels;
 - :mod:`solver.theorems`: shakedown theorems solved directly (Melan's static limit of a track
   as a conic program, its pointwise upper bound);
-- :mod:`solver.spec`: the case tables parsed, the grid sized, the notes, :class:`Case`;
+- :mod:`solver.case`: the case tables parsed, the grid sized, the notes, :class:`Case`;
 - :mod:`solver.result`: :class:`Result` (fields, histories, per-cycle quantities, xarray);
 - :mod:`solver.drive`: operators, contact steps, the plasticity loop, the moving window,
   :func:`solve`.
@@ -28,9 +28,9 @@ The parts, from the bottom up; each imports only those listed before it (tested)
 Where a new kind of physics goes:
 
 - a body shape: :mod:`solver.bodies.geometry` (a profile) or :mod:`solver.bodies.heights` (given
-  point by point); its keys in :mod:`solver.keys`, their parsing in :mod:`solver.spec.bodies`;
-- a load stage (a motion, a target): :class:`~solver.spec.path.LoadStage` and its parser in
-  :mod:`solver.spec.path`, what an increment of it does in :mod:`solver.drive.loops`;
+  point by point); its keys in :mod:`solver.keys`, their parsing in :mod:`solver.case.bodies`;
+- a load stage (a motion, a target): :class:`~solver.case.path.LoadStage` and its parser in
+  :mod:`solver.case.path`, what an increment of it does in :mod:`solver.drive.loops`;
 - a step or a loop: :mod:`solver.drive.steps`, or a loop around a step beside
   :mod:`solver.drive.plastic_loop`; its histories declared in :mod:`solver.variables` and
   written in :mod:`solver.drive.record`;
@@ -38,16 +38,16 @@ Where a new kind of physics goes:
 - a hardening law: :mod:`solver.plasticity.hardening` (and the return mapping if it needs one);
 - a closed form: :mod:`solver.theory`; a theorem solved as a program (a shakedown bound):
   :mod:`solver.theorems`;
-- a note or a refusal of a case: :mod:`solver.spec.notes`.
+- a note or a refusal of a case: :mod:`solver.case.notes`.
 """
 
 from .numerics.lazy import lazy_exports
 
 #: Where each public name is defined; imported when first used (:mod:`solver.numerics.lazy`).
 _PUBLIC = {
-    "Case": ".spec.case",
+    "Case": ".case.case",
     "Result": ".result",
-    "SpecError": ".spec.reading",
+    "SpecError": ".case.reading",
     "memory_estimate": ".drive.operators",
     "solve": ".drive.loops",
 }
@@ -58,6 +58,6 @@ __getattr__, __dir__ = lazy_exports(__name__, _PUBLIC)
 #: sub-package's modules import each other without a cycle); ``tests/test_layout.py`` checks it.
 PARTS = (
     "variables", "keys", "numerics", "theory", "plasticity", "bodies", "surface", "volume",
-    "theorems", "spec", "result", "drive",
+    "theorems", "case", "result", "drive",
 )  # fmt: skip
 __version__ = "0.1.0"

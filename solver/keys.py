@@ -1,6 +1,6 @@
 """Every key of a case table, declared once: type, unit, default, accepted range, who uses it.
 
-:mod:`solver.spec.case` takes the keys each table accepts (:func:`table_keys`), the required ones,
+:mod:`solver.case.case` takes the keys each table accepts (:func:`table_keys`), the required ones,
 the limits it checks and the solver defaults from here, and the guide's reference page of case
 keys is written from :data:`CASE_KEYS` (``docs/generate.py``): the parser, its messages and the
 documentation cannot drift apart.
@@ -87,9 +87,9 @@ MAX_PERIODIC_DEPTH = 0.5
 #: Volume depth of a periodic elastic-plastic case whose elastic stress nowhere yields, as a
 #: fraction of the period's shorter side.
 DEFAULT_PERIODIC_DEPTH = 0.125
-#: Fewest volume cells across the elastic yield region in depth (``solver.spec.case``).
+#: Fewest volume cells across the elastic yield region in depth (``solver.case.case``).
 MIN_YIELD_CELLS = 2
-#: Thickest volume cell (units of a_H) of an elastic-plastic body (``solver.spec.case``).
+#: Thickest volume cell (units of a_H) of an elastic-plastic body (``solver.case.case``).
 MAX_CELL_DEPTH = 0.25
 #: Margin on the elastic yield region's half width that sizes the plastic box laterally.
 PLASTIC_WIDTH_MARGIN = 1.25
@@ -125,7 +125,7 @@ HARDENING_KEYS = {
 #: Kinematic hardening laws (``hardening.kinematic.law``) and their keys.
 KINEMATIC_KEYS = {"prager": {"C"}, "armstrong-frederick": {"C", "gamma"}}
 
-#: Defaults of ``[solver]`` (:class:`solver.spec.options.SolverOptions` takes them from here).
+#: Defaults of ``[solver]`` (:class:`solver.case.options.SolverOptions` takes them from here).
 SOLVER_DEFAULTS = {
     "normal_tolerance": 1e-8,
     "normal_max_iterations": 2000,
@@ -442,7 +442,7 @@ CASE_KEYS: tuple[Key, ...] = (
         "Half side of the plastic box: plastic strain lives, and the volume convolutions run, on "
         "the cells within this distance of the axis along x and y (the surface window stays "
         "half_width; half_width itself: the whole window).  By default sized from the Hertz "
-        "stress (a profile: the computed elastic stress, solver.spec.sizing), with a sliding shear "
+        "stress (a profile: the computed elastic stress, solver.case.sizing), with a sliding shear "
         "of the path's largest |Q|/W, where it exceeds the initial "
         "yield stress, its cell count rounded up to a fast FFT size; a plastic zone reaching "
         "its sides is a note and the status truncated."),

@@ -1,7 +1,7 @@
 """Result of a case: final fields, per-step and per-cycle histories, status, and the xarray view.
 
 Per-cycle quantities (:func:`cycle_summary`).  A load path with a cycle block (``cycles = N``,
-:class:`solver.spec.path.LoadStage`) records the cycle of every step (history ``step_cycle``).
+:class:`solver.case.path.LoadStage`) records the cycle of every step (history ``step_cycle``).
 Cycle ``c`` runs over its steps; its loop closes on the state before its first step (the last step
 of the previous cycle, or of the stage before the block).  With ``Q`` the tangential force on body 2
 and ``Delta`` the rigid shift of body 1 relative to body 2, the work done on the contact over a
@@ -20,9 +20,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .case.case import Case
 from .numerics.grid import SurfaceGrid
 from .numerics.tensor import COMPONENTS
-from .spec.case import Case
 from .theory.line import hertz_line
 from .theory.shakedown import Shakedown, classify, shakedown_variable
 from .variables import BODY1_SUFFIX, CYCLE_QUANTITIES, FIELDS, HISTORIES

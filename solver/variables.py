@@ -11,7 +11,7 @@ per-case scalar (``"last"`` step, ``"max"`` over the steps, ``"sum"``; None: not
 cross-section of a sliding track (``solver.method = "static_shakedown"``).
 
 ``swap_sign`` is the factor a value takes when the bodies are relabelled (an elastic-plastic
-body 1 is solved as body 2, :meth:`solver.spec.case.Case.swapped`): body 1's frame is body 2's
+body 1 is solved as body 2, :meth:`solver.case.case.Case.swapped`): body 1's frame is body 2's
 rotated by 180 degrees about x (x, -y, -z), so tractions and forces on the other body change
 sign, and y components change sign again.  Tensor fields mirror by component
 (:data:`solver.numerics.tensor.Y_REFLECTION`).

@@ -41,7 +41,7 @@ def path_warnings(campaign: Campaign, limit: int = LONG_PATH) -> list[str]:
     The accepted maximum is :data:`solver.keys.MAX_INCREMENTS`; a long path is valid but costs
     a solve per increment, so the line says how many cases, the longest and what to change.
     """
-    from solver.spec.path import path_steps
+    from solver.case.path import path_steps
 
     steps = [path_steps(c.spec["load"]["path"]) for c in campaign.cases]
     long = [s for s in steps if s > limit]

@@ -11,7 +11,7 @@ from study_fixtures import CATTANEO_BASE, small_campaign, write
 
 import solver
 import solver.drive.loops
-from solver.spec.substeps import load_substeps
+from solver.case.substeps import load_substeps
 from study.campaign import cost
 from study.cli import load_campaign_file, main
 from study.run import calibration as machine

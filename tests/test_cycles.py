@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 import solver
+from solver.case.path import path_steps
+from solver.case.reading import SpecError
 from solver.numerics.tensor import von_mises
-from solver.spec.path import path_steps
-from solver.spec.reading import SpecError
 from solver.theory import friction
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}

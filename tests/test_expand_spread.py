@@ -17,7 +17,7 @@ import sys
 import pytest
 
 import solver
-from solver.spec.batch import SharedTables, case_hash
+from solver.case.batch import SharedTables, case_hash
 from study.campaign import CampaignError, expand_campaign
 from study.campaign import parallel as parallel_module
 from study.campaign.expand import Expansion, serial

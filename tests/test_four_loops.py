@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import solver
+from solver.case.sizing import auto_depth
 from solver.drive.operators import CaseOperators
 from solver.drive.steps import ContactState, ResidualDisplacement, slip_stick_step
-from solver.spec.sizing import auto_depth
 
 SWIFT = {"law": "swift", "B": 945e6, "C": 20, "n": 0.121}
 STEEL = {"E": 210e9, "nu": 0.3}

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import solver
+from solver.case.reading import SpecError
 from solver.plasticity.hardening import Hardening
 from solver.plasticity.return_mapping import return_mapping
-from solver.spec.reading import SpecError
 
 G = 80e9
 SIGMA_Y = 1.0e9

@@ -225,8 +225,8 @@ def _linear_steel(ratio, mu=0.0, n=24, **grid):
 @pytest.mark.parametrize("ratio", [2.0, 4.0, 6.0])
 def test_the_window_holds_the_plastic_box_when_half_width_is_not_given(ratio):
     """Window = max(1.5, the plastic box the elastic yield region asks for); box = window."""
+    from solver.case.sizing import auto_plastic_half_width
     from solver.keys import DEFAULT_HALF_WIDTH, MAX_AUTO_HALF_WIDTH
-    from solver.spec.sizing import auto_plastic_half_width
 
     case = _linear_steel(ratio)
     box = auto_plastic_half_width(  # within the default window

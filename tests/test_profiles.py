@@ -297,7 +297,7 @@ def test_plastic_cone_yields_at_the_tip_and_the_box_holds_the_zone():
     table.update(body2=LINEAR_STEEL, grid={"n": [32, 32, 32], "half_width": 2.0})
     table["load"] = {"path": [{"normal_force": 5.0, "steps": 4}, {"normal_force": 0.0}]}
     case = Case.from_dict(table)
-    from solver.spec.sizing import elastic_yield_region
+    from solver.case.sizing import elastic_yield_region
 
     a = case.reference.radius
     region = elastic_yield_region(

@@ -296,7 +296,7 @@ def test_a_spinning_roll_is_solved_by_the_model_that_changed_it_and_others_keep_
     """Model version 4 changed how a transient roll's spin turns body 1: a spinning roll's
     id carries version 4 and a case file of version 3 is refused for it; every other case
     keeps version 3 (its id, its files) and takes a file of either version."""
-    from solver.spec.case import MODEL_CHANGES, MODEL_VERSION, OLDEST_MODEL
+    from solver.case.case import MODEL_CHANGES, MODEL_VERSION, OLDEST_MODEL
 
     roll = {"roll": [1e-3, 0.0], "creepage": [1e-4, 0.0], "steps": 8}
     spinning = _case([{"normal_force": FORCE}, {**roll, "spin": 2.0}], (64, 24))

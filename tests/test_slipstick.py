@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 import solver
+from solver.case.substeps import load_substeps
 from solver.drive.operators import CaseOperators
 from solver.drive.steps import ContactState, slip_stick_step
-from solver.spec.substeps import load_substeps
 from solver.theory import friction
 
 STEEL = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}

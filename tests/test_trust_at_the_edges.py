@@ -18,15 +18,15 @@ import pytest
 from study_fixtures import write
 
 import solver
-from solver.keys import MAX_INCREMENTS
-from solver.spec.grid import MAX_CELL_DEPTH, MIN_YIELD_CELLS
-from solver.spec.notes import (
+from solver.case.grid import MAX_CELL_DEPTH, MIN_YIELD_CELLS
+from solver.case.notes import (
     FULLY_PLASTIC_INDEX,
     SMALL_STRAIN_LIMIT,
     UNCONTAINED_PLASTIC_INDEX,
     plastic_index,
 )
-from solver.spec.reading import SpecError
+from solver.case.reading import SpecError
+from solver.keys import MAX_INCREMENTS
 from solver.theory.hertz import first_yield_pressure, hertz_yield_region
 from study.campaign import load_campaign
 from study.cli import LONG_PATH, main, path_warnings
@@ -50,7 +50,7 @@ def perfect_case(ratio, law=None, load=None, n=16):
     """A rigid sphere on a 1 GPa steel, loaded to p_H = ratio x 1 GPa.
 
     2n layers (thinner than 0.62 of a cell at these loads): a perfectly plastic body on
-    thicker ones has a note of its own (:func:`solver.spec.notes.layer_note`).
+    thicker ones has a note of its own (:func:`solver.case.notes.layer_note`).
     """
     law = law or {"law": "perfect", "yield_stress": 1e9}
     return {
@@ -96,8 +96,8 @@ def test_the_refused_cells_do_give_an_elastic_answer(monkeypatch):
     coarse = swift_case(p_h, nz=4, depth=2.0)  # cells 0.5 a_H thick
     with pytest.raises(SpecError, match=r"grid\.depth: cells 0\.5 a_H thick .* use nz >= 8"):
         solver.Case.from_dict(coarse)
-    monkeypatch.setattr("solver.spec.grid.MAX_CELL_DEPTH", 10.0)
-    monkeypatch.setattr("solver.spec.grid.MIN_YIELD_CELLS", 0)
+    monkeypatch.setattr("solver.case.grid.MAX_CELL_DEPTH", 10.0)
+    monkeypatch.setattr("solver.case.grid.MIN_YIELD_CELLS", 0)
     silent = solver.solve(solver.Case.from_dict(coarse))
     assert silent.converged and silent.history["max_plastic_strain"][-1] == 0.0
     monkeypatch.undo()

@@ -15,11 +15,11 @@ import numpy as np
 import pytest
 
 import solver
+from solver.case.case import Case
+from solver.case.reading import SpecError
 from solver.drive.operators import CaseOperators
 from solver.drive.plastic_loop import PlasticState
 from solver.drive.window import Follower
-from solver.spec.case import Case
-from solver.spec.reading import SpecError
 from solver.variables import PLASTIC_ZONE_THRESHOLD
 
 YIELD = 433.0127e6  # Pa: k = 250 MPa

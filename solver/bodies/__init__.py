@@ -8,5 +8,5 @@
 
 Imports: :mod:`solver.plasticity` (a body's hardening law), :mod:`solver.theory`,
 :mod:`solver.numerics` and the declarations.  A new body shape goes in :mod:`.geometry` (or
-:mod:`.heights` for one given point by point), its table in :mod:`solver.spec.bodies`.
+:mod:`.heights` for one given point by point), its table in :mod:`solver.case.bodies`.
 """

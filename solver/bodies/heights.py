@@ -69,7 +69,7 @@ class HeightMap:
 
     def __init__(self, x, y, height, source: str = "the height map") -> None:
         self.source = source
-        self.origin: dict = {}  # the surface table it was read from (solver.spec.case)
+        self.origin: dict = {}  # the surface table it was read from (solver.case.case)
         x, y = (_real_array(v, f"coordinate {n}", source) for n, v in (("x", x), ("y", y)))
         height = _real_array(height, "height", source)
         if height.ndim != 2:

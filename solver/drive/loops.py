@@ -14,7 +14,7 @@ symmetric EP-EP pair (seed eq. 2), any friction    load_steps, plasticity, norma
 
 (DESIGN §3.8.)  Every increment calls one contact step (:mod:`solver.drive.steps`), wrapped by the
 plasticity loop (:mod:`solver.drive.plastic_loop`) in elastic-plastic scenes.  The driver owns the
-sub-stepping of coupled friction scenes (:mod:`solver.spec.substeps`; a sub-step's iterations
+sub-stepping of coupled friction scenes (:mod:`solver.case.substeps`; a sub-step's iterations
 and friction work count in its step, its state is not recorded), the
 per-step histories (declared in :mod:`solver.variables`) and the notes.
 """
@@ -29,13 +29,13 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ..case.case import Case
+from ..case.notes import SMALL_STRAIN_LIMIT
+from ..case.substeps import load_substeps, substep_floor
 from ..keys import MIN_CELLS_ACROSS
 from ..numerics.grid import IndexBox, VolumeGrid
 from ..numerics.tensor import equivalent_strain, von_mises
 from ..result import SEPARATED, SLIP, STICK, SURFACE_FLOW_NOTE, Result
-from ..spec.case import Case
-from ..spec.notes import SMALL_STRAIN_LIMIT
-from ..spec.substeps import load_substeps, substep_floor
 from ..variables import BODY1_SUFFIX, CYCLE_PLASTIC_HISTORIES, HISTORIES, PLASTIC_BODY_HISTORIES
 from .operators import CaseOperators
 from .plastic_loop import PlasticState, PlasticStepResult, mirror, plastic_step

@@ -16,10 +16,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..bodies.materials import Pair
+from ..case.case import Case
+from ..case.options import SolverOptions
 from ..numerics.fftw import PLANNER_FLAGS
 from ..numerics.grid import SurfaceGrid, VolumeGrid
-from ..spec.case import Case
-from ..spec.options import SolverOptions
 from ..surface.convolution import SurfaceOperator, surface_operator
 from ..surface.periodic import periodic_surface_operator, y_periodic_surface_operator
 from ..surface.steady import SteadyOperator

@@ -13,9 +13,9 @@ import math
 
 import numpy as np
 
+from ..case.case import Case
 from ..numerics.tensor import Y_REFLECTION, von_mises
 from ..result import Result
-from ..spec.case import Case
 from ..theory.half_space import hamilton_stress
 from ..theory.shakedown import melan_factor
 from ..variables import BODY1_SUFFIX, CYCLE_PROFILES, FIELDS, PLASTIC_ZONE_THRESHOLD

@@ -24,8 +24,8 @@ import time
 
 import numpy as np
 
+from ..case.case import Case
 from ..result import SEPARATED, SLIP, Result
-from ..spec.case import Case
 from ..theorems.loads import elliptical_hertz, traction_limit
 from ..theorems.track import Track, TrackLimits, track_limits
 from ..theory.hertz import hertz

@@ -4,7 +4,7 @@ A sliding or rolling case covers its whole track with the case's surface grid (a
 volume grid under it: the plastic strain of every earlier position and pass lives there).  An
 increment, though, only needs the contact and the plastic flow it drives, both within
 ``grid.half_width`` of the contact.  So each increment is solved on a window of
-:attr:`~solver.spec.case.Case.moving_window` cells of the same grid, placed at the contact
+:attr:`~solver.case.case.Case.moving_window` cells of the same grid, placed at the contact
 (whole cells: it covers the contacts at both ends of the increment), with the window's own
 operators (:attr:`~solver.drive.operators.CaseOperators.local`, kernels built once):
 

@@ -179,7 +179,7 @@ def kalker_linear_force(
 
     ``F_x = G a^2 C11 xi``, ``F_y = G a^2 C22 eta + G a^3 C23 phi`` (``G`` the pair's shear
     modulus, 2/G = 1/G1 + 1/G2; ``a`` the contact radius; ``phi`` the spin, 1/m), with the
-    signs of :mod:`solver.spec.case` (the force on body 2 points along the rigid slip of body 1; a
+    signs of :mod:`solver.case.case` (the force on body 2 points along the rigid slip of body 1; a
     positive spin turns x towards y and pushes body 2 towards +y, as tested).  Valid where the
     contact nearly adheres (a force well below ``mu W``); ``nu`` one of
     :data:`KALKER_CIRCLE_COEFFICIENTS`.

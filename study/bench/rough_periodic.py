@@ -47,7 +47,7 @@ PEER_LARGEST = 128
 #: Longest a peer's run may take (s): Tamaas at 128 cells takes more than the default half hour.
 PEER_TIMEOUT = 4 * 3600.0
 #: Layers per cell width: layers half a cell thick (on cubic cells weak hardening lets the
-#: plasticity loop stall, :func:`solver.spec.notes.layer_note`).
+#: plasticity loop stall, :func:`solver.case.notes.layer_note`).
 LAYERS = 2
 
 

@@ -38,7 +38,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, fields, replace
 
 import solver
-from solver.spec.substeps import substep_count, substep_floor
+from solver.case.substeps import substep_count, substep_floor
 
 #: Version of the counting and of the calibration cases: a calibration of another is redone.
 MODEL = 1
@@ -277,7 +277,7 @@ def features(case: solver.Case) -> dict:
 
 
 def _substeps(case: solver.Case) -> int:
-    """Load sub-steps a coupled case adds (:mod:`solver.spec.substeps`), as its solve does."""
+    """Load sub-steps a coupled case adds (:mod:`solver.case.substeps`), as its solve does."""
     try:
         smallest = substep_floor(case)
     except Exception:  # noqa: BLE001 - no reference: the first sub-step's default

@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import solver
-from solver.spec.batch import SharedTables
+from solver.case.batch import SharedTables
 
 from .cost import REFERENCE, count, seconds
 from .model import (

@@ -150,7 +150,7 @@ _ATTRS = (
 
 
 def _case_steps(spec: dict) -> int:
-    return solver.spec.path.path_steps(spec["load"]["path"])
+    return solver.case.path.path_steps(spec["load"]["path"])
 
 
 def _grid_cells(spec: dict) -> int:
@@ -340,7 +340,7 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     scalars = {name: np.full(shape, np.nan) for name in SCALARS}
     histories: dict[str, np.ndarray] = {}
     cycle_count = max(
-        solver.spec.path.path_cycles(case.spec["load"]["path"]) for case in campaign.cases
+        solver.case.path.path_cycles(case.spec["load"]["path"]) for case in campaign.cases
     )
     per_cycle: dict[str, np.ndarray] = {}
     regimes = None  # shakedown flags, when a case has them

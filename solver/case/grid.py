@@ -37,7 +37,7 @@ class GridSpec:
     ``size`` (m): the domain's sides instead of ``half_width`` (point heights).
 
     ``depth`` None (not given) is resolved by :meth:`Case.from_dict`: the elastic yield depth
-    with a margin for elastic-plastic cases (:func:`~solver.spec.sizing.auto_depth`), else
+    with a margin for elastic-plastic cases (:func:`~solver.case.sizing.auto_depth`), else
     :data:`DEFAULT_DEPTH`.
     ``depth_body1``: the depth of body 1's own volume grid when both bodies are elastic-plastic
     and different (same cells; default: ``depth`` when given, else body 1's yield depth).
@@ -197,7 +197,7 @@ def check_volume(
     the box must reach the depth where plasticity starts (a shallower one gives an elastic
     answer), and the region inside the box must span :data:`MIN_YIELD_CELLS` cells.  ``region``
     (top, bottom, half width, in units of the contact radius): a profile's computed region
-    (:func:`~solver.spec.sizing.elastic_yield_region`) instead of Hertz's.
+    (:func:`~solver.case.sizing.elastic_yield_region`) instead of Hertz's.
     """
     nu, sigma = body.nu, body.hardening.initial_yield_stress
     cell = depth / nz

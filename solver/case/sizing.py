@@ -12,8 +12,8 @@ region ends above its floor.  Memoised per input.
 Also the window and the box of an elastic-plastic case from that region: its depth
 (:func:`auto_depth`), the box's half side (:func:`auto_plastic_half_width`) and the widest
 window the cells resolve (:func:`resolved_half_width`); ``grid`` arguments are the case's
-:class:`solver.spec.grid.GridSpec`.  The note of a window narrower than the box is
-:func:`solver.spec.notes.narrow_window_note`.
+:class:`solver.case.grid.GridSpec`.  The note of a window narrower than the box is
+:func:`solver.case.notes.narrow_window_note`.
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ A case is built from a TOML table or a dict (SI units) with :meth:`Case.from_dic
 normalised table (floats where floats are meant, defaults filled in), whose hash is the case id,
 so ``1`` and ``1.0`` give the same id.
 
-Each table is parsed by the module of :mod:`solver.spec` that holds it (:mod:`.bodies`,
+Each table is parsed by the module of :mod:`solver.case` that holds it (:mod:`.bodies`,
 :mod:`.path`, :mod:`.grid`, :mod:`.options`); here they are put together, the rules that join
 tables are checked, the window and the plastic box are sized (:mod:`.volume`, :mod:`.sizing`),
 the notes are gathered (:mod:`.notes`), and :class:`Case` derives the grids, the reference
@@ -200,7 +200,7 @@ class Case:
 
         ``read_surface`` reads the height-map files the bodies name (``bodyN.surface``):
         ``study.campaign.surfaces.read_surface``; without it such a case is refused.
-        ``shared`` (:class:`~solver.spec.batch.SharedTables`) parses the sub-tables that a
+        ``shared`` (:class:`~solver.case.batch.SharedTables`) parses the sub-tables that a
         batch of tables built from one base shares once; the case is the same without it.
 
         Raises
@@ -750,7 +750,7 @@ class Case:
     def case_id(self) -> str:
         """Content hash of the normalised specification (16 hex digits, :func:`case_hash`).
 
-        Without :data:`~solver.spec.options.EXECUTION_KEYS`, which change no result beyond
+        Without :data:`~solver.case.options.EXECUTION_KEYS`, which change no result beyond
         round-off.
         """
         return case_hash(self.spec)

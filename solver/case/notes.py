@@ -178,10 +178,10 @@ def check_periodic_volume(depth: float, nz: int, region, period: float, path: st
     """Refuse a periodic elastic-plastic volume grid that cannot hold or resolve the zone.
 
     ``depth`` (m) of the volume grid, ``region`` the elastic yield region
-    (:func:`~solver.spec.sizing.periodic_yield_region`, m), ``period`` the shorter side (m).
+    (:func:`~solver.case.sizing.periodic_yield_region`, m), ``period`` the shorter side (m).
     The region must end within :data:`MAX_PERIODIC_DEPTH` of the period, the box reach the
     depth where yield starts, and its layers resolve the region
-    (:func:`~solver.spec.grid.require_yield_cells`).  Returns a note when the box ends above
+    (:func:`~solver.case.grid.require_yield_cells`).  Returns a note when the box ends above
     the region's bottom (the plastic zone will likely reach it: truncated), else None.
     """
     top, bottom = region.top, region.bottom

@@ -36,7 +36,7 @@ _key = json.encoder.encode_basestring_ascii
 def id_form(key: str, value: Any) -> Any:
     """The part of the normalised table ``key`` that the case id hashes.
 
-    Without :data:`~solver.spec.options.EXECUTION_KEYS` (they change no result beyond
+    Without :data:`~solver.case.options.EXECUTION_KEYS` (they change no result beyond
     round-off), and a height map as its content, wherever its file lies.
     """
     if key == "solver":
