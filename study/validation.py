@@ -218,8 +218,9 @@ def describe_campaign(
         count = f"{len(campaign.cases)} rows of {len(cases)} distinct cases (each solved once)"
     lines = [
         f"campaign {campaign.name} ({campaign.source or 'table'}): {count}, "
-        f"shape {' x '.join(map(str, campaign.shape))}, output {campaign.settings.output}",
-        "axes:",
+        f"shape {' x '.join(map(str, campaign.shape)) or '() (one case, no axes)'}, "
+        f"output {campaign.settings.output}",
+        "axes:" if campaign.axes else "axes: none (no [sweep], [zip] or [sample]: the base case)",
     ]
     design = campaign.design
     spread = {} if design is None else dict(zip(design.keys, design.distributions, strict=True))

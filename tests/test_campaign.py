@@ -200,7 +200,6 @@ BAD = {
         "case tables go under [base]",
     ),
     "missing base": (SWEEP_MU, "[base]: missing"),
-    "nothing to sweep": (NORMAL_BASE, "nothing to sweep"),
     "empty sweep table": ("[sweep]\n" + NORMAL_BASE, "[sweep]: empty"),
     "empty list": ('[sweep]\n"friction.coefficient" = []\n' + NORMAL_BASE, "empty list"),
     "not a list": ('[sweep]\n"friction.coefficient" = 0.1\n' + NORMAL_BASE, "must be a list"),

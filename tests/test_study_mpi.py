@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from study_fixtures import NORMAL_BASE, mixed_campaign, small_campaign, write
+from study_fixtures import CATTANEO_BASE, NORMAL_BASE, mixed_campaign, small_campaign, write
 
 import solver
 from study.campaign import CampaignError, load_campaign
@@ -169,3 +169,28 @@ def test_every_rank_builds_a_share_of_the_cases(comm, monkeypatch):
     with pytest.raises(CampaignError) as spread:
         broadcast_campaign(lambda spread: expand_campaign(bad, spread=spread), comm)
     assert str(spread.value) == str(alone.value) and "case 21 of 40" in str(alone.value)
+
+
+def test_one_case_campaign_runs_restarts_and_reports(comm, shared):
+    """A campaign file without [sweep], [zip] or [sample] is its base case: no axes."""
+    if comm.Get_rank() == 0:
+        write(shared, '[campaign]\nname = "one"\n' + CATTANEO_BASE, "one.toml")
+    comm.Barrier()
+    campaign = load(comm, shared / "one.toml")
+    assert campaign.axes == () and len(campaign.cases) == 1 and campaign.shape == ()
+    first = run_campaign(campaign, shared / "out", comm)
+    again = run_campaign(campaign, shared / "out", comm)  # a restart: nothing left to do
+    assert (first.converged, first.skipped) == (1, 0) and first.exit_status == 0
+    assert (again.converged, again.skipped, again.pending) == (0, 1, 0)
+    if comm.Get_rank() == 0:
+        import xarray as xr
+
+        from study.report import build_report
+        from study.run.assemble import assemble_to_file
+
+        with xr.open_dataset(assemble_to_file(shared / "out")) as dataset:
+            assert dataset.max_pressure.dims == () and dataset.stick_radius.dims == ()
+            direct = solver.solve(campaign.cases[0].case())  # the same case, outside the study
+            assert float(dataset.max_pressure) == pytest.approx(direct.pressure.max(), rel=1e-12)
+        text = build_report(shared / "out").read_text()
+        assert "- axes: none (a campaign of one case" in text and "- cases: 1 (" in text

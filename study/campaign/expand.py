@@ -62,11 +62,6 @@ def _all_keys(entries: list[_Entry]):
 
 
 def _parse_axes(sweep: Any, zipped: Any, design: Design | None = None) -> list[_Entry]:
-    if sweep is None and zipped is None and design is None:
-        raise CampaignError(
-            "nothing to sweep: add a [sweep] table (or [zip], or [sample]); for a single case "
-            'sweep one value, e.g. "friction.coefficient" = [0.1]'
-        )
     entries: list[_Entry] = []
     if sweep is not None:
         if not isinstance(sweep, Mapping):

@@ -115,13 +115,10 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
     lines += [f"- **{k}**: {v}" for k, v in provenance(dataset, out).items()]
     lines += ["", "## Campaign", ""]
     lines.append(f"- dataset: `{path.name}`")
-    lines.append(
-        "- axes: "
-        + ", ".join(
-            f"`{d}` ({dataset.sizes[d]}: {_values(dataset, d)})"
-            for d in analysis.axis_dims(dataset)
-        )
+    axes = ", ".join(
+        f"`{d}` ({dataset.sizes[d]}: {_values(dataset, d)})" for d in analysis.axis_dims(dataset)
     )
+    lines.append(f"- axes: {axes or 'none (a campaign of one case: its variables are scalars)'}")
     counts = ", ".join(f"{flag} {dataset.attrs.get(f'cases_{flag}', '?')}" for flag in STATUS_FLAGS)
     lines.append(f"- cases: {dataset.attrs.get('cases_total', '?')} ({counts})")
     lines.append(f"- closed forms: {analysis.scene(dataset)}")
