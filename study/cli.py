@@ -374,9 +374,14 @@ def _run(args: argparse.Namespace) -> int:
     logger = configure_logging(rank, size, args.verbose)
     _check_options(args)
     try:
-        campaign = broadcast_campaign(
-            lambda spread: load_campaign_file(args.campaign, spread=spread), comm
-        )
+        progress = ProgressLine(say=logger.info)  # called on rank 0 only
+
+        def load(spread):
+            found = load_campaign_file(args.campaign, progress=progress, spread=spread)
+            progress.finish()
+            return found
+
+        campaign = broadcast_campaign(load, comm)
         out = Path(args.out or campaign.settings.output)
         summary = run_campaign(campaign, out, comm, run_options(args), logger)
     except CampaignError as error:

@@ -78,46 +78,58 @@ def case_warnings(campaign: Campaign, shown: int = 5) -> list[str]:
 
 
 class ProgressLine:
-    """``progress(done, total)`` for a campaign expansion: a line on stderr now and then.
+    """``progress(done, total)`` for a campaign expansion: its rate and time left, now and then.
 
-    Silent for the first :attr:`delay` seconds (every small campaign), then one line every
-    :attr:`every` seconds with the cases validated so far, and a last line with the total time.
+    Silent for an expansion that will take less than :attr:`delay` seconds (every small
+    campaign).  A longer one is told at the first call (the cases checked per second so far and
+    the time the rest will take at that rate), then every :attr:`every` seconds, and a last line
+    gives the total time.
+
+    Parameters
+    ----------
+    stream : file, optional
+        Where the lines go (default stderr).
+    say : callable, optional
+        ``say(line)`` instead of printing (a run's logger on rank 0).
     """
 
     delay = 3.0
     every = 10.0
 
-    def __init__(self, stream=None):
+    def __init__(self, stream=None, say=None):
         import time
 
         self._clock = time.monotonic
         self._start = self._clock()
-        self._next = self._start + self.delay
-        self._stream = stream
+        self._next = self._start
+        self._say = say or (lambda line: print(line, file=stream or sys.stderr, flush=True))
         self._shown = False
 
     def __call__(self, done: int, total: int) -> None:
-        """Print a line when one is due (never for the last call: :meth:`finish` says it)."""
+        """Say a line when one is due (never for the last call: :meth:`finish` says it)."""
+        from .run.progress import format_duration
+
         now = self._clock()
-        if now < self._next or done >= total:
+        if done <= 0 or done >= total or now < self._next:
+            return
+        elapsed = now - self._start
+        left = elapsed * (total - done) / done
+        if not self._shown and elapsed + left < self.delay:
             return
         self._next = now + self.every
         self._shown = True
-        print(
+        rate = f", {done / elapsed:.0f} cases/s" if elapsed > 0 else ""
+        self._say(
             f"validating: {done}/{total} cases ({100 * done // total} %) in "
-            f"{now - self._start:.0f} s",
-            file=self._stream or sys.stderr,
-            flush=True,
+            f"{format_duration(elapsed)}{rate}: about {format_duration(left)} left"
         )
 
     def finish(self) -> None:
         """Say how long it took, if any progress line was shown."""
+        from .run.progress import format_duration
+
         if self._shown:
-            print(
-                f"validating: done in {self._clock() - self._start:.0f} s",
-                file=self._stream or sys.stderr,
-                flush=True,
-            )
+            self._say(f"validating: done in {format_duration(self._clock() - self._start)}")
 
 
 def machine_memory() -> int | None:

@@ -271,7 +271,7 @@ BAD = {
     ),
     "alias of an unswept key": (
         SWEEP_MU + '[alias]\n"grid.n" = "cells"\n' + NORMAL_BASE,
-        "not a swept key",
+        "not a key of [sweep], [zip] or [sample]; those are friction.coefficient",
     ),
     "alias not an identifier": (
         SWEEP_MU + '[alias]\n"friction.coefficient" = "friction coefficient"\n' + NORMAL_BASE,
@@ -529,25 +529,40 @@ def test_progress_lines_on_a_long_expansion(tmp_path, monkeypatch):
 
     stream = io.StringIO()
     ticks = iter(range(0, 1000, 2))  # a clock that advances 2 s per reading
-    monkeypatch.setattr(cli.ProgressLine, "delay", 3.0)
     monkeypatch.setattr(cli.ProgressLine, "every", 4.0)
     progress = cli.ProgressLine(stream)
     progress._clock = lambda: next(ticks)
-    progress._start, progress._next = 0, 3.0
-    for done in range(0, 10001, 2000):
-        progress(done, 10000)
+    progress._start = progress._next = 0
+    total, step = 10000, 2000
+    for done in range(0, total + 1, step):
+        progress(done, total)
     progress.finish()
     lines = stream.getvalue().splitlines()
-    # calls at t = 0, 2, ..., 10 s (done 0, 2000, ..., 10000): silent for 3 s, then every 4 s;
-    # none for the last call (done = total), finish() at t = 12 s
-    assert lines == [
-        "validating: 4000/10000 cases (40 %) in 4 s",
-        "validating: 8000/10000 cases (80 %) in 8 s",
-        "validating: done in 12 s",
-    ]
+    # calls at t = 0, 2, ..., 10 s (done 0, 2000, ..., 10000): the first with cases done says
+    # the rate and the time left at once (the whole takes 10 s > delay), then every 4 s; none
+    # for the last call (done = total), finish() at t = 12 s
+    rate = step / 2  # cases per second of the fake clock
+
+    def line(t):
+        done = rate * t
+        left = (total - done) / rate
+        return (
+            f"validating: {done:.0f}/{total} cases ({100 * done / total:.0f} %) in {t:.1f}s, "
+            f"{rate:.0f} cases/s: about {left:.1f}s left"
+        )
+
+    assert lines == [line(2), line(6), "validating: done in 12.0s"]
     quiet = io.StringIO()
     cli.ProgressLine(quiet).finish()
     assert quiet.getvalue() == ""
+    short = io.StringIO()  # an expansion that takes less than the delay says nothing
+    fast = cli.ProgressLine(short)
+    fast._clock = iter([0.0, 0.1, 0.2, 0.3]).__next__
+    fast._start = fast._next = 0.0
+    for done in (2000, 4000):
+        fast(done, 6000)
+    fast.finish()
+    assert short.getvalue() == ""
 
 
 def test_expansion_reports_progress(tmp_path):

@@ -251,6 +251,13 @@ class Case:
                     "radius (or none), not radius_x / radius_y",
                 )
         elif kx > 0 or ky > 0 or not geometry.surfaces:
+            if grid.periodic and not geometry.surfaces:
+                fail(
+                    "grid.periodic",
+                    "a periodic domain is one period of a rough flat surface: give body 1 or "
+                    "body 2 a roughness table or a surface (a height map); radii are refused "
+                    "there (a smooth sphere: leave grid.periodic out)",
+                )
             if not (kx > 0 and ky > 0):
                 fail(
                     "body1.radius",

@@ -77,8 +77,14 @@ def check_periodic_scene(
         fail("grid.n", "an elastic-plastic body needs a volume grid: give grid.n = [nx, ny, nz]")
     if grid.plastic_half_width is not None:
         fail("grid.plastic_half_width", "a periodic case's plastic box is the whole period")
-    if any(stage.motion for stage in stages):
-        fail("load.path", "a periodic case is pressed, not slid or rolled: remove slide and roll")
+    motions = sorted({stage.motion for stage in stages if stage.motion})
+    if motions:
+        line = ' (steady rolling of a line contact: grid.periodic = "y")' * ("steady" in motions)
+        fail(
+            "load.path",
+            "a periodic case is pressed (with friction and tangential forces), not slid or "
+            f"rolled: remove {' and '.join(motions)}{line}",
+        )
 
 
 def check_line_scene(body1: Body, body2: Body, stages, paths, grid: GridSpec) -> None:

@@ -162,7 +162,8 @@ def _parse_aliases(raw: Any, keys: list[str]) -> dict[str, str]:
             close = difflib.get_close_matches(key, keys, n=1)  # the swept key misspelt?
             hint = f' (is "{close[0]}" misspelt in the sweep?)' if close else ""
             raise CampaignError(
-                f'[alias] "{written}": not a swept key; swept keys are {", ".join(keys)}{hint}'
+                f'[alias] "{written}": not a key of [sweep], [zip] or [sample]; those are '
+                f"{', '.join(keys)}{hint}"
             )
         if not isinstance(name, str) or not _NAME.match(name):
             raise CampaignError(
@@ -387,9 +388,15 @@ class Expansion:
             _, where, message = failures[0]
             message = _explain(message, self.axes)
             field_path = message.split(":", 1)[0]
-            keys = {c.key for axis in self.axes for c in axis.coordinates}
-            if "unknown key" in message and field_path in keys:
-                raise CampaignError(f'swept key "{field_path}": {message.split(" [set by")[0]}')
+            kinds = {
+                c.key: "sampled" if axis.name == SAMPLE_DIM else "swept"
+                for axis in self.axes
+                for c in axis.coordinates
+            }
+            if "unknown key" in message and field_path in kinds:
+                raise CampaignError(
+                    f'{kinds[field_path]} key "{field_path}": {message.split(" [set by")[0]}'
+                )
             more = (
                 f" (and {len(failures) - 1} more of {self.total} cases)"
                 if len(failures) > 1

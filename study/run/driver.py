@@ -227,7 +227,10 @@ class RunSummary:
         """One-paragraph summary for the log."""
         ranks = ", ".join(f"rank {r}: {n}" for r, n in sorted(self.per_rank.items()))
         cut = (
-            f"{self.truncated} truncated (plastic zone cut by the box), " if self.truncated else ""
+            f"{self.truncated} truncated (the plastic zone at a face of its box, or the contact "
+            "at the surface domain's edge: each case's notes say which), "
+            if self.truncated
+            else ""
         )
         if self.surface_flow:
             cut += f"{self.surface_flow} surface flow (the surface shear past the body's limit), "
