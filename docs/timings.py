@@ -59,7 +59,7 @@ def _example(name: str, what: str) -> Command:
 
 
 COMMANDS: tuple[Command, ...] = (
-    _campaign("quickstart", "the quickstart campaign: 20 elastic cases with friction"),
+    _campaign("quickstart", "the quickstart campaign: 25 elastic cases with friction"),
     _example("hertz_pressure", "Hertz pressure on three meshes"),
     _example("cattaneo_stick_zone", "Cattaneo-Mindlin partial slip"),
     _example("friction_sweep", "a 6-case campaign over mu"),

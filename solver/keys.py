@@ -70,6 +70,13 @@ MAX_CYCLES = 10_000
 #: Largest number of load increments of a path (cycle blocks repeated): every increment is a
 #: contact solve and a row of every history.
 MAX_INCREMENTS = 1_000_000
+#: Radius of curvature (m) above which a case gets a note asking whether its lengths are in
+#: metres: railway wheels (about 0.46 m) and mill rolls stay below it, a "10" meant as 10 mm
+#: does not.
+LARGE_RADIUS = 2.0
+#: Hertz contact radius (m) above which a case gets the same note (a 10 m sphere at 1 GPa on
+#: steel touches over 68 mm; wheel-rail contacts are about 7 mm).
+LARGE_CONTACT_RADIUS = 0.02
 #: Largest friction coefficient accepted (dimensionless).
 MAX_FRICTION = 100.0
 #: Smallest positive friction coefficient accepted: below it the tangential solve's scales

@@ -8,6 +8,8 @@ cut by the domain's edge was summarised as "plastic zone cut by the box".
 
 from __future__ import annotations
 
+import math
+
 import pytest
 from study_fixtures import NORMAL_BASE, write
 
@@ -98,3 +100,24 @@ def test_a_truncated_case_is_not_summarised_as_a_plastic_zone_only():
     )
     assert "domain's edge: each case's notes say which)" in text
     assert "cut by the box" not in text
+
+
+def test_a_sphere_of_metres_meant_as_millimetres_gets_a_note():
+    e_star = 210e9 / (1 - 0.3**2)
+    notes = {}
+    for radius in (0.01, 10.0):
+        case = solver.Case.from_dict(
+            {
+                "body1": {"behaviour": "rigid", "radius": radius},
+                "body2": {"behaviour": "elastic", "E": 210e9, "nu": 0.3},
+                "load": {"hertz_pressure": 1e9},
+                "grid": {"n": 32},
+            }
+        )
+        notes[radius] = [w for w in case.warnings if "lengths are in metres" in w]
+    contact = math.pi * 1e9 * 10.0 / (2 * e_star)  # Hertz: a = pi p0 R / (2 E*)
+    assert notes[0.01] == []
+    assert notes[10.0] == [
+        f"body1.radius = 10 m: the contact radius is {1e3 * contact:.3g} mm; lengths are in "
+        "metres (a 10 mm sphere is radius = 0.01): solved as given"
+    ]

@@ -4,7 +4,7 @@ import xarray as xr
 from study.report.figures import series_style
 
 ds = xr.open_dataset("out/quickstart/quickstart.nc")
-ds.max_pressure.sel(friction_coefficient=0.2, method="nearest")  # over dundurs_beta
+ds.max_pressure.sel(friction_coefficient=0.1, method="nearest")  # over dundurs_beta
 fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
 # a ratio keeps the numerator's units (xarray keeps attrs): say it is dimensionless
 ratio = (ds.stick_radius / ds.hertz_radius).assign_attrs(units="1")

@@ -51,6 +51,7 @@ from .notes import (
     check_steady_scene,
     layer_note,
     rolling_step_note,
+    scale_note,
     surface_shear_note,
     window_note,
     window_unbuilt,
@@ -442,7 +443,7 @@ class Case:
         else:
             notes = (
                 layer_note(case), surface_shear_note(case), window_note(case),
-                rolling_step_note(case),
+                rolling_step_note(case), scale_note(case),
             )  # fmt: skip
             notes = tuple(filter(None, notes))
         if notes:  # the case is not yet given out: its cached quantities stay

@@ -13,7 +13,14 @@ import math
 from typing import Any
 
 from ..bodies.materials import Body, Pair
-from ..keys import MAX_AUTO_HALF_WIDTH, MAX_PERIODIC_DEPTH, MAX_ROLLING_STEP, PLASTIC_WIDTH_MARGIN
+from ..keys import (
+    LARGE_CONTACT_RADIUS,
+    LARGE_RADIUS,
+    MAX_AUTO_HALF_WIDTH,
+    MAX_PERIODIC_DEPTH,
+    MAX_ROLLING_STEP,
+    PLASTIC_WIDTH_MARGIN,
+)
 from .grid import GridSpec, require_yield_cells
 from .reading import fail
 from .sizing import slope_index
@@ -393,6 +400,31 @@ def surface_shear_note(case) -> str | None:
         f"by grid.nz and the plasticity loop may not converge; lower the load or "
         f"friction.coefficient below p_0 = {limit / mu / 1e6:.4g} MPa, or give the body "
         f"hardening"
+    )
+
+
+def scale_note(case) -> str | None:
+    """A note for lengths far above machine contacts' (a radius in mm given as metres?).
+
+    Given when a body's radius of curvature exceeds :data:`LARGE_RADIUS` or the closed-form
+    contact's largest semi-axis :data:`LARGE_CONTACT_RADIUS`; the case is solved as given.
+    """
+    radii = []
+    for name, body in (("body1", case.body1), ("body2", case.body2)):
+        if body.radius_x == body.radius_y:  # a sphere's one radius
+            radii.append((f"{name}.radius", body.radius_x))
+        else:
+            radii += [(f"{name}.radius_x", body.radius_x), (f"{name}.radius_y", body.radius_y)]
+    finite = [(key, radius) for key, radius in radii if math.isfinite(radius)]
+    key, radius = max(finite, key=lambda item: item[1], default=("", 0.0))
+    reference = case.reference if not case.grid.periodic else None
+    contact = reference.max_semi_axis if reference is not None else 0.0
+    if radius <= LARGE_RADIUS and contact <= LARGE_CONTACT_RADIUS:
+        return None
+    told = f"{key} = {radius:g} m: " if radius > LARGE_RADIUS else ""
+    return (
+        f"{told}the contact radius is {1e3 * contact:.3g} mm; lengths are in metres (a 10 mm "
+        "sphere is radius = 0.01): solved as given"
     )
 
 
