@@ -2,7 +2,10 @@
 
 Every function takes the dataset written by :mod:`study.run.assemble` (``OUT/<name>.nc``, opened
 with :func:`xarray.open_dataset`) and returns plain numbers or :class:`pandas.DataFrame` tables,
-so they can be used from a notebook as well as by :mod:`study.report`.
+so they can be used from a notebook as well as by :mod:`study.report`.  The sensitivity
+functions (Sobol', Morris, finite differences), given a path, an unknown quantity or one that is
+not a number per case, raise a :class:`TypeError` or an :class:`AnalysisError` (a
+:class:`ValueError`) whose one line says what to give instead.
 
 Vocabulary
 ----------
@@ -39,7 +42,9 @@ from .convergence import (
 from .dataset import (
     MESH_KEYS,
     QUANTITIES,
+    AnalysisError,
     axis_dims,
+    case_quantities,
     cell_counts,
     closed_forms,
     dundurs_beta,
@@ -80,6 +85,8 @@ from .speed_error import (
 )
 
 __all__ = [
+    "AnalysisError",
+    "case_quantities",
     "design_method",
     "morris_indices",
     "result_quantities",

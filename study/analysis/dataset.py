@@ -11,10 +11,14 @@ import itertools
 import json
 import math
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from solver.result import SOLVE_STATUSES, STATUS_FLAGS
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 #: Quantities studied (when present in the dataset): name -> (units, label).
 QUANTITIES = {
@@ -32,6 +36,118 @@ MESH_KEYS = {
     "grid.n": ("cells per side", "h / a = 2 half_width / n (cell size over the Hertz semi-axis)"),
     "load.steps": ("load steps", "h = 1 / steps (load increment over the load)"),
 }
+
+
+class AnalysisError(ValueError):
+    """A dataset, quantity or axis an analysis cannot use: the message names it and what to do."""
+
+
+#: Per-case numbers that record the run rather than the contact (listed last).
+RUN_RECORDS = ("mpi_rank", "grid_cells", "steps", "wall_time", "case_time", "peak_rss")
+#: Most names a message lists before it says how many more there are.
+LISTED = 10
+
+
+# -- checks of a caller's arguments --------------------------------------------------------------
+def check_dataset(dataset: object) -> None:
+    """Raise unless ``dataset`` is a campaign's :class:`xarray.Dataset` (with ``status``).
+
+    Raises
+    ------
+    TypeError
+        A path (to open first) or another object than a Dataset.
+    AnalysisError
+        A Dataset that is not a campaign's (no ``status``).
+    """
+    import os
+    from pathlib import Path
+
+    import xarray as xr
+
+    if isinstance(dataset, str | os.PathLike):
+        path = Path(dataset)
+        found = sorted(path.glob("*.nc")) if path.is_dir() else []
+        target = repr(str(found[0])) if found else "'OUT/<name>.nc'" if path.is_dir() else "path"
+        raise TypeError(
+            f"dataset: got a path {str(dataset)!r}; open it first with "
+            f"xarray.open_dataset({target})"
+        )
+    if not isinstance(dataset, xr.Dataset):
+        kind = type(dataset).__name__
+        raise TypeError(
+            f"dataset: got {'an' if kind[0] in 'AEIOUaeiou' else 'a'} {kind}; give the "
+            "campaign's xarray.Dataset, xarray.open_dataset('OUT/<name>.nc')"
+        )
+    if "status" not in dataset.variables:
+        raise AnalysisError(
+            "dataset: not a campaign dataset (it has no status variable); give the one "
+            "`python -m study run` assembled, xarray.open_dataset('OUT/<name>.nc')"
+        )
+
+
+def case_quantities(dataset: xr.Dataset) -> list[str]:
+    """The variables with one number per case: numeric, on the dims of ``status``, no flag.
+
+    :data:`QUANTITIES` first, then the others in the dataset's order, the run's own records
+    (rank, cells, times, memory) last.
+    """
+    dims = set(axis_dims(dataset))
+    found = [
+        str(name)
+        for name, var in dataset.data_vars.items()
+        if set(var.dims) == dims and var.dtype.kind in "iuf" and "flag_values" not in var.attrs
+    ]
+    order = {name: i for i, name in enumerate(QUANTITIES)}
+    return sorted(found, key=lambda q: (order.get(q, len(order)), q in RUN_RECORDS))
+
+
+def _listed(names: list[str]) -> str:
+    more = len(names) - LISTED
+    return ", ".join(names[:LISTED]) + (f" (and {more} more)" if more > 0 else "") or "none"
+
+
+def check_quantity(dataset: xr.Dataset, quantity: str) -> None:
+    """Raise unless ``quantity`` names a variable with one number per case of ``dataset``.
+
+    Raises
+    ------
+    TypeError
+        ``quantity`` is not a string.
+    AnalysisError
+        No such variable, a text or flag variable, or one with other dimensions than the cases'
+        (a profile, a history, a per-cycle quantity); the message lists the usable ones.
+    """
+    names = case_quantities(dataset)
+    usable = f"give one of {_listed(names)}"
+    if not isinstance(quantity, str):
+        raise TypeError(
+            f"quantity: got {quantity!r} ({type(quantity).__name__}), not a name; {usable}"
+        )
+    if quantity not in dataset.data_vars:
+        import difflib
+
+        if quantity in dataset.coords:
+            raise AnalysisError(f"quantity {quantity!r} is an input (a coordinate); {usable}")
+        close = difflib.get_close_matches(quantity, names, n=1)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        raise AnalysisError(
+            f"quantity {quantity!r}: no such variable in the dataset; {hint}{usable}"
+        )
+    var = dataset[quantity]
+    if var.dtype.kind not in "iuf":
+        kind = "text" if var.dtype.kind in "USO" else str(var.dtype)
+        raise AnalysisError(f"quantity {quantity!r} is not numeric (it holds {kind}); {usable}")
+    if "flag_values" in var.attrs:
+        meaning = var.attrs.get("long_name", "flags")
+        raise AnalysisError(f"quantity {quantity!r} is a flag ({meaning}), not a measure; {usable}")
+    dims = axis_dims(dataset)
+    extra = [d for d in var.dims if d not in dims]
+    if extra or set(var.dims) != set(dims):
+        pick = f"; or pick one value along {extra[0]} first, e.g. dataset.isel({extra[0]}=0)"
+        raise AnalysisError(
+            f"quantity {quantity!r} has dims ({', '.join(map(str, var.dims))}), not one number "
+            f"per case (dims {', '.join(dims)}): {usable}" + (pick if extra else "")
+        )
 
 
 # -- axes ----------------------------------------------------------------------------------------

@@ -10,15 +10,31 @@ quantity per unit of the input's quantile level (the unit hypercube).
 Cases that did not finish break the blocks they belong to (a Saltelli block of ``D + 2``
 rows, a Morris trajectory of ``D + 1``): such blocks are left out whole, which keeps the
 estimators unbiased on fewer samples, and the tables say how many were used and left out.
+A design cut inside a block (fewer rows than whole blocks), a dataset without the design, or a
+quantity that is not one number per case is refused with an :class:`~.dataset.AnalysisError`
+that says what to give instead.
 Other dimensions of the campaign (a swept key beside the design) give one set of indices per
 combination of their values.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-from .dataset import finished_mask, quantities, sweep_slices
+from .dataset import (
+    AnalysisError,
+    check_dataset,
+    check_quantity,
+    finished_mask,
+    quantities,
+    sweep_slices,
+)
+
+if TYPE_CHECKING:
+    import pandas as pd
+    import xarray as xr
 
 SAMPLE_DIM = "sample"
 #: Bootstrap resamples of the confidence intervals, and their level.
@@ -35,8 +51,9 @@ def sampled_inputs(dataset) -> list[str]:
     return [str(name) for name in dataset["sample_input"].values]
 
 
-def result_quantities(dataset) -> list[str]:
+def result_quantities(dataset: xr.Dataset) -> list[str]:
     """The report's quantities (:func:`~.dataset.quantities`) that vary over the finished cases."""
+    check_dataset(dataset)
     found = []
     for name in quantities(dataset):
         values = np.asarray(dataset[name].where(finished_mask(dataset)).values, dtype=float)
@@ -51,7 +68,10 @@ def _outputs(dataset, quantity: str, log: bool):
     values = dataset[quantity].where(finished_mask(dataset)).astype(float)
     if log:
         if bool((values <= 0).any()):
-            raise ValueError(f"{quantity}: log needs positive values; it has some <= 0")
+            raise AnalysisError(
+                f"quantity {quantity!r}: log needs positive values and it has some <= 0; "
+                "give log=False"
+            )
         values = np.log(values)
     return values
 
@@ -61,6 +81,49 @@ def _complete_blocks(y: np.ndarray, block: int) -> tuple[np.ndarray, int, int]:
     blocks = y.reshape(-1, block)
     keep = np.all(np.isfinite(blocks), axis=1)
     return np.flatnonzero(np.repeat(keep, block)), int(keep.sum()), int((~keep).sum())
+
+
+#: What each method's analysis is, and what its block of rows is called.
+_ANALYSES = {
+    "saltelli": ("Sobol' indices", "sobol_indices", "Saltelli block"),
+    "morris": ("Morris' elementary effects", "morris_indices", "Morris trajectory"),
+}
+
+
+def _check_design(dataset, method: str) -> None:
+    """Raise unless the dataset holds a ``[sample]`` design of ``method``, naming what fits."""
+    found = design_method(dataset)
+    if found == method:
+        return
+    wanted = _ANALYSES[method][0]
+    if found in _ANALYSES:
+        instead = f"it is {found!r}: use {_ANALYSES[found][1]}(dataset, quantity)"
+    elif found:
+        instead = f"it is {found!r}, a space-filling design that gives no indices"
+    else:
+        instead = "it has none (a swept grid: sensitivity_table(dataset, quantity, axis))"
+    raise AnalysisError(
+        f"dataset: {wanted} need a [sample] design with method = {method!r}; {instead}"
+    )
+
+
+def _check_whole_blocks(dataset, method: str, block: int) -> None:
+    """Raise when the design was cut inside a block (a row count not a multiple of ``block``)."""
+    rows = dataset.sizes[SAMPLE_DIM]
+    if rows % block == 0:
+        return
+    unit = _ANALYSES[method][2]
+    whole = rows // block * block
+    full = int(dataset.attrs.get("sample_count", 0)) * block
+    keep = (
+        f"keep whole ones, e.g. dataset.isel({SAMPLE_DIM}=slice(0, {whole}))"
+        if whole
+        else f"give at least one whole {unit} (the full design has {full} rows)"
+    )
+    raise AnalysisError(
+        f"dataset: the design is cut inside a {unit} of {block} rows ({rows} {SAMPLE_DIM} rows, "
+        f"not a multiple of {block}); {keep}"
+    )
 
 
 def _indices(dataset, quantity: str, method: str, log: bool, keys: tuple, counted: str, analyse):
@@ -73,15 +136,12 @@ def _indices(dataset, quantity: str, method: str, log: bool, keys: tuple, counte
 
     from ..campaign.sample import salib_problem
 
-    found = design_method(dataset)
-    if found != method:
-        wanted = {"saltelli": "Sobol' indices", "morris": "Morris' elementary effects"}[method]
-        raise ValueError(
-            f"{wanted} need a [sample] design with method = {method!r}; this campaign's is "
-            f"{found!r}" + ("" if found else " (no [sample] design)")
-        )
-    names = sampled_inputs(dataset)
+    check_dataset(dataset)
+    _check_design(dataset, method)
+    check_quantity(dataset, quantity)
     block = int(dataset.attrs["sample_block"])
+    _check_whole_blocks(dataset, method, block)
+    names = sampled_inputs(dataset)
     values = _outputs(dataset, quantity, log)
     rows = []
     for labels, isel in sweep_slices(dataset, [SAMPLE_DIM]):
@@ -99,14 +159,14 @@ def _indices(dataset, quantity: str, method: str, log: bool, keys: tuple, counte
 
 
 def sobol_indices(
-    dataset,
+    dataset: xr.Dataset,
     quantity: str,
     *,
     log: bool = False,
     resamples: int = RESAMPLES,
     confidence: float = CONFIDENCE,
     seed: int = 0,
-):
+) -> pd.DataFrame:
     """Sobol' first-order and total indices of ``quantity`` over the sampled inputs.
 
     Parameters
@@ -114,7 +174,7 @@ def sobol_indices(
     dataset : xarray.Dataset
         A campaign dataset with a Saltelli design.
     quantity : str
-        A per-case variable.
+        A numeric variable with one value per case (:func:`~.dataset.case_quantities`).
     log : bool
         Indices of ``ln(quantity)`` (positive quantities).
     resamples : int
@@ -131,15 +191,25 @@ def sobol_indices(
         ``S1``, ``S1_conf``, ``ST``, ``ST_conf`` (dimensionless), ``samples`` (complete
         base samples used), ``left_out`` (base samples with a case not finished); NaN for a
         quantity that does not vary.
+
+    Raises
+    ------
+    TypeError
+        ``dataset`` is a path (open it first with :func:`xarray.open_dataset`) or not a Dataset.
+    AnalysisError
+        The dataset has no Saltelli design or is cut inside a block of ``D + 2`` rows;
+        ``quantity`` is unknown, text, a flag, or not one number per case; ``log`` with values
+        <= 0.  One line that names the argument and what to give instead.
     """
     from SALib.analyze import sobol
 
-    second = bool(dataset.attrs.get("sample_second_order", 0))
-
     def analyse(problem, rows, y):
+        second = bool(dataset.attrs.get("sample_second_order", 0))
+        # a Generator: SALib's sobol.analyze seeds its bootstrap only for a truthy seed (`if
+        # seed:`), so seed 0 gave intervals that changed from call to call
         return sobol.analyze(
             problem, y, calc_second_order=second, num_resamples=resamples,
-            conf_level=confidence, seed=seed,
+            conf_level=confidence, seed=np.random.default_rng(seed),
         )  # fmt: skip
 
     keys = ("S1", "S1_conf", "ST", "ST_conf")
@@ -147,14 +217,14 @@ def sobol_indices(
 
 
 def morris_indices(
-    dataset,
+    dataset: xr.Dataset,
     quantity: str,
     *,
     log: bool = False,
     resamples: int = RESAMPLES,
     confidence: float = CONFIDENCE,
     seed: int = 0,
-):
+) -> pd.DataFrame:
     """Morris' screening measures of ``quantity`` over the sampled inputs.
 
     Parameters
@@ -162,7 +232,7 @@ def morris_indices(
     dataset : xarray.Dataset
         A campaign dataset with a Morris design.
     quantity : str
-        A per-case variable.
+        A numeric variable with one value per case (:func:`~.dataset.case_quantities`).
     log : bool
         Of ``ln(quantity)`` (positive quantities).
     resamples : int
@@ -179,13 +249,21 @@ def morris_indices(
         ``mu_star``, ``sigma``, ``mu_star_conf`` (units of the quantity, or 1 with ``log``,
         per unit quantile level), ``trajectories`` used, ``left_out``; NaN for a quantity that
         does not vary.
+
+    Raises
+    ------
+    TypeError
+        ``dataset`` is a path (open it first with :func:`xarray.open_dataset`) or not a Dataset.
+    AnalysisError
+        The dataset has no Morris design or is cut inside a trajectory of ``D + 1`` rows;
+        ``quantity`` is unknown, text, a flag, or not one number per case; ``log`` with values
+        <= 0.  One line that names the argument and what to give instead.
     """
     from SALib.analyze import morris
 
-    design = np.asarray(dataset["sample_design"].values, dtype=float)
-    levels = int(dataset.attrs.get("sample_levels", 4))
-
     def analyse(problem, rows, y):
+        design = np.asarray(dataset["sample_design"].values, dtype=float)
+        levels = int(dataset.attrs.get("sample_levels", 4))
         return morris.analyze(
             problem, design[rows], y, num_resamples=resamples, conf_level=confidence,
             num_levels=levels, seed=seed,

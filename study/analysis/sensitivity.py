@@ -2,10 +2,15 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .dataset import (
+    AnalysisError,
     axis_dims,
+    check_dataset,
+    check_quantity,
     finest_index,
     finished_mask,
     mesh_axes,
@@ -15,8 +20,12 @@ from .dataset import (
 )
 from .realisations import realisation_axes
 
+if TYPE_CHECKING:
+    import pandas as pd
+    import xarray as xr
 
-def sensitivity_table(dataset, quantity: str, axis: str):
+
+def sensitivity_table(dataset: xr.Dataset, quantity: str, axis: str) -> pd.DataFrame:
     """Finite-difference sensitivity of a quantity to a (non-mesh) axis, on the finest meshes.
 
     Parameters
@@ -34,11 +43,27 @@ def sensitivity_table(dataset, quantity: str, axis: str):
         One row per case (mesh axes at their finest value): the other axes' values, the axis
         value, ``value``, ``derivative`` (central differences, one-sided at the ends, on the
         possibly uneven axis values; units of the quantity per unit of the axis) and
-        ``elasticity`` (``x / q dq/dx``, dimensionless; NaN where q or x is 0).
+        ``elasticity`` (``x / q dq/dx``, dimensionless; NaN where q or x is 0); empty when
+        ``axis`` has fewer than two values or no numeric coordinate.
+
+    Raises
+    ------
+    TypeError
+        ``dataset`` is a path (open it first) or not a Dataset, ``quantity`` not a name.
+    AnalysisError
+        ``quantity`` is not a numeric variable with one value per case, or ``axis`` not one of
+        the cases' dimensions; the message lists what fits.
     """
     import pandas as pd
 
+    check_dataset(dataset)
     dataset = with_derived(dataset)
+    check_quantity(dataset, quantity)
+    if axis not in axis_dims(dataset):
+        raise AnalysisError(
+            f"axis {axis!r}: not a dimension of the cases; give one of "
+            f"{', '.join(sensitivity_axes(dataset)) or ', '.join(axis_dims(dataset))}"
+        )
     sub = dataset.isel(finest_index(dataset, skip=[axis]))
     x_coord = numeric_coordinate(sub, axis)
     if x_coord is None or sub.sizes[axis] < 2:
@@ -68,11 +93,12 @@ def sensitivity_table(dataset, quantity: str, axis: str):
     return pd.DataFrame(rows)
 
 
-def sensitivity_axes(dataset) -> list[str]:
+def sensitivity_axes(dataset: xr.Dataset) -> list[str]:
     """Numeric sweep dimensions that are not mesh, realisation or sampled axes, with 2+ values.
 
     A design's ``sample`` rows have their global sensitivity (:mod:`.global_sensitivity`).
     """
+    check_dataset(dataset)
     skip = set(mesh_axes(dataset)) | set(realisation_axes(dataset)) | {"sample"}
     return [
         d
