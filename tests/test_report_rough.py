@@ -8,7 +8,7 @@ from study_fixtures import write
 from solver.drive.record import spot_areas
 from study import analysis
 from study.campaign import load_campaign
-from study.report import build_report
+from study.report import build_report, builder
 from study.report import rough as report_rough
 from study.run import storage
 from study.run.assemble import assemble_to_file
@@ -89,6 +89,11 @@ def test_the_rough_report_draws_its_figures(rough, monkeypatch):
     monkeypatch.setattr("study.report.figures.DPI", 40)
     text = build_report(rough).read_text()
     assert "## Rough interface" in text and "## Plastic response" not in text
+    # a period has no approach or central dent to speak of; headers say their reduction
+    quantities = next(line for line in text.splitlines() if line.startswith("- quantities:"))
+    assert "max_pressure" in quantities
+    assert all(name not in text for name in builder.NOT_PERIODIC)
+    assert all(f"| {label} |" in text for label in report_rough.column_labels().values())
     for name in ("load_curves", "residual_topography", "spot_sizes"):  # spots: at the peak
         assert (rough / f"rough_{name}.png").exists()
         assert f"rough_{name}.png" in text

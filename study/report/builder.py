@@ -20,7 +20,7 @@ import numpy as np
 from solver.result import STATUS_FLAGS
 
 from .. import analysis
-from . import cycles, global_sensitivity, plastic, rolling, rough, shakedown, theorem
+from . import cycles, global_sensitivity, plastic, rolling, rough, shakedown, tables, theorem
 from .elastic import (
     _convergence_note,
     plot_convergence,
@@ -33,8 +33,12 @@ from .elastic import (
 )
 from .figures import fmt, markdown_table, pyplot, units_of
 
-#: Most cases the speed-versus-error table lists one by one (beyond: their statistics).
+#: Most cases a per-case table lists one by one (beyond, and for a sampled design: their
+#: statistics and extremes).
 MAX_CASE_ROWS = 200
+#: Quantities that mean nothing for a periodic (rough) period: its rigid-body approach and the
+#: dent at its centre are not measured against anything.
+NOT_PERIODIC = ("approach", "residual_depth")
 
 
 def _sha256(path: Path) -> str:
@@ -102,6 +106,8 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
     out, path = _locate(out)
     with xr.open_dataset(path, engine=storage.ENGINE) as raw:
         dataset = analysis.with_derived(raw.load())
+    if _periodic(dataset):  # no approach or central dent of a period: not shown
+        dataset = dataset.drop_vars([v for v in NOT_PERIODIC if v in dataset])
     name = str(dataset.attrs.get("campaign", path.stem))
     heights_only = _heights_only(dataset, out)
     by_theorem = theorem.is_theorem(dataset)  # no load path was followed: no profiles, no maps
@@ -123,7 +129,13 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
     lines.append(f"- cases: {dataset.attrs.get('cases_total', '?')} ({counts})")
     lines.append(f"- closed forms: {analysis.scene(dataset)}")
     lines.append(f"- mesh axes: {', '.join(mesh) or 'none'}")
-    lines.append("- quantities: " + ", ".join(f"{q} ({units_of(dataset, q)})" for q in names))
+    lines.append(
+        "- quantities: "
+        + ", ".join(
+            f"{q} ({', '.join(filter(None, [units_of(dataset, q), tables.reduction_words(q)]))})"
+            for q in names
+        )
+    )
     lines.append("")
 
     figures: list[tuple[str, Path, str]] = []
@@ -170,24 +182,9 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
             "(`realisations` of them) per slice of the other axes.",
             "",
         ]
-        lines.append(markdown_table(stats.to_dataframe().reset_index()))
-    sensitivity = analysis.sensitivity_axes(dataset)
-    if sensitivity:
-        lines += ["## Sensitivities", ""]
-        lines += [
-            "Finite differences on the finest mesh (central inside, one-sided at the ends);",
-            "`elasticity` = x / q dq/dx.",
-            "",
-        ]
-        for axis in sensitivity:
-            for q in names:
-                table = analysis.sensitivity_table(dataset, q, axis)
-                lines += [
-                    f"### d `{q}` / d `{axis}` ({units_of(dataset, q)} per unit of {axis})",
-                    "",
-                ]
-                lines.append(markdown_table(table))
-
+        stats = stats.to_dataframe().reset_index()  # each header says its reduction
+        lines.append(markdown_table(stats.rename(columns=lambda c: tables.column_label(c, c))))
+    lines += _sensitivity_lines(dataset, names)
     lines += ["## Speed versus error", ""]
     speed = analysis.speed_error_table(dataset)
     basis = "closed forms" if refs else "Richardson-extrapolated values"
@@ -232,7 +229,7 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
                 "",
             ]
         skip = heights_only or by_theorem
-        png = None if skip else plot_profiles(dataset, out / f"{name}_profiles.png")
+        png = None if skip else plot_profiles(dataset, out / f"{name}_profiles.png", out)
         if png:
             note = profile_panels(dataset)[1]
             figures.append(("Traction profiles", png, note))
@@ -248,7 +245,7 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
     if by_theorem:
         lines += theorem.section(dataset, out, name, plt, figures)
     elif analysis.is_plastic(dataset) and not heights_only:  # (the rough has its own)
-        lines += plastic.section(dataset, out, name, plt, figures)
+        lines += plastic.section(dataset, out, name, plt, figures, limit=MAX_CASE_ROWS)
     if "cycle" in dataset.dims:
         lines += cycles.section(dataset, out, name, plt, figures)
     if "shakedown" in dataset:
@@ -265,6 +262,69 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
     report = out / "report.md"
     storage.atomic_write_text(report, "\n".join(lines))
     return report
+
+
+def _sensitivity_lines(dataset, names: list[str]) -> list[str]:
+    """The finite-difference sensitivities: a table per quantity and axis, or their summary.
+
+    A table whose derivatives are all zero or undefined is not written (the note names it); a
+    sampled design or a campaign of more than :data:`MAX_CASE_ROWS` rows gets one summary row
+    per quantity and axis instead of a row per case.
+    """
+    found = [
+        (axis, q, analysis.sensitivity_table(dataset, q, axis))
+        for axis in analysis.sensitivity_axes(dataset)
+        for q in names
+    ]
+    if not found:
+        return []
+    carries = [len(t) > 0 and not tables.carries_nothing(t["derivative"]) for _, _, t in found]
+    kept = [entry for entry, keep in zip(found, carries, strict=True) if keep]
+    empty = [
+        f"d `{q}` / d `{a}`" for (a, q, _), keep in zip(found, carries, strict=True) if not keep
+    ]
+    lines = ["## Sensitivities", ""]
+    lines += [
+        "Finite differences on the finest mesh (central inside, one-sided at the ends);",
+        "`elasticity` = x / q dq/dx.",
+        "",
+    ]
+    if empty:
+        lines += [f"Zero or undefined everywhere, not tabulated: {', '.join(empty)}.", ""]
+    rows = max((len(t) for _, _, t in kept), default=0)
+    if kept and tables.is_design(dataset, rows, MAX_CASE_ROWS):
+        import pandas as pd
+
+        summary = []
+        for axis, q, table in kept:
+            derivative = table["derivative"].to_numpy(dtype=float)
+            elasticity = table["elasticity"].to_numpy(dtype=float)
+            ok = np.isfinite(derivative)
+            summary.append({
+                "quantity": q, "axis": axis, "units": f"{units_of(dataset, q)} per unit of {axis}",
+                "cases": int(ok.sum()), "min": np.nanmin(derivative), "median":
+                np.nanmedian(derivative), "max": np.nanmax(derivative),
+                "elasticity_median": np.nanmedian(elasticity) if np.isfinite(elasticity).any()
+                else np.nan,
+            })  # fmt: skip
+        lines += [
+            f"Over the {rows} cases of each table (a row per case would hide them): the",
+            "derivative's range and median, and the median elasticity.",
+            "",
+            markdown_table(pd.DataFrame(summary)),
+        ]
+        return lines
+    for axis, q, table in kept:
+        lines += [f"### d `{q}` / d `{axis}` ({units_of(dataset, q)} per unit of {axis})", ""]
+        lines.append(markdown_table(table))
+    return lines
+
+
+def _periodic(dataset) -> bool:
+    """Whether the campaign's cases are periodic periods (``contact_fraction`` is declared so)."""
+    return "contact_fraction" in dataset and not tables.carries_nothing(
+        dataset["contact_fraction"].values
+    )
 
 
 def _yielding_poisson_ratio(out: Path) -> float | None:

@@ -275,7 +275,7 @@ def profile_panels(dataset) -> tuple[list, str]:
     return shown, note
 
 
-def plot_profiles(dataset, path: str | Path) -> Path | None:
+def plot_profiles(dataset, path: str | Path, out: str | Path | None = None) -> Path | None:
     """Pressure and shear along y = 0 against r / a, one panel per slice of the non-mesh axes.
 
     Each panel shows the finished cases along the mesh axes (or the single case): pressure
@@ -294,6 +294,10 @@ def plot_profiles(dataset, path: str | Path) -> Path | None:
         Campaign dataset.
     path : str or Path
         PNG to write.
+    out : str or Path, optional
+        Campaign output folder: a moving case's (sliding, rolling) tractions are drawn over
+        its whole line from its file (:func:`figures.traction_line`), x about body 1's last
+        position; without it, the dataset's half line r >= 0.
 
     Returns
     -------
@@ -329,23 +333,45 @@ def plot_profiles(dataset, path: str | Path) -> Path | None:
     grey = {"color": "0.65", "lw": 3.0, "zorder": 1}
     drawn = {"Hertz p": False, "Cattaneo-Mindlin q_x": False}
     names = [labels_text(label) if label else "" for label in meshes]
+    moving = any(
+        figures.is_moving(dataset.isel(isel), c) for _, isel, cases in panels for _, c in cases
+    )
+    moving = moving and out is not None  # the whole lines are in the case files
+    stored = None
+    if moving:
+        from ..run import storage
+
+        stored = storage.case_index(out)
     used, statuses = set(), []
     for k, (ax, (labels, isel, cases)) in enumerate(zip(axes, panels, strict=True)):
         sub = dataset.isel(isel)
-        shown, curves = [], []
+        shown, curves, abscissae, top = [], [], [], 0.0
         for case_labels, case_isel in cases[: figures.MAX_LINES]:
             case = sub.isel(case_isel)
             j = names.index(labels_text(case_labels)) if case_labels else 0
             used.add(j)
             status = figures.status_of(sub, case_isel)
             shown.append((names[j] or "case", status))
-            style = figures.series_style(j, len(meshes), len(r), status)
-            curves.append(
-                (case["pressure_profile"].values / 1e9, case["shear_x_profile"].values / 1e9)
+            line = None
+            if moving and figures.is_moving(sub, case_isel):  # both sides, from its file
+                line = figures.traction_line(out, str(case["case_id"].item()), stored)
+            x, pressure, shear = (
+                (line[0], line[1] / 1e9, line[2] / 1e9)
+                if line is not None
+                else (
+                    r,
+                    case["pressure_profile"].values / 1e9,
+                    case["shear_x_profile"].values / 1e9,
+                )
             )
-            ax.plot(r, curves[-1][0], **style)
-            ax.plot(r, curves[-1][1], **style)
-        figures.name_curves(ax, r, curves)
+            style = figures.series_style(j, len(meshes), len(x), status)
+            curves.append((pressure, shear))
+            abscissae.append(x)
+            ax.plot(x, pressure, **style)
+            ax.plot(x, shear, **style)
+            peak = float(case["max_pressure"]) / 1e9 if "max_pressure" in case else math.nan
+            top = max(top, float(np.nanmax(pressure)), peak if np.isfinite(peak) else 0.0)
+        figures.name_curves(ax, r, curves, abscissae)
         statuses += [status for _, status in shown]
         figures.mark_panel(ax, [s for _, s in shown], [n for n, _ in shown])
         index = {**isel, **cases[0][1]}
@@ -361,10 +387,13 @@ def plot_profiles(dataset, path: str | Path) -> Path | None:
                 shear = sign * _cattaneo_shear(r, mu, p0, ratio) / 1e9
                 ax.plot(r, shear, "--", **grey)
                 drawn["Cattaneo-Mindlin q_x"] = True
+        top = max(top, p0 / 1e9 if np.isfinite(p0) else 0.0)
+        if top > 0:  # the case's p_max (the dataset's, over the contact and the path) shows
+            ax.set_ylim(top=1.08 * top)
         ax.set_title(title(labels, dataset=dataset), fontsize=8)
-        ax.set_xlim(0.0, float(r[-1]))
+        ax.set_xlim(-float(r[-1]) if moving else 0.0, float(r[-1]))
         ax.xaxis.set_major_locator(MultipleLocator(0.5))
-        ax.set_xlabel("r / a (1)")
+        ax.set_xlabel(("x" if moving else "r") + " / a (1)")
         if k % columns == 0:
             ax.set_ylabel("traction (GPa)")
         ax.grid(True, alpha=0.3)
@@ -382,8 +411,9 @@ def plot_profiles(dataset, path: str | Path) -> Path | None:
     fig.legend(handles=styles, loc="outside lower center", ncols=columns, fontsize=8)
     suptitle(
         fig,
-        f"{dataset.attrs.get('campaign', '')}: traction along y = 0, x >= 0 (r / a: over the "
-        "Hertz semi-axis); curves p (pressure) and q_x (shear)",
+        f"{dataset.attrs.get('campaign', '')}: traction along y = 0, "
+        + ("about body 1's last position (a moving contact)" if moving else "x >= 0")
+        + " (over the Hertz semi-axis a); curves p (pressure) and q_x (shear)",
         note,
         figures.status_note(statuses),
     )

@@ -214,7 +214,12 @@ def status_handle(statuses) -> list:
     ]  # fmt: skip
 
 
-def name_curves(ax, r: np.ndarray, curves: list[tuple[np.ndarray, np.ndarray]]) -> None:
+def name_curves(
+    ax,
+    r: np.ndarray,
+    curves: list[tuple[np.ndarray, np.ndarray]],
+    abscissae: list[np.ndarray] | None = None,
+) -> None:
     """Name the pressure "p" and the shear "q_x" curves of a panel.
 
     The pressure is named on the highest pressure curve at r = 0.5, the shear on the highest
@@ -229,17 +234,66 @@ def name_curves(ax, r: np.ndarray, curves: list[tuple[np.ndarray, np.ndarray]]) 
         Abscissa of the curves.
     curves : list of (numpy.ndarray, numpy.ndarray)
         ``(pressure, shear)`` of each case drawn, over ``r``.
+    abscissae : list of numpy.ndarray, optional
+        An abscissa per curve instead of ``r`` (a moving case's whole line,
+        :func:`traction_line`).
     """
+    xs = abscissae if abscissae is not None else [r] * len(curves)
     for which, name, where in ((0, "p", 0.5), (1, "q_x", None)):
-        values = [curve[which] for curve in curves if np.any(np.isfinite(curve[which]))]
+        values = [
+            (x, curve[which]) for x, curve in zip(xs, curves, strict=True)
+            if np.any(np.isfinite(curve[which]))
+        ]  # fmt: skip
         if not values:
             continue
-        y = max(values, key=lambda v: float(np.nanmax(np.abs(v))))
+        x, y = max(values, key=lambda v: float(np.nanmax(np.abs(v[1]))))
         if float(np.nanmax(np.abs(y))) == 0.0:
             continue  # no shear: nothing to name
-        i = int(np.nanargmax(np.abs(y))) if where is None else int(np.argmin(np.abs(r - where)))
-        ax.annotate(name, (r[i], y[i]), xytext=(5, 5), textcoords="offset points", fontsize=9,
+        i = int(np.nanargmax(np.abs(y))) if where is None else int(np.argmin(np.abs(x - where)))
+        ax.annotate(name, (x[i], y[i]), xytext=(5, 5), textcoords="offset points", fontsize=9,
                     fontweight="bold", gid="curve name")  # fmt: skip
+
+
+def is_moving(dataset, index: dict) -> bool:
+    """Whether the case at ``index`` moved (sliding, rolling): its contact is not symmetric.
+
+    Its ``position_x_history`` (body 1's apex over body 2) is non-zero at some step; the
+    dataset's radial profiles (r >= 0) then show only half of its contact.
+    """
+    if "position_x_history" not in dataset:
+        return False
+    values = np.asarray(dataset["position_x_history"].isel(index).values, dtype=float)
+    return bool(np.any(np.isfinite(values) & (values != 0)))
+
+
+def traction_line(out: str | Path, case_id: str, index=None):
+    """A case's pressure and shear ``q_x`` along y = 0 over the whole line, from its file.
+
+    Parameters
+    ----------
+    out : str or Path
+        Campaign output folder.
+    case_id : str
+        The case.
+    index : study.run.storage.CaseIndex, optional
+        The folder's case index, built when omitted.
+
+    Returns
+    -------
+    tuple of numpy.ndarray or None
+        ``(x / a_x, pressure, shear)`` in Pa, x about body 1's last position (a moving case's
+        contact centre, as the dataset's profiles are), or None when the file has no lines.
+    """
+    from ..run import storage
+
+    with storage.open_case(out, case_id, index=index) as case:
+        if "pressure_y0" not in case:
+            return None
+        x = case["x"].values.astype(float)
+        if "position_x" in case:
+            x = x - float(case["position_x"].values[-1])
+        a = float(case.attrs["hertz_semi_axis_x"])
+        return x / a, case["pressure_y0"].values, case["shear_x_y0"].values
 
 
 def status_of(dataset, index: dict) -> str:

@@ -26,6 +26,7 @@ import numpy as np
 from .. import analysis
 from ..analysis import global_sensitivity as gsa
 from . import figures
+from .tables import reduction_words
 
 #: Most quantities drawn (panels of a figure).
 MAX_QUANTITIES = 12
@@ -81,7 +82,8 @@ def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
         ]
         tables, draw = {}, _plot_scatter
     for q, table in tables.items():
-        lines += [f"### `{q}` ({figures.units_of(dataset, q)})", ""]
+        said = [figures.units_of(dataset, q), reduction_words(q)]  # units, reduction
+        lines += [f"### `{q}` ({', '.join(filter(None, said))})", ""]
         lines.append(figures.markdown_table(table))
     if plt is not None:
         png = draw(plt, dataset, names, tables, out / f"{name}_{method}.png")

@@ -29,20 +29,24 @@ import numpy as np
 from solver.result import SLIP, STATUS_FLAGS, STICK
 
 from .. import analysis
-from . import figures
+from . import figures, tables
 
 #: Keys of a swept load (the load curves' abscissa is the case's Hertz pressure).
 LOAD_KEYS = ("hertz_pressure", "normal_force")
-#: Columns of :func:`plastic_table`: name -> (variable, divided by, what it is).
+#: Columns of :func:`plastic_table`: name -> (per-case scalar, divided by, how it is shown).  The
+#: report's headers add the scalar's reduction declared in :mod:`solver.variables`
+#: (:func:`column_labels`), its description the declared long name.
 COLUMNS = {
-    "p_max/p_H": ("max_pressure", "hertz_pressure", "maximum pressure over the Hertz pressure"),
-    "a/a_H": ("contact_radius", "hertz_radius", "contact radius over the Hertz radius"),
-    "c/a_H": ("stick_radius", "hertz_radius", "stick radius (equivalent) over a_H"),
-    "ep_max_%": ("max_plastic_strain", None, "maximum equivalent plastic strain (%)"),
-    "z_ep/a_H": ("max_plastic_strain_depth", "hertz_radius", "its depth over a_H"),
-    "zone/a_H": ("plastic_zone_depth", "hertz_radius", "plastic zone depth on the axis over a_H"),
-    "dent_um": ("residual_depth", None, "residual central dent (micrometre)"),
+    "p_max/p_H": ("max_pressure", "hertz_pressure", "over the Hertz pressure p_H"),
+    "a/a_H": ("contact_radius", "hertz_radius", "equivalent radius sqrt(A / pi) over a_H"),
+    "c/a_H": ("stick_radius", "hertz_radius", "equivalent radius sqrt(A / pi) over a_H"),
+    "ep_max_%": ("max_plastic_strain", None, "in %"),
+    "z_ep/a_H": ("max_plastic_strain_depth", "hertz_radius", "over a_H"),
+    "zone/a_H": ("plastic_zone_depth", "hertz_radius", "over a_H"),
+    "dent_um": ("residual_depth", None, "in micrometres"),
 }
+#: Columns whose extremes a design's summary lists (:func:`.tables.extremes`).
+EXTREMES = {"p_max/p_H": ("max", "min"), "ep_max_%": ("max",), "dent_um": ("max",)}
 _SCALE = {"ep_max_%": 100.0, "dent_um": 1e6}
 
 
@@ -64,7 +68,8 @@ def plastic_table(dataset):
     -------
     pandas.DataFrame
         One row per slice of the non-refinement axes: its labels, ``status`` and the
-        :data:`COLUMNS` (NaN where a case has no such value, e.g. an elastic pair).
+        :data:`COLUMNS` (NaN where a case has no such value, e.g. an elastic pair) and
+        ``flag`` (:func:`.tables.flag`: not converged, or unconverged increments; "" if not).
     """
     import pandas as pd
 
@@ -73,6 +78,7 @@ def plastic_table(dataset):
     for labels, index in shown_cases(dataset):
         case = dataset.isel(index)
         row = {**labels, "status": flags.get(int(case["status"]), "?")}
+        row[tables.FLAG] = tables.flag(dataset, index)
         for column, (name, over, _) in COLUMNS.items():
             value = float(case[name]) if name in case else math.nan
             if over is not None:
@@ -112,9 +118,9 @@ def _is_load(dataset, dim: str) -> bool:
 
 
 def _line_at_axis(
-    out: str | Path, case_id: str, name: str, index=None
+    out: str | Path, case_id: str, name: str, index=None, whole: bool = False
 ) -> tuple[np.ndarray, np.ndarray] | None:
-    """``(x / a_x, values)`` of a case's field along the cell row nearest y = 0, x >= 0.
+    """``(x / a_x, values)`` of a case's field along the cell row nearest y = 0.
 
     Parameters
     ----------
@@ -126,6 +132,8 @@ def _line_at_axis(
         The field.
     index : study.run.storage.CaseIndex, optional
         The folder's case index (:func:`study.run.storage.case_index`), built when omitted.
+    whole : bool, optional
+        The whole row, x about body 1's last position (a moving case); else x >= 0.
     """
     from ..run import storage
 
@@ -135,7 +143,9 @@ def _line_at_axis(
         a = float(case.attrs["hertz_semi_axis_x"])
         x, y = case["x"].values, case["y"].values
         row = case[name].isel(y=int(np.argmin(np.abs(y)))).values
-    keep = x >= 0
+        if whole and "position_x" in case:
+            x = x - float(case["position_x"].values[-1])
+    keep = np.ones(x.shape, bool) if whole else x >= 0
     return x[keep] / a, row[keep]
 
 
@@ -212,29 +222,51 @@ def plot_profiles(dataset, out: str | Path, path: str | Path) -> Path | None:
             own = {d: v for d, v in line_labels.items() if d not in labels}
             order.setdefault(figures.labels_text(own), len(order))
     count = len(order)
-    legend_rows = math.ceil((3 + count) / 3)
+    moving = any(figures.is_moving(dataset, index) for _, lines in panels for _, index in lines)
+    entries = 4 + count + any(
+        figures.status_of(dataset, index) in figures.UNTRUSTED
+        for _, lines in panels for _, index in lines[: figures.MAX_LINES]
+    )  # fmt: skip
+    width = 4.6 * min(figures.MAX_COLUMNS, len(panels))
+    legend_columns = max(1, min(3, int(width // 2.3)))  # long entries: 2.3 inches each
+    legend_rows = math.ceil(entries / legend_columns)
     fig, axes, columns = figures.panel_grid(
-        plt, len(panels), 4.6, 3.6, below=figures.LEGEND_ROW * legend_rows + 0.1
+        plt, len(panels), 4.6, 3.6, below=figures.LEGEND_ROW * legend_rows + 0.2
     )
     names, statuses = {}, []
     for k, (ax, (labels, lines)) in enumerate(zip(axes, panels, strict=True)):
-        top, shown, curves = 0.0, [], []
+        top, shown, curves, abscissae = 0.0, [], [], []
         for line_labels, index in lines[: figures.MAX_LINES]:
             case = dataset.isel(index)
             p_h = float(case["hertz_pressure"])
             status = figures.status_of(dataset, index)
             label = figures.labels_text({d: v for d, v in line_labels.items() if d not in labels})
             j = order[label]
-            style = figures.series_style(j, count, len(r), status)
+            case_id = str(case["case_id"].item())
+            whole = figures.is_moving(dataset, index)
+            line = figures.traction_line(out, case_id, stored) if whole else None
+            x, pressure, shear = (
+                (line[0], line[1] / p_h, line[2] / p_h)
+                if line is not None
+                else (
+                    r,
+                    case["pressure_profile"].values / p_h,
+                    case["shear_x_profile"].values / p_h,
+                )
+            )
+            style = figures.series_style(j, count, len(x), status)
             names.setdefault(j, label)
             shown.append((label, status))
-            pressure = case["pressure_profile"].values / p_h
-            shear = case["shear_x_profile"].values / p_h
-            ax.plot(r, pressure, **style)
-            ax.plot(r, shear, **style)
+            ax.plot(x, pressure, **style)
+            ax.plot(x, shear, **style)
             curves.append((pressure, shear))
-            top = max(top, float(np.nanmax(pressure)))
-            state = _line_at_axis(out, str(case["case_id"].item()), "contact_state", stored)
+            abscissae.append(x)
+            # the case's largest pressure (the dataset's, over the whole contact and path)
+            peak = float(case["max_pressure"]) / p_h if "max_pressure" in case else math.nan
+            if np.isfinite(peak):
+                ax.axhline(peak, color=style["color"], ls=":", lw=1.0, zorder=1.5, gid="p_max")
+            top = max(top, float(np.nanmax(pressure)), peak if np.isfinite(peak) else 0.0)
+            state = _line_at_axis(out, case_id, "contact_state", stored, whole=line is not None)
             if state is None:
                 continue
             level = -0.06 * (j + 1)
@@ -242,29 +274,31 @@ def plot_profiles(dataset, out: str | Path, path: str | Path) -> Path | None:
                 for lo, hi in _zones(state[0], state[1], code):
                     ax.plot([lo, hi], [level, level], "-", color=style["color"], lw=width,
                             solid_capstyle="butt", gid="bar")  # fmt: skip
-        figures.name_curves(ax, r, curves)
+        figures.name_curves(ax, r, curves, abscissae)
         statuses += [status for _, status in shown]
         figures.mark_panel(ax, [s for _, s in shown], [n or "case" for n, _ in shown])
         ax.axhline(0.0, color="0.5", lw=0.6)
-        ax.set_xlim(0.0, float(r[-1]))
-        ax.set_ylim(-0.06 * (count + 1), max(1.05, 1.05 * top))
+        ax.set_xlim(-float(r[-1]) if moving else 0.0, float(r[-1]))
+        ax.set_ylim(-0.06 * (count + 1), max(1.05, 1.08 * top))
         ax.set_title(figures.title(labels, dataset=dataset) if labels else "", fontsize=8)
-        ax.set_xlabel("r / a (1)")
+        ax.set_xlabel(("x" if moving else "r") + " / a (1)")
         if k % columns == 0:
             ax.set_ylabel("traction / p_H (1)")
         ax.grid(True, alpha=0.3)
     handles = [
         Line2D([], [], color="k", lw=4.0, label="stick (bar, y = 0)"),
         Line2D([], [], color="k", lw=1.2, label="slip (bar)"),
+        Line2D([], [], color="k", lw=1.0, ls=":", label="p_max / p_H (max over path)"),
     ]
     handles += [figures.series_handle(j, count, n) for j, n in sorted(names.items()) if n]
     handles += figures.status_handle(statuses)
-    fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=8)
+    fig.legend(handles=handles, loc="outside lower center", ncols=legend_columns, fontsize=8)
     figures.suptitle(
         fig,
         f"{dataset.attrs.get('campaign', '')}: tractions along y = 0 over the Hertz solution"
         + (f", {overlay} overlaid" if overlay else ""),
-        "finest mesh and most load steps of each slice; curves p (pressure) and q_x (shear)",
+        "finest mesh and most load steps of each slice; curves p (pressure) and q_x (shear)"
+        + ("; x about body 1's last position (a moving contact: both sides)" if moving else ""),
         figures.status_note(statuses),
     )
     figures.save(plt, fig, path)
@@ -382,9 +416,24 @@ def plot_sections(dataset, out: str | Path, path: str | Path) -> Path | None:
                 continue
             a = float(case.attrs["hertz_semi_axis_x"])
             y = case["y"].values
-            plane = case["plastic_strain"].isel(y=int(np.argmin(np.abs(y)))).values
+            row = int(np.argmin(np.abs(y)))
+            field = case["plastic_strain"].values
+            plane = field[:, row, :]
             status = figures.status_of(dataset, index)
-            sections.append((labels, case["x"].values / a, case["z"].values / a, plane, status))
+            # the label's number is the dataset's (largest over the body and the path); the
+            # field's largest cell says where it is, perhaps off this plane
+            at = np.unravel_index(int(np.argmax(field)), field.shape)
+            if plane.max() >= field.max() * (1 - 1e-9):  # the plane holds it (a mirror image)
+                i, k = np.unravel_index(int(np.argmax(plane)), plane.shape)
+                at = (i, row, k)
+            peak = {
+                "value": float(dataset["max_plastic_strain"].isel(index)),
+                "x": int(at[0]), "z": int(at[2]), "y": float(y[at[1]]) / a,
+                "off": at[1] != row,
+            }  # fmt: skip
+            sections.append(
+                (labels, case["x"].values / a, case["z"].values / a, plane, status, peak)
+            )
         if len(sections) == figures.MAX_PANELS:
             break
     if not sections:
@@ -393,7 +442,7 @@ def plot_sections(dataset, out: str | Path, path: str | Path) -> Path | None:
     if top <= 0:
         return None
     fig, axes, columns = figures.panel_grid(plt, len(sections), 3.8, 2.8, extra=1.0)
-    for k, (ax, (labels, x, z, plane, status)) in enumerate(zip(axes, sections, strict=True)):
+    for k, (ax, (labels, x, z, plane, status, peak)) in enumerate(zip(axes, sections, strict=True)):
         dx, dz = x[1] - x[0], z[1] - z[0]
         image = ax.imshow(
             plane.T * 100.0,
@@ -405,15 +454,19 @@ def plot_sections(dataset, out: str | Path, path: str | Path) -> Path | None:
             aspect="auto",
             interpolation="nearest",
         )
-        i, j = np.unravel_index(int(np.argmax(plane)), plane.shape)
-        ax.plot(x[i], z[j], "x", color="tab:cyan", ms=8, mew=2)
+        i, j = peak["x"], peak["z"]
+        ax.plot(x[i], z[j], "x", color="tab:cyan", ms=8, mew=2, gid="max")
+        where = f"x = {x[i]:.2f}, z = {z[j]:.2f} a_H"
+        if peak["off"]:  # the largest cell is not in this plane
+            where += f",\nat y = {peak['y']:.2f} a_H (off this plane)"
         ax.text(
             0.98,
             0.04,
-            f"max {plane[i, j] * 100:.3g} % at x = {x[i]:.2f}, z = {z[j]:.2f} a_H",
+            f"max {peak['value'] * 100:.3g} % at {where}",
             transform=ax.transAxes,
             ha="right",
             fontsize=7,
+            gid="max label",
             bbox={"facecolor": "white", "edgecolor": "0.7", "alpha": 0.9, "pad": 2},
         )
         figures.mark_panel(ax, [status])
@@ -428,24 +481,71 @@ def plot_sections(dataset, out: str | Path, path: str | Path) -> Path | None:
     figures.suptitle(
         fig,
         f"{dataset.attrs.get('campaign', '')}: plastic strain in the plane y = 0 "
-        "(paper fig. 6), one colour scale, x: the maximum",
+        "(paper fig. 6), one colour scale, x: the largest plastic strain (max over path)",
         f"{len(sections)} case(s), finest mesh and most load steps of each slice",
-        figures.status_note([section[-1] for section in sections], "red dashed frame"),
+        figures.status_note([section[4] for section in sections], "red dashed frame"),
     )
     figures.save(plt, fig, path)
     return Path(path)
 
 
-def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
-    """Markdown lines of the plastic part of the report (figures appended to ``shown``)."""
+def column_labels() -> dict[str, str]:
+    """The report's header of each :data:`COLUMNS` entry: its name and declared reduction."""
+    return {column: tables.column_label(column, name) for column, (name, _, _) in COLUMNS.items()}
+
+
+def section(dataset, out: Path, name: str, plt, shown: list, limit: int = 200) -> list[str]:
+    """Markdown lines of the plastic part of the report (figures appended to ``shown``).
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        Campaign dataset.
+    out : Path
+        Campaign output folder.
+    name : str
+        Campaign name (the figures' file names).
+    plt : module or None
+        Matplotlib's pyplot (None: no figures).
+    shown : list
+        ``(title, png, note)`` of the report's figures, appended to.
+    limit : int, optional
+        Most cases listed one by one; a sampled design or more cases are summarised
+        (:func:`.tables.is_design`).
+
+    Returns
+    -------
+    list of str
+    """
     lines = ["## Plastic response", ""]
     lines += [
         "Finest mesh and most load steps of each slice; lengths over the Hertz radius a_H,",
         "pressures over the Hertz pressure p_H of the case (elastic solution, same load).",
+        "Each header says how the case's value is reduced from its load steps.",
         "",
     ]
-    lines += [f"- `{column}`: {text}" for column, (_, _, text) in COLUMNS.items()]
-    lines += ["", figures.markdown_table(plastic_table(dataset))]
+    headers = column_labels()
+    lines += [
+        f"- `{headers[column]}`: {tables.long_name(variable)}, {how}"
+        for column, (variable, _, how) in COLUMNS.items()
+    ]
+    table = plastic_table(dataset)
+    flagged = tables.flagged_count(table)
+    if not flagged:
+        table = table.drop(columns=[tables.FLAG], errors="ignore")
+    lines.append("")
+    if tables.is_design(dataset, len(table), limit):
+        columns = [c for c in COLUMNS if not tables.carries_nothing(table.get(c, []))]
+        lines += tables.summary_lines(
+            table.rename(columns=headers),
+            [headers[c] for c in columns],
+            {headers[c]: ends for c, ends in EXTREMES.items() if c in columns},
+            "finished cases" + (" of the design" if "sample" in dataset.dims else ""),
+        )
+    else:
+        lines.append(figures.markdown_table(table.rename(columns=headers)))
+    if flagged:
+        lines += [tables.FLAG_NOTE, ""]
     if plt is None:
         return lines
     for title, png in (

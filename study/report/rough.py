@@ -3,7 +3,9 @@
 :func:`section` adds to ``report.md`` (campaigns of periodic heights-only cases,
 ``grid.periodic``), from the case files:
 
-- a table per finished case: at the largest load the real contact fraction, the mean
+- a row per finished case (its headers say each value's reduction, :data:`COLUMNS`; a case
+  not converged or with unconverged increments flagged): at the largest load the real
+  contact fraction, the mean
   separation, the contact spots and the largest spot's share of the contact area; for an
   elastic-plastic body the largest equivalent plastic strain, the yielded layer's mean
   thickness (the plastic volume over the period's area) and the rms of the gap before and
@@ -27,7 +29,39 @@ import numpy as np
 from solver.drive.record import spot_areas
 
 from .. import analysis
-from . import figures
+from . import figures, tables
+
+#: Columns of :func:`rough_table`: name -> (the declared history it reads or None, the
+#: reduction in words or None for the declared one, what it is when nothing is declared).  The
+#: report's headers say the reduction (:func:`column_labels`).
+COLUMNS = {
+    "p_mean_MPa": (None, tables.AT_PEAK, "normal force over the period's area"),
+    "contact_%": ("contact_fraction", tables.AT_PEAK, ""),
+    "separation_nm": ("mean_separation", tables.AT_PEAK, ""),
+    "spots": ("contact_spots", tables.AT_PEAK, ""),
+    "largest_spot_%": (None, tables.AT_PEAK, "the largest spot's share of the contact area"),
+    "ep_max_%": ("max_plastic_strain", None, ""),
+    "yielded_nm": ("plastic_volume", None, ""),
+    "gap_rms_nm": (None, "before the path", "rms of the initial gap"),
+    "residual_rms_nm": (None, "after the path", "rms of the residual gap (the deformed "
+                        "topography)"),
+}  # fmt: skip
+
+
+def column_labels() -> dict[str, str]:
+    """The report's header of each :data:`COLUMNS` entry: its name and its reduction."""
+    return {
+        column: tables.column_label(column, name, words)
+        for column, (name, words, _) in COLUMNS.items()
+    }
+
+
+def _describe(column: str) -> str:
+    """What a column holds: the declared long name of its history, and the column's note."""
+    name, _, note = COLUMNS[column]
+    if name is None:
+        return note
+    return tables.long_name(name) + (f"; {note}" if note else "")
 
 
 def _cases(dataset, index) -> list[tuple[dict, str]]:
@@ -114,12 +148,17 @@ def rough_table(dataset, out: str | Path):
     from ..run import storage
 
     index = storage.case_index(out)
+    flags = {
+        str(dataset["case_id"].isel(isel).item()): tables.flag(dataset, isel)
+        for _, isel in analysis.sweep_slices(dataset, [])
+    }
     rows = []
     for labels, case_id in _cases(dataset, index):
         data = _read(out, case_id, index)
         peak = int(np.argmax(data["normal_force"]))
         row = {
             **labels,
+            tables.FLAG: flags.get(case_id, ""),
             "p_mean_MPa": data["normal_force"][peak] / data["period_area"] / 1e6,
             "contact_%": 100 * data["contact_fraction"][peak],
             "separation_nm": 1e9 * data["mean_separation"][peak],
@@ -277,17 +316,18 @@ def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
     """Markdown lines of the rough-interface part of the report (figures added to ``shown``)."""
     lines = ["## Rough interface", ""]
     lines += [
-        "Per finished case, at the largest load: `p_mean_MPa` the mean pressure over the",
-        "period, `contact_%` the real contact area over the period, `separation_nm` the mean",
-        "gap, `spots` the contact spots (joined across the period's sides), `largest_spot_%`",
-        "the largest spot's share of the contact.  Elastic-plastic:",
-        "`ep_max_%` the largest equivalent plastic strain, `yielded_nm` the plastic volume",
-        "over the period's area (the yielded layer's mean thickness), `gap_rms_nm` and",
-        "`residual_rms_nm` the rms of the gap before and after the path.",
+        "Per finished case; each header says when its value is read (at the step of the largest",
+        "normal force, over the path, before or after it):",
         "",
     ]
+    headers = column_labels()
     table = rough_table(dataset, out)
-    lines += [figures.markdown_table(table), ""]
+    lines += [f"- `{headers[c]}`: {_describe(c)}" for c in COLUMNS if c in table]
+    if not tables.flagged_count(table):
+        table = table.drop(columns=[tables.FLAG], errors="ignore")
+    lines += ["", figures.markdown_table(table.rename(columns=headers)), ""]
+    if tables.FLAG in table:
+        lines += [tables.FLAG_NOTE, ""]
     if plt is None:
         return lines
     drawn = (
