@@ -79,6 +79,10 @@ LARGE_RADIUS = 2.0
 LARGE_CONTACT_RADIUS = 0.02
 #: Largest friction coefficient accepted (dimensionless).
 MAX_FRICTION = 100.0
+#: Largest friction coefficient the shakedown theorems take (``solver.method =
+#: "static_shakedown"``, :class:`solver.theorems.track.Track`): their boxes and the checks of
+#: their limits reach mu = 1 (the surface binds from about 0.25 on, at mu p_0 = k).
+MAX_THEOREM_FRICTION = 1.0
 #: Smallest positive friction coefficient accepted: below it the tangential solve's scales
 #: (mu p, the tractions it bounds) underflow its residual (1e-9 gave NaN residuals,
 #: 2026-11-28); such a contact is frictionless to the solver's tolerances: give 0.
@@ -410,7 +414,8 @@ CASE_KEYS: tuple[Key, ...] = (
         "non-empty, stages as in load.path[i]", "cyclic paths", "The stages of one cycle."),
     # friction, grid
     Key("friction", "coefficient", "number", "1", "0",
-        f"0 or [{MIN_FRICTION:g}, {MAX_FRICTION:g}]", "every case",
+        f"0 or [{MIN_FRICTION:g}, {MAX_FRICTION:g}]; at most {MAX_THEOREM_FRICTION:g} with "
+        "solver.method = static_shakedown", "every case",
         "Coulomb coefficient mu (0: frictionless)."),
     Key("grid", "n", "integer or [nx, ny] or [nx, ny, nz]", "cells", "required",
         f"each in [4, {MAX_CELLS}]; the contact spans >= {MIN_CELLS_ACROSS} cells",

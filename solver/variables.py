@@ -21,16 +21,35 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
+import numpy as np
+
 
 @dataclass(frozen=True)
 class History:
-    """Declaration of a per-step history."""
+    """Declaration of a per-step history.
+
+    ``infinite`` and ``missing`` say why a value may be ``+inf`` (a documented infinity) or
+    NaN (not computed); None: it may not, and a campaign fails a case that holds one
+    (:meth:`admits`).
+    """
 
     units: str
     long_name: str
     reduction: str | None = "last"
     scalar: str | None = None
     swap_sign: float = 1.0
+    infinite: str | None = None
+    missing: str | None = None
+
+    def admits(self, values) -> np.ndarray:
+        """Which values are data: finite, or ``+inf`` / NaN where declared (bool array)."""
+        values = np.asarray(values, float)
+        ok = np.isfinite(values)
+        if self.infinite is not None:
+            ok |= np.isposinf(values)
+        if self.missing is not None:
+            ok |= np.isnan(values)
+        return ok
 
     def scalar_name(self, name: str) -> str | None:
         """Name of the per-case scalar of history ``name`` (None when not reduced)."""
@@ -128,25 +147,37 @@ HISTORIES: dict[str, History] = {
     "step_cycle": History("1", "load cycle of the step (0: outside a cycle block)", None),
     "static_shakedown_limit": History(
         "1",
-        "Melan's static shakedown limit p_0/k of the case's sliding track (solver.method = "
-        "static_shakedown): a residual field on the cross-section's cells proves it",
+        "Melan's static program's factor p_0/k of the case's sliding track (solver.method = "
+        "static_shakedown) on the cross-section's points and the program's load positions: an "
+        "estimate of the limit, not a bound (the points sample the field; on a Hertz track it "
+        "lies above the limit and can lie above the upper bounds)",
+    ),
+    "static_shakedown_lower_bound": History(
+        "1",
+        "Melan's certified lower bound p_0/k of the track's shakedown limit: the static "
+        "program's residual field, bilinear between the section's points, within yield at the "
+        "points halfway between them, between the load positions and where the pointwise bound "
+        "was found (an elliptical contact: the program's own points, all the upper bound sees)",
     ),
     "shakedown_upper_bound": History(
         "1",
         "smallest pointwise upper bound p_0/k found for the track's shakedown limit (the best "
         "constant residual shift of one point's stress path)",
+        infinite="no bound: the pointwise program's conic solver failed at every point tried",
     ),
     "kinematic_upper_bound": History(
         "1",
         "Koiter's kinematic upper bound p_0/k of the track's shakedown limit: the best "
         "mechanism on the cross-section's six-node triangles (solver.kinematic_cells a contact "
         "radius; inf where not solved)",
+        infinite="not solved: solver.kinematic_cells = 0, an elliptical contact (the mechanism "
+        "is built for circular ones) or a conic solver that stopped (no bound)",
     ),
     "first_yield_limit": History("1", "p_0/k at first yield under the sliding Hertz contact"),
     "shakedown_load_factor": History(
         "1",
-        "static shakedown limit over the case's own p_0/k: the factor of the case's load up to "
-        "which repeated passes shake down",
+        "certified static lower bound over the case's own p_0/k: the factor of the case's load "
+        "up to which repeated passes shake down",
     ),
     "program_iterations": History(
         "1", "interior-point iterations of the shakedown program, summed over its rounds", "sum"

@@ -17,6 +17,7 @@ from study_fixtures import write
 
 import solver
 from solver.drive.theorem import track_of
+from solver.result import STATUS_FLAGS
 from solver.theorems.track import track_limits
 from study import analysis
 from study.campaign import load_campaign
@@ -66,7 +67,8 @@ def test_a_case_gives_the_theorem_its_track_and_reports_the_limits():
     assert h["kinematic_upper_bound"][0] == expected.kinematic.factor
     assert expected.kinematic.converged and math.isfinite(expected.kinematic.factor)
     k = SIGMA_Y / math.sqrt(3.0)
-    assert h["shakedown_load_factor"][0] == pytest.approx(expected.static.factor * k / p0)
+    assert h["static_shakedown_lower_bound"][0] == expected.lower
+    assert h["shakedown_load_factor"][0] == pytest.approx(expected.lower * k / p0)
     data = result.to_xarray()
     assert data["static_residual_stress"].dims == ("component", "y_section", "z_section")
     assert float(data["z_section"][0]) == 0.0 and data["y_section"].attrs["units"] == "m"
@@ -250,9 +252,90 @@ def test_a_theorem_campaign_assembles_and_reports(theorem_campaign):
     cases = storage.read_campaign(theorem_campaign).cases
     frictionless, sliding = (track_of(item.case())[0] for item in cases)
     assert (frictionless.friction, sliding.friction) == (0.0, 0.5)
-    assert table["static p0/k"].iloc[0] == pytest.approx(track_limits(frictionless).static.factor)
+    frictionless_limits = track_limits(frictionless)
+    assert table["static estimate p0/k"].iloc[0] == pytest.approx(frictionless_limits.static.factor)
+    assert table["lower bound p0/k"].iloc[0] == pytest.approx(frictionless_limits.lower)
     assert table["upper p0/k"].iloc[1] == pytest.approx(track_limits(sliding).upper)
     report = build_report(theorem_campaign)
     text = report.read_text()
     assert "## Static shakedown" in text and "## Profiles" not in text
     assert (theorem_campaign / "theorem_static_shakedown_map.png").exists()
+
+
+def test_a_printed_lower_bound_never_exceeds_an_upper_bound_of_its_case(theorem_campaign):
+    """The report's lower bound lies under both upper bounds of its row, the estimate may not."""
+    with xr.open_dataset(theorem_campaign / "theorem.nc") as raw:
+        dataset = analysis.with_derived(raw.load())
+    table = report_theorem.theorem_table(dataset)
+    lower = table[report_theorem.LOWER]
+    assert lower.notna().all() and (table["bracket"] == "ok").all()
+    for upper in report_theorem.UPPER:
+        assert (lower <= table[upper]).all(), table[[report_theorem.LOWER, upper]]
+    assert (lower <= table["static estimate p0/k"]).all()
+    # a row whose lower bound lies above an upper bound is withheld, not printed as one
+    finished = analysis.finished_cases
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(
+            report_theorem.analysis,
+            "finished_cases",
+            lambda data: [
+                (
+                    labels,
+                    number,
+                    case.assign(static_shakedown_lower_bound=case["shakedown_upper_bound"] * 1.01),
+                )
+                for labels, number, case in finished(data)
+            ],
+        )
+        withheld = report_theorem.theorem_table(dataset)
+    assert withheld[report_theorem.LOWER].isna().all()
+    assert withheld["bracket"].str.startswith("withheld").all()
+
+
+def test_a_friction_above_the_theorems_range_is_refused_at_validation():
+    with pytest.raises(solver.SpecError) as raised:
+        solver.Case.from_dict(_table(friction={"coefficient": 1.5}))
+    assert str(raised.value) == (
+        "friction.coefficient: static_shakedown's theorems take 0 <= mu <= 1, got 1.5: give a "
+        "coefficient of at most 1 or use the incremental method"
+    )
+    assert solver.Case.from_dict(_table(friction={"coefficient": 1.0})).friction_coefficient == 1
+
+
+UNSOLVED_KINEMATIC = CAMPAIGN.replace(
+    'solver = { method = "static_shakedown" }',
+    'solver = { method = "static_shakedown", kinematic_cells = 0 }',
+).replace('"friction.coefficient" = [0.0, 0.5]', '"friction.coefficient" = [0.5]')
+
+
+def test_a_declared_infinity_is_data_and_an_undeclared_nan_a_failure(tmp_path):
+    """kinematic_cells = 0: the kinematic bound is inf (declared), the case finishes with it."""
+    from solver.variables import HISTORIES
+
+    assert HISTORIES["kinematic_upper_bound"].infinite
+    assert HISTORIES["static_shakedown_lower_bound"].infinite is None
+    campaign = load_campaign(write(tmp_path, UNSOLVED_KINEMATIC))
+    out = tmp_path / "out"
+    summary = run_campaign(campaign, out, options=RunOptions())
+    assert summary.exit_status == 0 and summary.converged == 1 and summary.failed == 0
+    assemble_to_file(out)
+    with xr.open_dataset(out / "theorem.nc") as raw:
+        dataset = raw.load()
+    ((_, _, case),) = analysis.finished_cases(dataset)
+    assert int(case["status"]) == STATUS_FLAGS["converged"]
+    assert np.isposinf(float(case["kinematic_upper_bound"]))
+    assert np.isfinite(float(case["static_shakedown_lower_bound"]))
+
+    solved = solver.solve(campaign.cases[0].case())
+
+    def broken(to_solve):  # the same result with a value no declaration admits
+        result = copy.copy(solved)
+        result.history = {**solved.history, "static_shakedown_lower_bound": np.array([np.nan])}
+        return result
+
+    failed = tmp_path / "failed"
+    summary = run_campaign(campaign, failed, options=RunOptions(solve=broken))
+    assert summary.failed == 1 and summary.converged == 0
+    (record,) = [storage.read_failure(failed, i) for i in storage.failed_ids(failed)]
+    assert "history static_shakedown_lower_bound" in str(record)
+    assert "kinematic_upper_bound" not in str(record.get("error", ""))

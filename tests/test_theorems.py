@@ -315,3 +315,67 @@ def test_a_long_ellipse_tends_to_the_line_contact():
     line = track_limits(Track("line", 0.0, 0.3, cells=4)).static.factor
     assert limits[0] > limits[1] > limits[2] > line
     assert limits[2] / line - 1.0 < 0.5 * (limits[0] / line - 1.0)
+
+
+def _brute_force_certified(track, static, y, z, factor):
+    """Largest yield ratio of the program's field, bilinear, on the halfway lattice, fine s."""
+    from solver.theorems.residual import interpolate_section
+    from solver.theorems.track import BOUND_POSITIONS, DEVIATOR_MIRROR_SIGNS, SURFACE
+
+    z0 = np.concatenate([[0.0], z[1:]])
+    fine_y = np.sort(np.concatenate([[0.0], y, 0.5 * (y[:-1] + y[1:])]))
+    fine_z = np.sort(np.concatenate([z0, 0.5 * (z0[:-1] + z0[1:])]))
+    s = track.positions(BOUND_POSITIONS)
+    shifts = deviatoric_coordinates(static.residual)
+    worst = 0.0
+    for py in fine_y:
+        shift = interpolate_section(shifts, y, z0, py, fine_z, DEVIATOR_MIRROR_SIGNS)
+        path = deviatoric_coordinates(track.stress(s[:, None], py, np.maximum(fine_z, SURFACE)))
+        total = factor * path + shift[:, None, :]
+        worst = max(worst, float(np.sqrt(np.sum(total * total, axis=0)).max()) / math.sqrt(2))
+    return worst
+
+
+@pytest.mark.parametrize("mu", [0.0, 0.5])
+def test_the_certified_lower_bound_holds_between_the_samples_and_under_the_upper_bound(mu):
+    """The estimate can lie above the pointwise bound; the certified bound cannot."""
+    track = Track("point", mu, 0.3, cells=4)
+    limits = track_limits(track)
+    assert limits.lower <= limits.upper
+    assert limits.lower <= limits.static.factor
+    z = np.concatenate([[0.0], limits.z[1:]])
+    # within yield everywhere it was checked at the bound, at yield somewhere (the root)
+    ratio = _brute_force_certified(track, limits.static, limits.y, z, limits.lower)
+    assert ratio <= 1.0 + 1e-9
+
+
+def test_a_perturbed_programs_factor_is_rechecked_between_the_sampled_positions():
+    """A residual field scaled away from the optimum: the certified factor falls to the root
+    of the worst point and position of the fine check, which the program's own samples miss."""
+    import copy
+
+    from solver.theorems.track import certified_limit
+
+    track = Track("point", 0.5, 0.3, cells=4)
+    limits = track_limits(track)
+    perturbed = copy.copy(limits.static)
+    perturbed.residual = 1.3 * limits.static.residual
+    program_positions = track.positions(2.0 * track.cells)
+    lower, (py, pz, s) = certified_limit(
+        track, perturbed, limits.y, limits.z, program_positions, limits.upper_at
+    )
+    z = np.concatenate([[0.0], limits.z[1:]])
+    assert lower < limits.lower
+    ratio = _brute_force_certified(track, perturbed, limits.y, z, lower)
+    assert ratio == pytest.approx(1.0, abs=1e-9)  # binds at the fine check's worst pair
+    # the program's own points and positions alone would have certified a larger factor
+    on_samples = certified_factors(
+        deviatoric_coordinates(
+            track.stress(program_positions[:, None, None], limits.y[None, :, None],
+                         np.maximum(limits.z, 1e-9)[None, None, :])
+        ).reshape(5, program_positions.size, -1),
+        deviatoric_coordinates(perturbed.residual).reshape(5, -1),
+        np.full(limits.y.size * limits.z.size, math.sqrt(2.0)),
+    ).min()  # fmt: skip
+    assert on_samples > lower
+    assert not np.isclose(program_positions, s).any() or py not in limits.y

@@ -19,6 +19,7 @@ from ..keys import (
     MAX_AUTO_HALF_WIDTH,
     MAX_PERIODIC_DEPTH,
     MAX_ROLLING_STEP,
+    MAX_THEOREM_FRICTION,
     PLASTIC_WIDTH_MARGIN,
 )
 from .grid import GridSpec, require_yield_cells
@@ -538,6 +539,13 @@ def check_static_shakedown(case) -> tuple[str, ...]:
             "body2.hardening.law",
             f"static_shakedown takes perfect plasticity, with or without kinematic hardening; "
             f'isotropic hardening ({hardening.law!r}) is not built: use law = "perfect"',
+        )
+    mu = case.friction_coefficient
+    if mu > MAX_THEOREM_FRICTION:
+        fail(
+            "friction.coefficient",
+            f"static_shakedown's theorems take 0 <= mu <= {MAX_THEOREM_FRICTION:g}, got {mu:g}: "
+            f"give a coefficient of at most {MAX_THEOREM_FRICTION:g} or use the incremental method",
         )
     if case.reference is None or not pair.geometry.hertzian:
         fail(path, "static_shakedown takes a Hertz contact: quadric bodies, no profile or heights")

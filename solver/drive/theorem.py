@@ -9,9 +9,11 @@ the cross-section's cells follow the case's cells (a / the largest cell side, fr
 ellipse).  A circular contact passes Hamilton's closed-form field, an elliptical one its
 Hertz pressure on cells (:mod:`solver.theorems.loads`).  :func:`solve_static_shakedown`
 returns a :class:`~solver.result.Result` of one step: the limits (histories
-``static_shakedown_limit``, ``shakedown_upper_bound``, ``kinematic_upper_bound``,
-``first_yield_limit``, ``shakedown_load_factor``), the residual field that proves the static
-limit and where it binds (fields on ``y_section``, ``z_section``), and on the surface the
+``static_shakedown_limit``: the program's factor on the section's points, an estimate;
+``static_shakedown_lower_bound``: that factor certified between them, a lower bound;
+``shakedown_upper_bound``, ``kinematic_upper_bound`` (inf: not solved),
+``first_yield_limit``, ``shakedown_load_factor``), the program's residual field and where it
+binds (fields on ``y_section``, ``z_section``), and on the surface the
 Hertz pressure and the sliding shear the theorem passes along the track.  Status: converged
 when the program is optimal, truncated when the elastic field yields outside the
 cross-section's box, not converged otherwise; the reason is a note.
@@ -102,6 +104,13 @@ def solve_static_shakedown(case: Case) -> Result:
     limits, factor, unit, length = _limits(case)
     static = limits.static
     notes = [*case.warnings, f"static shakedown ({static.status}): {static.reason}"]
+    if limits.lower < static.factor:
+        y, z, s = limits.lower_at
+        notes.append(
+            f"certified lower bound {limits.lower * factor:.5g} (the program's field checked "
+            f"between its points and positions; binds at y = {y * length:.3g}, "
+            f"z = {z * length:.3g}, load at x = {s * length:.3g})"
+        )
     kinematic = math.inf  # no bound
     if limits.kinematic is not None:
         notes.append(f"kinematic bound ({limits.kinematic.status}): {limits.kinematic.reason}")
@@ -112,10 +121,11 @@ def solve_static_shakedown(case: Case) -> Result:
         "normal_force": np.array([force]),
         "max_pressure": np.array([p0]),
         "static_shakedown_limit": np.array([static.factor * factor]),
+        "static_shakedown_lower_bound": np.array([limits.lower * factor]),
         "shakedown_upper_bound": np.array([limits.upper * factor]),
         "kinematic_upper_bound": np.array([kinematic * factor]),
         "first_yield_limit": np.array([limits.first_yield * factor]),
-        "shakedown_load_factor": np.array([static.factor * factor * k / p0]),
+        "shakedown_load_factor": np.array([limits.lower * factor * k / p0]),
         "program_iterations": np.array([float(static.solver_iterations)]),
         "step_converged": np.array([1.0 if static.converged else 0.0]),
     }

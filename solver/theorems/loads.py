@@ -72,7 +72,8 @@ def traction_limit(
     Returns
     -------
     TrackLimits
-        As multiples of the load given (the residual field in Pa): the static limit, the
+        As multiples of the load given (the residual field in Pa): the static limit (its
+        ``lower`` too: certified on every point and position the pointwise bounds see), the
         smallest pointwise bound over
         the cells likeliest to bind and the surface points (on the cells' stress paths), first
         yield on the cells, the factor at which the largest surface shear reaches k; the
@@ -129,7 +130,8 @@ def traction_limit(
     shear = float(np.abs(tractions["shear_x"]).max()) if "shear_x" in tractions else 0.0
     flow = k / shear if shear > 0.0 else math.inf
     at = (float(y[cells[best][0]]), float(z[cells[best][1]]))
-    return TrackLimits(static, float(bounds[best]), at, first, flow, y, z)
+    # the pointwise bounds sample the program's own points and positions: certified there
+    return TrackLimits(static, float(bounds[best]), at, first, flow, y, z, lower=static.factor)
 
 
 def elliptical_hertz(

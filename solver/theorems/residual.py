@@ -36,6 +36,9 @@ import scipy.sparse as sp
 #: Residual components that a line contact's fields can have, in
 #: :data:`solver.numerics.tensor.COMPONENTS` order (xx, yy, xy).
 LINE_COMPONENTS = (0, 1, 5)
+#: Sign each component of :data:`solver.numerics.tensor.COMPONENTS` takes when a field even
+#: about the track's centre line is mirrored to y < 0 (rho_yz and rho_xy are odd in y).
+MIRROR_SIGNS = np.array([1.0, 1.0, 1.0, -1.0, 1.0, -1.0])
 
 
 def line_basis(nz: int) -> sp.csr_matrix:
@@ -177,4 +180,66 @@ def section_basis(
     return stacked[order]
 
 
-__all__ = ["LINE_COMPONENTS", "line_basis", "section_basis"]
+def interpolate_section(
+    values: np.ndarray,
+    y: np.ndarray,
+    z: np.ndarray,
+    at_y: np.ndarray,
+    at_z: np.ndarray,
+    signs: np.ndarray | None = MIRROR_SIGNS,
+) -> np.ndarray:
+    """A field known at the section's points, bilinear between them: ``(c, ...)`` at points.
+
+    The field of the static program between its points: ``values`` at the points ``(y_j,
+    z_k)`` (the half ``y >= 0`` of a field even about ``y = 0``, mirrored with ``signs``), linear
+    in y and in z between neighbours and constant past the outermost ones.
+
+    Parameters
+    ----------
+    values : ndarray
+        ``(c, ny, nz)`` the field (any units) at the points, ``c`` components.
+    y, z : ndarray
+        ``(ny,)``, ``(nz,)`` the points' coordinates, increasing (any length unit); a single y
+        (a line contact) gives a field of z alone.
+    at_y, at_z : ndarray
+        Where to evaluate (broadcast together; ``|at_y|`` is taken).
+    signs : ndarray, optional
+        ``(c,)`` each component's sign across ``y = 0`` (default :data:`MIRROR_SIGNS`); None:
+        no mirror (the field constant below the first y).
+
+    Returns
+    -------
+    ndarray
+        ``(c, *shape)`` the field at the points.
+    """
+    at_y, at_z = np.broadcast_arrays(np.abs(np.asarray(at_y, float)), np.asarray(at_z, float))
+    if y.size > 1 and signs is not None:  # the mirror image makes y = 0 a point between two
+        values = np.concatenate([values[:, ::-1] * signs[:, None, None], values], axis=1)
+        y = np.concatenate([-y[::-1], y])
+
+    def weights(grid, at):
+        if grid.size == 1:
+            return np.zeros(at.shape, int), np.zeros(at.shape)
+        j = np.clip(np.searchsorted(grid, at) - 1, 0, grid.size - 2)
+        t = np.clip((at - grid[j]) / (grid[j + 1] - grid[j]), 0.0, 1.0)
+        return j, t
+
+    j, ty = weights(y, at_y)
+    k, tz = weights(z, at_z)
+    jn = np.minimum(j + 1, y.size - 1)
+    kn = np.minimum(k + 1, z.size - 1)
+    return (
+        (1 - ty) * (1 - tz) * values[:, j, k]
+        + ty * (1 - tz) * values[:, jn, k]
+        + (1 - ty) * tz * values[:, j, kn]
+        + ty * tz * values[:, jn, kn]
+    )
+
+
+__all__ = [
+    "LINE_COMPONENTS",
+    "MIRROR_SIGNS",
+    "interpolate_section",
+    "line_basis",
+    "section_basis",
+]

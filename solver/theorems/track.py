@@ -6,7 +6,16 @@ sliding traction ``q_x = mu p`` (Hamilton 1983; McEwen 1949) passes along x over
 the side of the track's centre line and ``depth`` a deep, positions from ``-span`` a to
 ``span`` a along the track) and returns, in units of k (the shear yield stress):
 
-- the static limit (:func:`.melan.static_limit`): Melan's lower bound on the cells;
+- the static program's factor (:func:`.melan.static_limit`): Melan's limit *on the section's
+  points* (the cell centres and the surface above them, two positions a cell).  It samples
+  the field and is an estimate, not a bound: the worst point of the limit lies between the
+  points (on the centre plane y = 0, which no cell centre reaches; at the surface between the
+  positions, where the sliding contact's edge passes), and it approaches the limit from above;
+- the certified lower bound (:func:`certified_limit`): the program's residual field, bilinear
+  between the section's points, checked at the points halfway between them and on y = 0, at
+  :data:`BOUND_POSITIONS` positions a contact radius, and at the point where the pointwise
+  upper bound was found (its own path): the largest factor with all of them within yield.
+  It can lie below the limit, never above the pointwise bound;
 - an upper bound: the smallest pointwise bound (:func:`.melan.pointwise_limit`) over the cells
   where the program binds, below them on the free surface, and a local search from the best;
 - for a point contact, if asked, Koiter's kinematic upper bound (:func:`.koiter.kinematic_limit`)
@@ -30,11 +39,20 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize, minimize_scalar
 
+from ..keys import MAX_THEOREM_FRICTION
 from ..theory.half_space import hamilton_stress, mcewen_stress
 from ..theory.shakedown import sliding_first_yield
 from .koiter import KinematicLimit, kinematic_limit
-from .melan import SURFACE_SHIFTS, StaticLimit, likeliest_cells, pointwise_limit, static_limit
-from .residual import line_basis, section_basis
+from .melan import (
+    SURFACE_SHIFTS,
+    StaticLimit,
+    certified_factors,
+    deviatoric_coordinates,
+    likeliest_cells,
+    pointwise_limit,
+    static_limit,
+)
+from .residual import interpolate_section, line_basis, section_basis
 
 #: Contacts a track can carry.
 CONTACTS = ("point", "line")
@@ -52,6 +70,8 @@ SEARCH_EVALUATIONS = 40
 KINEMATIC_BOX = 1.5
 #: Reach of the kinematic cycle's instants either side of the section, in a.
 KINEMATIC_SPAN = 2.0
+#: Sign of each deviator coordinate (:data:`.melan.DEVIATOR_BASIS`) across y = 0.
+DEVIATOR_MIRROR_SIGNS = np.array([1.0, 1.0, -1.0, 1.0, -1.0])
 
 
 @dataclass(frozen=True)
@@ -63,7 +83,8 @@ class Track:
     contact : str
         ``"point"`` or ``"line"``.
     friction : float
-        mu: the shear traction ``mu p`` along +x (Hamilton's sliding), 0 to 1.
+        mu: the shear traction ``mu p`` along +x (Hamilton's sliding), 0 to
+        :data:`solver.keys.MAX_THEOREM_FRICTION`.
     nu : float
         Poisson's ratio.
     cells : int
@@ -89,8 +110,10 @@ class Track:
     def __post_init__(self):
         if self.contact not in CONTACTS:
             raise ValueError(f"contact must be one of {CONTACTS}, got {self.contact!r}")
-        if not 0.0 <= self.friction <= 1.0:
-            raise ValueError(f"friction must be in [0, 1], got {self.friction}")
+        if not 0.0 <= self.friction <= MAX_THEOREM_FRICTION:
+            raise ValueError(
+                f"friction must be in [0, {MAX_THEOREM_FRICTION:g}], got {self.friction}"
+            )
         if not -1.0 < self.nu < 0.5:
             raise ValueError(f"nu must be in (-1, 0.5), got {self.nu}")
         if self.cells < 2:
@@ -123,7 +146,8 @@ class TrackLimits:
     Attributes
     ----------
     static : StaticLimit
-        Melan's program (lower bound on the cells; ``static.factor``).
+        Melan's program on the section's points (``static.factor``: an estimate of the limit,
+        not a bound; the residual field on the points).
     upper : float
         The smallest pointwise upper bound found.
     upper_at : (float, float)
@@ -137,6 +161,11 @@ class TrackLimits:
         contact, 0 for a line), z of the surface (0) and the cell centres.
     kinematic : KinematicLimit or None
         Koiter's upper bound, where computed.
+    lower : float
+        The certified lower bound (:func:`certified_limit`; traction routes: ``static.factor``,
+        certified on every point and position its pointwise bound sees).
+    lower_at : (float, float, float)
+        Where it binds: (y / a, z / a, the load's position s / a).
     """
 
     static: StaticLimit
@@ -147,6 +176,8 @@ class TrackLimits:
     y: np.ndarray
     z: np.ndarray
     kinematic: KinematicLimit | None = None
+    lower: float = math.nan
+    lower_at: tuple[float, float, float] = (math.nan, math.nan, math.nan)
 
 
 def track_limits(track: Track, kinematic_cells: int | None = None) -> TrackLimits:
@@ -188,6 +219,7 @@ def track_limits(track: Track, kinematic_cells: int | None = None) -> TrackLimit
         edge = track.stress(s, 0.0, track.depth)
     static = static_limit(elastic, basis, 1.0, track.back_stress_bound, edge)
     upper, at = _upper_bound(track, static, elastic, y, z)
+    lower, lower_at = certified_limit(track, static, y, z, s, at)
     first = sliding_first_yield(track.friction, track.nu, track.contact)[0]
     flow = math.inf if track.friction == 0.0 else 1.0 / track.friction
     z = np.concatenate([[0.0], z[1:]])
@@ -200,7 +232,74 @@ def track_limits(track: Track, kinematic_cells: int | None = None) -> TrackLimit
             track.stress, instants, KINEMATIC_BOX, KINEMATIC_BOX, kinematic_cells,
             track.back_stress_bound,
         )  # fmt: skip
-    return TrackLimits(static, upper, at, first, flow, y, z, kinematic)
+    return TrackLimits(static, upper, at, first, flow, y, z, kinematic, lower, lower_at)
+
+
+def certified_limit(
+    track: Track,
+    static: StaticLimit,
+    y: np.ndarray,
+    z: np.ndarray,
+    positions: np.ndarray,
+    upper_at: tuple[float, float],
+) -> tuple[float, tuple[float, float, float]]:
+    """The static program's factor reduced until its field holds between its samples.
+
+    The residual field (and back stress) of ``static``, known at the section's points
+    ``(y, z)``, is taken bilinear between them (:func:`.residual.interpolate_section`, mirrored
+    across y = 0).  It is checked at the points and those halfway between neighbours (y = 0
+    among them), at the program's ``positions`` and :data:`BOUND_POSITIONS` a contact radius,
+    and at ``upper_at`` on the pointwise bound's own path: the factor returned is the largest
+    for which all of them are within yield (the smallest root of
+    :func:`.melan.certified_factors`).  At ``upper_at`` no constant shift does better than the
+    pointwise bound, so the factor cannot exceed it; between the checked points and positions
+    nothing is proved (a finer section lowers the gap, see how-to "sliding").
+
+    Parameters
+    ----------
+    track : Track
+        The contact (its elastic field per unit p0, lengths in a).
+    static : StaticLimit
+        The program's solution on the section (residual in units of k).
+    y, z : ndarray
+        The section's points (a): cell columns, the surface (z at :data:`SURFACE`) and cells.
+    positions : ndarray
+        The program's load positions (a).
+    upper_at : (float, float)
+        Where the pointwise upper bound was found (y / a, z / a).
+
+    Returns
+    -------
+    factor : float
+        The certified lower bound (p0 / k).
+    where : (float, float, float)
+        (y, z, s) in a where it binds.
+    """
+    z0 = np.concatenate([[0.0], z[1:]])
+    fine_z = np.sort(np.concatenate([z0, 0.5 * (z0[:-1] + z0[1:])]))
+    if track.contact == "point":
+        fine_y = np.sort(np.concatenate([[0.0], y, 0.5 * (y[:-1] + y[1:])]))
+    else:
+        fine_y = np.zeros(1)
+    s = np.union1d(positions, track.positions(BOUND_POSITIONS))
+    shifts = deviatoric_coordinates(static.residual)
+    back = static.back_stress
+    radius = np.array([math.sqrt(2.0)])
+    best, where = math.inf, (math.nan, math.nan, math.nan)
+    surface = upper_at[1] <= SURFACE  # the surface point itself: its field, not a cell's
+    columns = [(py, fine_z) for py in fine_y]
+    columns.append((upper_at[0], np.array([0.0 if surface else upper_at[1]])))
+    for py, depths in columns:
+        shift = interpolate_section(shifts, y, z0, py, depths, DEVIATOR_MIRROR_SIGNS)
+        if back is not None:
+            shift = shift - interpolate_section(back, y, z0, py, depths, DEVIATOR_MIRROR_SIGNS)
+        path = track.stress(s[:, None], py, np.maximum(depths, SURFACE)[None, :])
+        load = deviatoric_coordinates(path)
+        roots = certified_factors(load, shift, np.broadcast_to(radius, depths.shape))
+        if roots.min() < best:
+            p, k = np.unravel_index(np.argmin(roots), roots.shape)
+            best, where = float(roots[p, k]), (float(py), float(depths[k]), float(s[p]))
+    return best, where
 
 
 def _upper_bound(
@@ -254,5 +353,6 @@ __all__ = [
     "KINEMATIC_SPAN",
     "Track",
     "TrackLimits",
+    "certified_limit",
     "track_limits",
 ]

@@ -11,7 +11,7 @@ cycle.  This section writes
   cycles, the gain of the first and the last cycle and the net tensor change of the last one;
 - ``<name>_shakedown_map.png``: p_0/k against mu, one marker per case coloured by its regime,
   with first yield under a sliding point contact (Hamilton's field,
-  :func:`solver.theory.shakedown.sliding_first_yield`), Melan's static limit solved directly
+  :func:`solver.theory.shakedown.sliding_first_yield`), Melan's certified lower bound (direct)
   and the upper bounds beside it, pointwise and Koiter's kinematic one (:func:`static_curve`:
   the classical limit, for an unchanging surface;
   the cases put the print into the gap), the line mu p_0 = k (above it the sliding
@@ -108,7 +108,7 @@ KINEMATIC_CELLS = 8
 
 
 def static_curve(mu_max: float, nu: float, step: float = 0.1) -> tuple[np.ndarray, ...]:
-    """(mu, static limit, pointwise and kinematic upper bounds) p_0/k of a sliding sphere.
+    """(mu, certified lower bound, pointwise and kinematic upper bounds) p_0/k of a sliding sphere.
 
     Perfect plasticity; Melan's and Koiter's theorems solved directly
     (:func:`solver.theorems.track.track_limits`) on cells of a/:data:`STATIC_CELLS` and
@@ -120,7 +120,7 @@ def static_curve(mu_max: float, nu: float, step: float = 0.1) -> tuple[np.ndarra
     limits = [track_limits(Track("point", float(m), nu, STATIC_CELLS), KINEMATIC_CELLS) for m in mu]
     return (
         mu,
-        np.array([t.static.factor for t in limits]),
+        np.array([t.lower for t in limits]),
         np.array([t.upper for t in limits]),
         np.array([t.kinematic.factor for t in limits]),
     )
@@ -164,7 +164,7 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
         ax.plot(mu, ratio, "k-", lw=1, label=f"first yield (Hamilton 1983, nu = {nu:g})")
         mu, static, upper, kinematic = static_curve(mu_max, nu)
         ax.plot(mu, static, "-", color="tab:purple", lw=1.2,
-                label=f"Melan's static limit, direct (cells a/{STATIC_CELLS})")  # fmt: skip
+                label=f"Melan's certified lower bound (cells a/{STATIC_CELLS})")  # fmt: skip
         ax.plot(mu, upper, "--", color="tab:purple", lw=1, label="its pointwise upper bound")
         koiter = f"Koiter's kinematic upper bound (triangles a/{KINEMATIC_CELLS})"
         ax.plot(mu, kinematic, "-.", color="tab:purple", lw=1, label=koiter)

@@ -13,8 +13,10 @@ the requests (polling with short sleeps, so it costs no core) while the main thr
 cases too, so the root is not idle on small runs; the dispatcher's MPI calls are the only ones
 while it runs (``MPI_THREAD_SERIALIZED`` suffices).
 
-Each case is solved, checked for NaN/inf, and kept by the rank that computed it, which writes
-its finished cases as one bundle every few seconds (:class:`.writer.CaseWriter`).  An exception
+Each case is solved, checked for NaN/inf (a history's declaration may admit a documented
+infinity or a not-computed NaN: :meth:`solver.variables.History.admits`), and kept by the rank
+that computed it, which writes its finished cases as one bundle every few seconds
+(:class:`.writer.CaseWriter`).  An exception
 or a non-finite result makes the case *failed*: its traceback, rank and host go into the bundle
 as its failure record (``python -m study status`` shows them) and the campaign goes on;
 non-convergence is a result (status ``not_converged``).  When the first k cases of a run all
@@ -47,6 +49,7 @@ import numpy as np
 
 import solver
 from solver.numerics import fftw
+from solver.variables import HISTORIES
 
 from .. import bundle
 from ..bundle import Entry
@@ -348,13 +351,23 @@ def solver_case(case: CampaignCase, fft_threads: int | None = None) -> solver.Ca
 
 
 def _non_finite(result: solver.Result) -> list[str]:
+    """Names of the result's arrays holding NaN or inf that their declaration does not admit.
+
+    A history declared with an infinity or a not-computed value
+    (:meth:`solver.variables.History.admits`: the kinematic bound not solved, inf) keeps it.
+    """
     arrays = {
         "pressure": result.pressure,
         "shear_x": result.shear_x,
         "shear_y": result.shear_y,
-        **{f"history {name}": values for name, values in result.history.items()},
     }
-    return [name for name, values in arrays.items() if not np.all(np.isfinite(values))]
+    bad = [name for name, values in arrays.items() if not np.all(np.isfinite(values))]
+    for name, values in result.history.items():
+        declared = HISTORIES.get(name)
+        ok = declared.admits(values) if declared is not None else np.isfinite(values)
+        if not np.all(ok):
+            bad.append(f"history {name}")
+    return bad
 
 
 def run_case(
