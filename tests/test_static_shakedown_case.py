@@ -339,3 +339,20 @@ def test_a_declared_infinity_is_data_and_an_undeclared_nan_a_failure(tmp_path):
     (record,) = [storage.read_failure(failed, i) for i in storage.failed_ids(failed)]
     assert "history static_shakedown_lower_bound" in str(record)
     assert "kinematic_upper_bound" not in str(record.get("error", ""))
+
+
+def test_a_theorem_case_file_from_before_the_certified_lower_bound_is_not_reused():
+    """Model version 5 changed what a static_shakedown case computes (the certified lower bound
+    that shakedown_load_factor follows): its id carries version 5, a file of version 4 is
+    refused for it, and the same scene solved incrementally keeps the oldest version."""
+    from solver.case.case import MODEL_CHANGES, MODEL_VERSION, OLDEST_MODEL
+
+    theorem = solver.Case.from_dict(_table())
+    assert theorem.spec["model"] == MODEL_VERSION == 5 and "static_shakedown" in MODEL_CHANGES[5]
+    table = theorem.to_dict()
+    table["model"] = 4
+    with pytest.raises(solver.SpecError, match=r"^model: .*version 5 changed how it is solved"):
+        solver.Case.from_dict(table)
+    incremental = _table()
+    del incremental["solver"]
+    assert solver.Case.from_dict(incremental).spec["model"] == OLDEST_MODEL

@@ -86,18 +86,25 @@ from .volume import size_open_volume
 #: Version 1: elastic-plastic bodies solved as elastic; 2: a plastic increment whose loop did
 #: not converge was kept as it was, where 3 halves it, and a sliding increment's friction work
 #: missed the step after a reversal (3 alters every case); then :data:`MODEL_CHANGES`.
-MODEL_VERSION = 4
+MODEL_VERSION = 5
 #: The oldest version a case may be solved by (the last change that altered every case).
 OLDEST_MODEL = 3
 #: The changes after :data:`OLDEST_MODEL`: version -> what it alters (:func:`case_model`).
 MODEL_CHANGES = {
     4: "a transient roll's spin turns body 1 about the contact's position at the end of each "
     "increment, no longer about the travel's midpoint",
+    5: "static_shakedown certifies Melan's lower bound between the program's points and "
+    "positions (static_shakedown_lower_bound), which shakedown_load_factor now follows",
 }
 
 
-def case_model(stages: Sequence[LoadStage]) -> int:
-    """The model version that solves a load path as this code does (:data:`MODEL_CHANGES`)."""
+def case_model(stages: Sequence[LoadStage], method: str) -> int:
+    """The model version that solves a case as this code does (:data:`MODEL_CHANGES`).
+
+    ``method`` is ``solver.method``.
+    """
+    if method == "static_shakedown":
+        return 5
     if any(stage.motion == "roll" and stage.spin for stage in stages):
         return 4
     return OLDEST_MODEL
@@ -282,14 +289,6 @@ class Case:
         else:
             stage, spec = parse_stage(load, "load", (0.0, (0.0, 0.0), False), pair, True)
             stages, paths, given = [stage], ["load"], [spec]
-        version = case_model(stages)
-        if model < version:
-            fail(
-                "model",
-                f"this case was written by model version {model}, and version {version} "
-                f"changed how it is solved ({MODEL_CHANGES[version]}): remove the key to solve "
-                "it with the current model",
-            )
 
         friction = check_keys(table.get("friction", {}), "friction", table_keys("friction"))
         mu = number(friction.get("coefficient", 0.0), "friction.coefficient")
@@ -383,6 +382,14 @@ class Case:
             )
             warnings += notes
         solver, solver_spec = parse("solver", table.get("solver", NO_TABLE), _solver)
+        version = case_model(stages, solver.method)
+        if model < version:
+            fail(
+                "model",
+                f"this case was written by model version {model}, and version {version} "
+                f"changed how it is solved ({MODEL_CHANGES[version]}): remove the key to solve "
+                "it with the current model",
+            )
         if solver.method == "static_shakedown" and "residual_print" in table.get("solver", {}):
             fail(
                 "solver.residual_print",
