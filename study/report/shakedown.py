@@ -22,6 +22,7 @@ cycle.  This section writes
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 
 import numpy as np
@@ -93,10 +94,16 @@ def shakedown_table(dataset):
     return table.dropna(axis=1, how="all")  # no Melan factor: not a sliding campaign
 
 
+@functools.lru_cache(maxsize=512)
+def _first_yield(mu: float, nu: float) -> float:
+    """p_0/k of first yield at one friction coefficient (a search: kept for the next report)."""
+    return sliding_first_yield(mu, nu)[0]
+
+
 def first_yield_curve(mu_max: float, nu: float, points: int = 41) -> tuple[np.ndarray, np.ndarray]:
     """(mu, p_0/k) of first yield under a sliding point contact, mu from 0 to ``mu_max``."""
     mu = np.linspace(0.0, mu_max, points)
-    return mu, np.array([sliding_first_yield(m, nu)[0] for m in mu])
+    return mu, np.array([_first_yield(round(float(m), 12), nu) for m in mu])
 
 
 #: Cross-section cells a contact radius of the static limit drawn over an incremental map (a
@@ -114,16 +121,22 @@ def static_curve(mu_max: float, nu: float, step: float = 0.1) -> tuple[np.ndarra
     (:func:`solver.theorems.track.track_limits`) on cells of a/:data:`STATIC_CELLS` and
     mechanisms of a/:data:`KINEMATIC_CELLS`, mu from 0 to ``mu_max`` every ``step``.
     """
+    mu = np.arange(0.0, mu_max + 1e-9, step)
+    bounds = np.array([_theorem_bounds(round(float(m), 12), nu) for m in mu])
+    return (mu, *bounds.T)
+
+
+@functools.lru_cache(maxsize=64)
+def _theorem_bounds(mu: float, nu: float) -> tuple[float, float, float]:
+    """The lower, pointwise and kinematic p_0/k at one mu.
+
+    Seconds of conic programs: solved once per process (every report drawn in a session draws
+    the same curve).
+    """
     from solver.theorems.track import Track, track_limits
 
-    mu = np.arange(0.0, mu_max + 1e-9, step)
-    limits = [track_limits(Track("point", float(m), nu, STATIC_CELLS), KINEMATIC_CELLS) for m in mu]
-    return (
-        mu,
-        np.array([t.lower for t in limits]),
-        np.array([t.upper for t in limits]),
-        np.array([t.kinematic.factor for t in limits]),
-    )
+    limits = track_limits(Track("point", mu, nu, STATIC_CELLS), KINEMATIC_CELLS)
+    return limits.lower, limits.upper, limits.kinematic.factor
 
 
 def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
