@@ -225,6 +225,28 @@ def test_the_sections_label_says_the_datasets_largest_strain(tmp_path, monkeypat
         assert label.startswith(expected + " at") and "off this plane" in label
 
 
+def test_the_sections_title_says_which_cases_it_leaves_out(tmp_path, monkeypatch):
+    pytest.importorskip("matplotlib")
+    monkeypatch.setattr("study.report.figures.DPI", 40)
+    saved = _capture(monkeypatch)
+    dataset = sliding_dataset(tmp_path)
+    total = dataset.sizes["mu"]
+
+    def title() -> str:
+        png = report_plastic.plot_sections(dataset, tmp_path, tmp_path / "sections.png")
+        return " ".join(saved[png.name].get_suptitle().split())
+
+    assert f"all {total} finished cases, finest mesh" in title()
+    panels = report_plastic.figures.MAX_PANELS
+    monkeypatch.setattr("study.report.figures.MAX_PANELS", total - 1)
+    assert (
+        f"{total - 1} of {total} finished cases (only the first {total - 1} in axis order"
+    ) in title()
+    monkeypatch.setattr("study.report.figures.MAX_PANELS", panels)
+    (storage.cases_dir(tmp_path) / "s1.nc").unlink()
+    assert f"{total - 1} of {total} finished cases (1 without a stored field)" in title()
+
+
 # -- 4. untrusted values flagged -----------------------------------------------------------------
 @pytest.mark.parametrize(("steps", "status", "flag"), [
     ((1, 0, 1), 1, "1/3 steps unconverged"),

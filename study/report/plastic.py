@@ -407,12 +407,15 @@ def plot_sections(dataset, out: str | Path, path: str | Path) -> Path | None:
 
     stored = storage.case_index(out)
     sections = []
-    for labels, index in shown_cases(dataset):
+    candidates, fieldless = shown_cases(dataset), 0
+    for labels, index in candidates:
         case_id = str(dataset["case_id"].isel(index).item())
         if case_id not in stored.results:
+            fieldless += 1
             continue
         with storage.open_case(out, case_id, index=stored) as case:
             if "plastic_strain" not in case:
+                fieldless += 1
                 continue
             a = float(case.attrs["hertz_semi_axis_x"])
             y = case["y"].values
@@ -482,7 +485,10 @@ def plot_sections(dataset, out: str | Path, path: str | Path) -> Path | None:
         fig,
         f"{dataset.attrs.get('campaign', '')}: plastic strain in the plane y = 0 "
         "(paper fig. 6), one colour scale, x: the largest plastic strain (max over path)",
-        f"{len(sections)} case(s), finest mesh and most load steps of each slice",
+        figures.panel_note(
+            len(sections), len(candidates), fieldless, "finished cases", "without a stored field"
+        )
+        + ", finest mesh and most load steps of each slice",
         figures.status_note([section[4] for section in sections], "red dashed frame"),
     )
     figures.save(plt, fig, path)
