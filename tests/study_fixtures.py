@@ -30,6 +30,19 @@ tangential_force = 10.0
 steps = 1
 """
 
+#: The case table of the sampled-design checks (tests/test_sample.py,
+#: tests/test_global_sensitivity.py): an elastic sphere on a rigid flat, 16^2 cells.
+DESIGN_BASE = {
+    "body1": {"behaviour": "elastic", "radius": 0.01, "E": 210e9, "nu": 0.3},
+    "body2": {"behaviour": "rigid"},
+    "load": {"normal_force": 100.0},
+    "grid": {"n": [16, 16]},
+}
+#: Ranges of their three sampled keys: force (N), body 1's modulus (Pa), its radius (m).
+DESIGN_RANGES = {
+    "load.normal_force": (10.0, 1000.0), "body1.E": (70e9, 400e9), "body1.radius": (5e-3, 5e-2)
+}  # fmt: skip
+
 #: 4 cases: mu x (grid.n zipped with load.steps), different step counts.
 SMALL_SWEEP = """
 [campaign]

@@ -37,22 +37,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from study_fixtures import DESIGN_BASE as BASE
+from study_fixtures import DESIGN_RANGES as RANGES
 
 from solver.result import STATUS_FLAGS
 from study.analysis import AnalysisError, morris_indices, sensitivity_table, sobol_indices
 from study.campaign import expand_campaign
 from study.run.assemble import assemble
 
-BASE = {
-    "body1": {"behaviour": "elastic", "radius": 0.01, "E": 210e9, "nu": 0.3},
-    "body2": {"behaviour": "rigid"},
-    "load": {"normal_force": 100.0},
-    "grid": {"n": [16, 16]},
-}
-#: Uniform ranges of the sampled keys; each is mapped onto the function's interval.
-RANGES = {
-    "load.normal_force": (10.0, 1000.0), "body1.E": (70e9, 400e9), "body1.radius": (5e-3, 5e-2)
-}  # fmt: skip
 #: Ishigami's constants (the common choice).
 ISHIGAMI_A, ISHIGAMI_B = 7.0, 0.1
 #: Morris check: the linear coefficient (negative: mu and mu* differ) and the interaction's.

@@ -13,6 +13,8 @@ import math
 import numpy as np
 import pytest
 import xarray as xr
+from study_fixtures import DESIGN_BASE as BASE
+from study_fixtures import DESIGN_RANGES as RANGES
 
 from study import bundle
 from study.analysis import morris_indices, sobol_indices
@@ -24,17 +26,6 @@ from study.report import build_report
 from study.run import storage
 from study.run.assemble import assemble_to_file
 from study.run.driver import run_campaign
-
-BASE = {
-    "body1": {"behaviour": "elastic", "radius": 0.01, "E": 210e9, "nu": 0.3},
-    "body2": {"behaviour": "rigid"},
-    "load": {"normal_force": 100.0},
-    "grid": {"n": [16, 16]},
-}
-#: Log-uniform ranges of the Hertz check: force (N), body 1's modulus (Pa), its radius (m).
-RANGES = {
-    "load.normal_force": (10.0, 1000.0), "body1.E": (70e9, 400e9), "body1.radius": (5e-3, 5e-2)
-}  # fmt: skip
 
 
 def _log_uniform() -> dict:
