@@ -139,3 +139,18 @@ def copy_cases(out: Path, copy: Path, keep) -> Path:
         if case_id in keep
     ]
     return bundle.write_bundle(copy / "cases" / f"copy{bundle.SUFFIX}", entries, {})
+
+
+def capture_figures(monkeypatch) -> dict:
+    """Every figure the code under test saves, by file name (still written to its file)."""
+    from matplotlib.figure import Figure
+
+    saved, original = {}, Figure.savefig
+
+    def savefig(self, path, *args, **kwargs):
+        done = original(self, path, *args, **kwargs)
+        saved[Path(path).name] = self
+        return done
+
+    monkeypatch.setattr(Figure, "savefig", savefig)
+    return saved

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from study_fixtures import capture_figures as _capture
 from study_fixtures import small_campaign
 
 from study import report
@@ -30,22 +31,6 @@ TRUNCATED, NOT_CONVERGED = 4, 2
 
 
 # -- helpers -------------------------------------------------------------------------------------
-def _capture(monkeypatch):
-    """Every figure the code under test saves, by file name (still written to its file)."""
-    from matplotlib.figure import Figure
-
-    saved = {}
-    original = Figure.savefig
-
-    def savefig(self, path, *args, **kwargs):
-        done = original(self, path, *args, **kwargs)
-        saved[Path(path).name] = self
-        return done
-
-    monkeypatch.setattr(Figure, "savefig", savefig)
-    return saved
-
-
 def _series(ax):
     """The data series of a panel: its lines drawn by :func:`figures.series_style`."""
     return [line for line in ax.get_lines() if str(line.get_gid()).startswith("series ")]

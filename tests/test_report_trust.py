@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
+from study_fixtures import capture_figures as _capture
 
 from solver.variables import reduced_scalars
 from study import report
@@ -22,21 +23,6 @@ from study.run import storage
 
 A = 4e-4  # the Hertz semi-axis (m)
 P_H = 1e9  # the Hertz pressure (Pa)
-
-
-def _capture(monkeypatch):
-    """Every figure the code under test saves, by file name (still written to its file)."""
-    from matplotlib.figure import Figure
-
-    saved, original = {}, Figure.savefig
-
-    def savefig(self, path, *args, **kwargs):
-        done = original(self, path, *args, **kwargs)
-        saved[Path(path).name] = self
-        return done
-
-    monkeypatch.setattr(Figure, "savefig", savefig)
-    return saved
 
 
 def sliding_dataset(folder: Path, steps_converged=(1, 1, 1), status: int = 1) -> xr.Dataset:
