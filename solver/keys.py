@@ -83,6 +83,9 @@ MAX_FRICTION = 100.0
 #: "static_shakedown"``, :class:`solver.theorems.track.Track`): their boxes and the checks of
 #: their limits reach mu = 1 (the surface binds from about 0.25 on, at mu p_0 = k).
 MAX_THEOREM_FRICTION = 1.0
+#: Shear limits accepted by ``friction.shear_limit`` (Pa): from soft polymers to above any
+#: metal's shear strength.
+SHEAR_LIMIT_RANGE = (1e3, 1e11)
 #: Smallest positive friction coefficient accepted: below it the tangential solve's scales
 #: (mu p, the tractions it bounds) underflow its residual (1e-9 gave NaN residuals,
 #: 2026-11-28); such a contact is frictionless to the solver's tolerances: give 0.
@@ -417,6 +420,15 @@ CASE_KEYS: tuple[Key, ...] = (
         f"0 or [{MIN_FRICTION:g}, {MAX_FRICTION:g}]; at most {MAX_THEOREM_FRICTION:g} with "
         "solver.method = static_shakedown", "every case",
         "Coulomb coefficient mu (0: frictionless)."),
+    Key("friction", "shear_limit", "number or \"yield\"", "Pa", "none (Coulomb's law alone)",
+        f"a stress in {_range(*SHEAR_LIMIT_RANGE)}, or \"yield\" with an elastic-plastic body",
+        "cases with friction",
+        "Caps the friction traction: |q| <= min(mu p, m tau_c) (Orowan's law).  A stress: "
+        "tau_c everywhere, elastic pairs too.  \"yield\": tau_c is the current shear yield "
+        "stress of the plastic body's top layer under each cell, k = sigma_Y(e_p) / sqrt 3, "
+        "following its hardening (the softer body's where both are plastic)."),
+    Key("friction", "shear_factor", "number", "1", "1", "(0, 1]", "friction.shear_limit",
+        "Orowan's factor m: the cap is m tau_c (an interface weaker than the metal)."),
     Key("grid", "n", "integer or [nx, ny] or [nx, ny, nz]", "cells", "required",
         f"each in [4, {MAX_CELLS}]; the contact spans >= {MIN_CELLS_ACROSS} cells",
         "every case", "Cells per side of the surface grid, and nz cells in depth of the volume "

@@ -152,9 +152,9 @@ class Result:
         """
         if not self.converged:
             return "not_converged"
-        if self.truncated:
-            return "truncated"
-        return "surface_flow" if self.surface_flow else "converged"
+        if self.surface_flow:  # the cause: a box it cuts is cut by the flow
+            return "surface_flow"
+        return "truncated" if self.truncated else "converged"
 
     @property
     def shakedown(self) -> Shakedown | None:

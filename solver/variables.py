@@ -122,6 +122,13 @@ HISTORIES: dict[str, History] = {
     "plastic_iterations": History("1", "plasticity-loop iterations (contact solves)", "sum"),
     "max_plastic_strain": History("1", "maximum equivalent plastic strain", "max"),
     "max_plastic_strain_depth": History("m", "depth of the maximum equivalent plastic strain"),
+    "surface_shear_ratio": History(
+        "1",
+        "largest surface shear traction over the current shear yield stress k = sigma_Y(e_p) / "
+        "sqrt 3 of the plastic body's top layer under it (above 1 the surface flows unless it "
+        'hardens; 1 in the slip zone under friction.shear_limit = "yield", m = 1)',
+        "max",
+    ),
     "plastic_volume": History(
         "m3",
         "volume of the cells whose equivalent plastic strain exceeds 1e-6 (grid.periodic: over "

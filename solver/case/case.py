@@ -29,8 +29,6 @@ import numpy as np
 from ..bodies.materials import Body, Pair
 from ..keys import (
     MAX_CREEPAGE,
-    MAX_FRICTION,
-    MIN_FRICTION,
     SOLVER_DEFAULTS,
     required_keys,
     table_keys,
@@ -40,6 +38,7 @@ from ..theory.hertz import HertzContact, hertz
 from ..theory.sneddon import SneddonContact
 from .batch import NO_TABLE, SharedTables, case_hash
 from .bodies import body_spec, check_surfaces, parse_body
+from .friction import Friction, parse_friction
 from .grid import GridSpec, check_resolution, domain_half_widths, parse_grid
 from .notes import (
     check_line_scene,
@@ -74,7 +73,7 @@ from .path import (
     symmetric_pair,
     tangential_load,
 )
-from .reading import SurfaceReader, check_keys, entries, fail, json_number, number, plain
+from .reading import SurfaceReader, check_keys, entries, fail, json_number, plain
 from .sizing import (
     periodic_depth,
 )
@@ -86,7 +85,7 @@ from .volume import size_open_volume
 #: Version 1: elastic-plastic bodies solved as elastic; 2: a plastic increment whose loop did
 #: not converge was kept as it was, where 3 halves it, and a sliding increment's friction work
 #: missed the step after a reversal (3 alters every case); then :data:`MODEL_CHANGES`.
-MODEL_VERSION = 5
+MODEL_VERSION = 6
 #: The oldest version a case may be solved by (the last change that altered every case).
 OLDEST_MODEL = 3
 #: The changes after :data:`OLDEST_MODEL`: version -> what it alters (:func:`case_model`).
@@ -95,14 +94,19 @@ MODEL_CHANGES = {
     "increment, no longer about the travel's midpoint",
     5: "static_shakedown certifies Melan's lower bound between the program's points and "
     "positions (static_shakedown_lower_bound), which shakedown_load_factor now follows",
+    6: "a case with friction on a body of bounded flow stress ends at the first increment whose "
+    "surface shear passes the body's shear limit (status surface_flow) instead of solving on",
 }
 
 
-def case_model(stages: Sequence[LoadStage], method: str) -> int:
+def case_model(stages: Sequence[LoadStage], method: str, can_flow: bool = False) -> int:
     """The model version that solves a case as this code does (:data:`MODEL_CHANGES`).
 
-    ``method`` is ``solver.method``.
+    ``method`` is ``solver.method``; ``can_flow``: friction acts on an elastic-plastic body
+    whose flow stress is bounded (:attr:`Hardening.shear_limit`), so its surface may flow.
     """
+    if can_flow and method != "static_shakedown":
+        return 6
     if method == "static_shakedown":
         return 5
     if any(stage.motion == "roll" and stage.spin for stage in stages):
@@ -178,6 +182,8 @@ class Case:
     warnings : tuple of str
         What the case is built with but should be read with care (a plastic zone past the
         contained regime, :func:`plastic_index`); the solve repeats them in its notes.
+    friction : Friction
+        The friction law: ``friction_coefficient`` and the shear limit that caps it.
     """
 
     body1: Body
@@ -189,6 +195,7 @@ class Case:
     fields: tuple[str, ...] = ()
     spec: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
     warnings: tuple[str, ...] = field(default=(), compare=False, hash=False, repr=False)
+    friction: Friction = Friction()
 
     # -- construction -----------------------------------------------------------------------
     @classmethod
@@ -290,19 +297,9 @@ class Case:
             stage, spec = parse_stage(load, "load", (0.0, (0.0, 0.0), False), pair, True)
             stages, paths, given = [stage], ["load"], [spec]
 
-        friction = check_keys(table.get("friction", {}), "friction", table_keys("friction"))
-        mu = number(friction.get("coefficient", 0.0), "friction.coefficient")
-        if not 0 <= mu <= MAX_FRICTION:
-            fail(
-                "friction.coefficient",
-                f"must be in [0, {MAX_FRICTION:g}] (a contact sticks fully long before), got {mu}",
-            )
-        if 0 < mu < MIN_FRICTION:
-            fail(
-                "friction.coefficient",
-                f"{mu:g} is frictionless to the solver's tolerances (the tangential solve's "
-                f"scales underflow below {MIN_FRICTION:g}): give 0, or at least {MIN_FRICTION:g}",
-            )
+        has_plastic = "elastic-plastic" in (body1.behaviour, body2.behaviour)
+        friction, friction_notes = parse_friction(table.get("friction", {}), has_plastic)
+        mu = friction.coefficient
         for stage, path in zip(stages, paths, strict=True):
             q = math.hypot(*stage.tangential_force)
             if q > 0 and q >= mu * stage.normal_force:
@@ -369,7 +366,7 @@ class Case:
             default=0.0,
         )
         box_key = None  # grid.plastic_half_width as the case's spec records it
-        warnings = []
+        warnings = list(friction_notes)
         if grid.periodic and plastic is not None:
             check_periodic_load(plastic, force / (grid.size[0] * grid.size[1]))
             grid, region = periodic_depth(grid, pair, force, ratio, plastic)
@@ -382,13 +379,21 @@ class Case:
             )
             warnings += notes
         solver, solver_spec = parse("solver", table.get("solver", NO_TABLE), _solver)
-        version = case_model(stages, solver.method)
+        can_flow = mu > 0 and not symmetric_pair(body1, body2, stages)
+        can_flow = can_flow and any(math.isfinite(b.hardening.shear_limit) for b in plastics)
+        version = case_model(stages, solver.method, can_flow)
         if model < version:
             fail(
                 "model",
                 f"this case was written by model version {model}, and version {version} "
                 f"changed how it is solved ({MODEL_CHANGES[version]}): remove the key to solve "
                 "it with the current model",
+            )
+        if solver.method == "static_shakedown" and friction.shear_limit is not None:
+            fail(
+                "friction.shear_limit",
+                "static_shakedown loads the surface with Hamilton's sliding field, shear mu p "
+                "everywhere: the theorems take no shear limit; leave it out",
             )
         if solver.method == "static_shakedown" and "residual_print" in table.get("solver", {}):
             fail(
@@ -425,7 +430,7 @@ class Case:
             "body1": body1_spec,
             "body2": body2_spec,
             "load": {"path": given},
-            "friction": {"coefficient": mu},
+            "friction": friction.spec(),
             "grid": {
                 "n": [grid.nx, grid.ny] + ([grid.nz] if grid.nz else []),
                 **({"size": list(grid.size)} if grid.size else {"half_width": grid.half_width}),
@@ -440,7 +445,7 @@ class Case:
             "output": output_spec,
         }
         case = cls(
-            body1, body2, tuple(stages), mu, grid, solver, fields, spec, tuple(warnings)
+            body1, body2, tuple(stages), mu, grid, solver, fields, spec, tuple(warnings), friction
         )  # fmt: skip
         case.__dict__["pair"] = pair  # the cached Case.pair: the same bodies, built once
         check_resolution(case)

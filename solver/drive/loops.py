@@ -36,15 +36,24 @@ from ..keys import MIN_CELLS_ACROSS
 from ..numerics.grid import IndexBox, VolumeGrid
 from ..numerics.tensor import equivalent_strain, von_mises
 from ..result import SEPARATED, SLIP, STICK, SURFACE_FLOW_NOTE, Result
+from ..surface.tangential import friction_bound, over_capacity
 from ..variables import BODY1_SUFFIX, CYCLE_PLASTIC_HISTORIES, HISTORIES, PLASTIC_BODY_HISTORIES
 from .operators import CaseOperators
-from .plastic_loop import PlasticState, PlasticStepResult, mirror, plastic_step
+from .plastic_loop import (
+    PlasticState,
+    PlasticStepResult,
+    mirror,
+    plastic_step,
+    top_layer,
+    yield_cap,
+)
 from .record import (
     CONTACT_HISTORY,
     FRICTION_HISTORY,
     ITERATION_HISTORY,
     PERIODIC_HISTORY,
     PERIODIC_PLASTIC_HISTORY,
+    PLASTIC_FRICTION_HISTORY,
     PLASTIC_HISTORY,
     STEADY_HISTORY,
     box_faces_reached,
@@ -67,6 +76,7 @@ from .steps import (
     StepResult,
     normal_step,
     position_of,
+    shear_cap,
     sliding_step,
     slip_stick_step,
     steady_step,
@@ -75,6 +85,9 @@ from .window import Follower, shifted
 
 #: Halvings of an increment whose plasticity loop does not converge (down to 1/8 of it).
 MAX_SPLITS = 3
+#: A surface shear above the bounded shear limit by more than this fraction is surface flow
+#: (a slip cell capped at the limit sits on it to rounding).
+FLOW_MARGIN = 1e-6
 
 
 def scene(case: Case) -> tuple[tuple[str, ...], Callable[..., StepResult]]:
@@ -140,7 +153,8 @@ def _halving_plastic_step(
     fails, so that the state is always the target's).
     """
     step = plastic_step(operators, step_of, state, plastic_state, target, guess, before_guess)
-    if step.converged or splits == MAX_SPLITS:
+    past = _past_model(operators, step.contact.state, step.plastic, target)
+    if step.converged or splits == MAX_SPLITS or past:
         return step
     middle = tuple(0.5 * (a + b) for a, b in zip(start, target, strict=True))
     half = None if guess is None else 0.5 * guess
@@ -171,6 +185,29 @@ def _halving_plastic_step(
         iterations=step.iterations + first.iterations + second.iterations,
         residual=max(first.residual, second.residual),
     )
+
+
+def _past_model(
+    operators: CaseOperators, state: ContactState, plastic: tuple[PlasticState, ...], target: tuple
+) -> str:
+    """Why an increment lies past what the model can carry ("" when it does not).
+
+    ``"surface_flow"``: the surface shear passes the plastic body's bounded shear limit
+    (:func:`shear_excess` above 1); ``"gross_sliding"``: the prescribed tangential force is at
+    or above what the friction disks, capped by ``friction.shear_limit``, can carry.  Halving
+    such an increment cannot help: its end state is past the model whatever the path to it.
+    """
+    case = operators.case
+    if plastic and shear_excess(case, state) > 1.0 + FLOW_MARGIN:
+        return "surface_flow"
+    if case.friction.capped and state.normal is not None:
+        cap = shear_cap(case, None)
+        if case.friction.follows_yield:
+            cap = yield_cap(operators, top_layer(plastic))
+        bound = friction_bound(case.friction_coefficient, state.pressure, cap)
+        if over_capacity(bound, np.asarray(target[1:3]) / operators.surface.grid.cell_area):
+            return "gross_sliding"
+    return ""
 
 
 def _placed(
@@ -281,6 +318,7 @@ def solve(case: Case) -> Result:
         names += PERIODIC_HISTORY
     if plastic:
         names += PLASTIC_HISTORY + (PERIODIC_PLASTIC_HISTORY if case.grid.periodic else ())
+        names += PLASTIC_FRICTION_HISTORY if "friction_work" in names else ()
         if 1 in case.plastic_bodies:
             names += tuple(name + BODY1_SUFFIX for name in PLASTIC_BODY_HISTORIES)
     names += ("residual", "step_converged")
@@ -314,6 +352,7 @@ def solve(case: Case) -> Result:
     previous = None  # (plastic increment, load increment) of the step before the last
     faces_noted = edge_noted = False
     shear_peak = (0.0, 0)  # the largest surface shear over the shear limit, and its step
+    ended = None  # (increment, why, note) of a path ended past the model (_past_model)
     failures: list[tuple[int, str]] = []  # (step, what did not converge)
     outcome = None
     cycle_start = None
@@ -390,6 +429,10 @@ def solve(case: Case) -> Result:
             if step.message:
                 messages.append(step.message)
             shear_peak = max(shear_peak, (shear_excess(case, outcome.state), k + 1))
+            past = _past_model(placed, outcome.state, step.plastic, target)
+            if past:
+                tops = (top_layer(window_plastic), top_layer(step.plastic))
+                ended = (k, past, _ending_note(k, past, shear_peak[0], tops, step.message))
         else:
             initial = None
             if not coupled and step_of is slip_stick_step:
@@ -399,6 +442,8 @@ def solve(case: Case) -> Result:
             step_ok, residual = outcome.converged, outcome.residual
             if outcome.message:
                 messages.append(outcome.message)
+            if not step_ok and _past_model(placed, outcome.state, (), target):
+                ended = (k, "gross_sliding", _ending_note(k, "gross_sliding", 0.0, None, ""))
         state = outcome.state
         previous_target = target
         record(history, k, outcome, area, case.grid.periodic)
@@ -441,6 +486,10 @@ def solve(case: Case) -> Result:
             )
         if plastic:
             record_plastic(history, k, step.iterations, plastic_state, case)
+            if "surface_shear_ratio" in history:
+                k_top = yield_cap(operators, top_layer(plastic_state), 1.0)
+                shear = np.hypot(state.shear_x, state.shear_y)
+                history["surface_shear_ratio"][k] = float((shear / k_top).max())
             sides = "grid.plastic_half_width" if case.plastic_box else "grid.half_width"
             sides = None if case.grid.periodic else sides
             reached = sorted(
@@ -459,9 +508,17 @@ def solve(case: Case) -> Result:
         for name, count in sub_iterations.items():  # the sub-steps' iterations count too
             if name in history:
                 history[name][k] += count
+        if ended is not None:  # past the model: the path ends at this increment
+            break
         if not step_ok:
             converged = False
             failures.extend((k + 1, m) for m in dict.fromkeys(messages))
+    if ended is not None:
+        total = ended[0] + 1  # the histories of the increments solved
+        history = {name: values[:total] for name, values in history.items()}
+        notes.append(ended[2])
+        if ended[1] == "gross_sliding":
+            converged = False
     notes.extend(failure_notes(failures))
     notes.extend(path_dependence_notes(case) if coupled else [])
     if case.reference is None and not case.grid.periodic:  # heights only: the mesh check
@@ -533,8 +590,8 @@ def solve(case: Case) -> Result:
         stress = operators.stress.stress(state.pressure, *shears)
         result.fields["stress"] = stress
         result.fields["von_mises"] = von_mises(stress)
-    result.surface_flow = shear_peak[0] > 1.0
-    if result.surface_flow:
+    result.surface_flow = shear_peak[0] > 1.0 + FLOW_MARGIN
+    if result.surface_flow and ended is None:
         result.notes.append(
             f"step {shear_peak[1]}: {SURFACE_FLOW_NOTE} {shear_peak[0]:.3g} x "
             "the largest shear stress the elastic-plastic body can carry (sigma_Y / sqrt 3 "
@@ -560,6 +617,37 @@ def solve(case: Case) -> Result:
         result.fields["residual_gap"] = operators.gap + result.fields["residual_displacement_z"]
     result.wall_time = time.perf_counter() - start
     return result
+
+
+def _ending_note(
+    k: int, why: str, ratio: float, tops: tuple[list, list] | None, message: str
+) -> str:
+    """Why a path ended at increment ``k`` (0-based), and where: :func:`_past_model`.
+
+    ``tops``: the top layers' equivalent plastic strain before and after the increment
+    (None: no plastic body).
+    """
+    grown = 0.0
+    if tops is not None:
+        grown = max(float((after - before).max()) for before, after in zip(*tops, strict=True))
+    solved = "its plasticity loop converged" if not message else f"({message})"
+    if why == "surface_flow":
+        return (
+            f"step {k + 1}: {SURFACE_FLOW_NOTE} {ratio:.4g} x the largest shear stress the "
+            "elastic-plastic body can carry (sigma_Y / sqrt 3 without hardening): no stress "
+            "field in equilibrium with it stays within yield, so the top layer shears without "
+            f"bound (its equivalent plastic strain grew by {grown:.3g} in this increment, set "
+            "by grid.nz, not by the material); the path ends here, the increments before it "
+            f"kept ({solved}).  Cap the friction at the shear yield stress "
+            '(friction.shear_limit = "yield"), or lower the load or the friction'
+        )
+    return (
+        f"step {k + 1}: the tangential force is at or above what the friction can carry under "
+        "friction.shear_limit (the sum of min(mu p, m tau_c) over the contact): the contact "
+        "slides grossly, so the path ends here, the increments before it kept"
+        + (f" (the top layer's plastic strain grew by {grown:.3g} in it)" if tops else "")
+        + ".  Lower the tangential force, or slide the contact (a slide stage)"
+    )
 
 
 def _extrapolated(

@@ -29,6 +29,7 @@ residual.
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -124,6 +125,37 @@ class PlasticStepResult:
 def mirror(values: np.ndarray, axis: int = 1) -> np.ndarray:
     """A field in body 1's frame on the common axes, or back: y -> -y (the grids are centred)."""
     return np.flip(values, axis=axis)
+
+
+def top_layer(states: tuple[PlasticState, ...]) -> list[np.ndarray]:
+    """Each plastic body's equivalent plastic strain in its top layer (the box's cells)."""
+    return [p.equivalent[:, :, 0] for p in states]
+
+
+def yield_cap(
+    operators: CaseOperators, top_strains: list[np.ndarray], factor: float | None = None
+) -> np.ndarray:
+    """Orowan's cap ``m k`` (Pa) on every surface cell (``friction.shear_limit = "yield"``).
+
+    k is the current shear yield stress of the plastic body's top layer under the cell,
+    ``sigma_Y(e_p) / sqrt 3`` (von Mises: a pure shear tau yields at sqrt 3 |tau| =
+    sigma_Y), its hardening followed through ``top_strains``, each plastic body's equivalent
+    plastic strain in its top layer (the plastic box's cells; the virgin yield stress
+    elsewhere); the softer body's where two bodies are plastic (body 1's mirrored onto the
+    common axes).  A back stress moves the yield surface but not its radius: k stays the
+    isotropic part's.  ``factor``: m, ``friction.shear_factor`` if None (1: k itself).
+    """
+    case = operators.case
+    shape = operators.gap.shape
+    cap = np.full(shape, np.inf)
+    for body, top in zip(case.plastic_bodies, top_strains, strict=True):
+        hardening = (case.body2 if body == 2 else case.body1).hardening
+        k = np.full(shape, hardening.initial_yield_stress)
+        xs, ys, _ = operators.volume(body)[1].box.slices
+        k[xs, ys] = hardening.flow_stress(top)
+        cap = np.minimum(cap, k if body == 2 else mirror(k))
+    m = case.friction.shear_factor if factor is None else factor
+    return m / math.sqrt(3.0) * cap
 
 
 def relative_residual(
@@ -265,6 +297,8 @@ def plastic_step(
     best = None
     message = ""
     threads, rows = options.fft_threads, previous_strain.shape[2]
+    follows_yield = case.friction.follows_yield
+    top_strains = top_layer(previous_plastic)
     while iterations < options.plastic_max_iterations:
         iterations += 1
         source = increment if incremental else strain  # whose residual fields are computed
@@ -287,9 +321,12 @@ def plastic_step(
                 displacements[body] = tuple(u + du for u, du in zip(own, moved, strict=True))
             else:
                 displacements[body] = eigenstrain.displacement_from_layers(layers[i])
-        contact = contact_step(
-            operators, previous, target, relative_residual(operators, displacements), contact_guess
-        )
+        residual_displacement = relative_residual(operators, displacements)
+        if follows_yield:  # the cap of the iterate's hardening (the last return mapping's)
+            residual_displacement = dataclasses.replace(
+                residual_displacement, shear_cap=yield_cap(operators, top_strains)
+            )
+        contact = contact_step(operators, previous, target, residual_displacement, contact_guess)
         for key in totals:
             totals[key] += contact.iterations.get(key, 0)
         contact_guess = contact.state
@@ -340,6 +377,11 @@ def plastic_step(
                 sizes.append(max(float(part.max()), -float(part.min())) / scales[i])
             return sizes
 
+        if follows_yield:
+            top_strains = [
+                p.equivalent[:, :, 0] + m.equivalent_increment[:, :, 0]
+                for p, m in zip(previous_plastic, mapped, strict=True)
+            ]
         residual = float(np.max(by_rows(compare, rows, threads)))
         if best is None or residual < best[0]:
             best = (residual, contact, mapped, displacements)

@@ -50,6 +50,8 @@ PLASTIC_HISTORY = (
     "plastic_iterations", "max_plastic_strain", "max_plastic_strain_depth",
     "plastic_zone_depth", "residual_depth",
 )  # fmt: skip
+#: ... and beside those of friction.
+PLASTIC_FRICTION_HISTORY = ("surface_shear_ratio",)
 
 
 # -- plastic-zone measures -----------------------------------------------------------------------

@@ -40,6 +40,7 @@ previous one with no residual print (a tangential stage) reuses its converged no
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -48,9 +49,15 @@ import numpy as np
 from ..numerics.anderson import Anderson
 from ..surface.normal import NormalSolution, solve_normal
 from ..surface.steady import solve_steady_tangential, upwind
-from ..surface.tangential import solve_tangential, solve_tangential_coupled
+from ..surface.tangential import (
+    friction_bound,
+    over_capacity,
+    solve_tangential,
+    solve_tangential_coupled,
+)
 
 if TYPE_CHECKING:
+    from ..case.case import Case
     from .operators import CaseOperators
 
 
@@ -64,15 +71,30 @@ MERGED_COUPLING = True
 
 @dataclass(frozen=True)
 class ResidualDisplacement:
-    """Residual (plastic) surface displacements entering the gap, relative (m).
+    """What the plastic state imposes on the contact: residual surface displacements (m).
 
     ``z`` adds to the gap (a permanent dent of body 2 is positive); ``x``, ``y`` are the
-    tangential residual displacements of body 2 relative to body 1.
+    tangential residual displacements of body 2 relative to body 1.  ``shear_cap``: with
+    ``friction.shear_limit = "yield"``, Orowan's cap ``m k`` (Pa) of every surface cell, k the
+    current shear yield stress of the plastic body's top layer there
+    (:func:`solver.drive.plastic_loop.yield_cap`); None otherwise.
     """
 
     x: np.ndarray
     y: np.ndarray
     z: np.ndarray
+    shear_cap: np.ndarray | None = None
+
+
+def shear_cap(case: Case, residual: ResidualDisplacement | None) -> np.ndarray | float | None:
+    """The friction traction's cap (Pa) of an increment: the plastic state's or the case's.
+
+    The cap ``m k`` of ``friction.shear_limit = "yield"`` (``residual.shear_cap``), the stress
+    ``m tau_c`` of a limit given in Pa, or None (Coulomb's law alone).
+    """
+    if residual is not None and residual.shear_cap is not None:
+        return residual.shear_cap
+    return case.friction.stress_cap
 
 
 @dataclass(frozen=True)
@@ -328,10 +350,11 @@ def slip_stick_step(
     counts = {"normal": 0, "slip": 0, "coupling": 0}
     converged_all, worst, change = True, 0.0, np.inf
     messages = []
+    cap = shear_cap(case, residual)
     if coupled and MERGED_COUPLING:
         tangential, normal, pxs, pys = _merged_coupling(
             operators, base_gap, force, (known_x, known_y), target_force,
-            pressure, (qx, qy), counts,
+            pressure, (qx, qy), counts, cap,
         )  # fmt: skip
         if tangential.converged:
             return _step_result(
@@ -373,6 +396,7 @@ def slip_stick_step(
             initial=(qx, qy),
             tolerance=max(options.slip_tolerance, inexact),
             max_iterations=options.slip_max_iterations,
+            shear_cap=cap,
         )
         if coupled:  # Anderson-accelerated fixed point q -> T(N(q))
             shear = np.stack((qx, qy))
@@ -447,9 +471,11 @@ def steady_step(
     pressure = _start_pressure(operators, force, previous)
     qx, qy = previous.shear_x, previous.shear_y
     pxs = pys = zero
+    dx_dy = surface.grid.cell_area
     counts = {"normal": 0, "slip": 0, "coupling": 0}
     messages, change = [], np.inf
     order = options.steady_order
+    cap = shear_cap(case, residual)
     for loop in range(1, options.coupling_max_iterations + 1):
         normal = _reusable_normal(previous, force, position, coupled, residual)
         if normal is None:
@@ -469,6 +495,16 @@ def steady_step(
             )
             tangential = None
             break
+        bound = friction_bound(case.friction_coefficient, pressure, cap)
+        if prescribed is not None and over_capacity(bound, np.divide(prescribed, dx_dy)):
+            message = (
+                f"the tangential force {math.hypot(*prescribed):.4g} N is at or above what the "
+                f"friction can carry, {float(bound.sum()) * dx_dy:.4g} N (the sum of "
+                "min(mu p, m tau_c) over the contact): lower the force or raise "
+                "friction.shear_limit"
+            )
+            tangential = None
+            break
         if beta != 0.0:  # the pressure's own tangential displacement, carried through
             pxs, pys = surface.tangential_from_pressure(pressure)
         dx = surface.grid.dx
@@ -476,7 +512,7 @@ def steady_step(
             surface, pressure, case.friction_coefficient,
             (rigid_x + upwind(pxs, dx, order), rigid_y + upwind(pys, dx, order)),
             force=prescribed, order=order, initial=(qx, qy), tolerance=options.slip_tolerance,
-            max_iterations=options.slip_max_iterations,
+            max_iterations=options.slip_max_iterations, shear_cap=cap,
         )  # fmt: skip
         qx, qy = tangential.shear_x, tangential.shear_y
         counts["slip"] += tangential.iterations
@@ -514,7 +550,8 @@ def sliding_step(
     """One increment of gross sliding: every contact cell slips.
 
     Body 1's apex moves from ``previous.position`` to the target's position over body 2.  The
-    shear traction on body 2 is ``mu p`` along the motion (Amontons-Coulomb in gross slip), so
+    shear traction on body 2 is ``mu p`` along the motion (Amontons-Coulomb in gross slip;
+    ``min(mu p, cap)`` under a shear limit, :func:`shear_cap`), so
     only the pressure is unknown: a normal solve on the gap at the new position, with the
     normal displacement of that shear (the beta coupling; Goodman's approximation drops it)
     iterated to the coupling tolerance.  The rigid shift keeps its value (the travel is the
@@ -529,17 +566,17 @@ def sliding_step(
     motion = np.subtract(position, previous.position)
     length = float(np.hypot(*motion))
     ux, uy = (motion / length) if length > 0 else (0.0, 0.0)
-    mu = case.friction_coefficient
+    mu, cap = case.friction_coefficient, shear_cap(case, residual)
     coupled = mu > 0 and case.pair.dundurs_beta != 0.0 and not options.goodman
     pressure = _start_pressure(operators, force, initial, previous)
     counts = {"normal": 0, "slip": 0, "coupling": 0}
     normal, change = None, np.inf
     for _ in range(options.coupling_max_iterations if coupled else 1):
-        extra = (
-            gap + surface.normal_from_shear(mu * ux * pressure, mu * uy * pressure)
-            if coupled
-            else gap
-        )
+        if coupled:
+            bound = friction_bound(mu, pressure, cap)
+            extra = gap + surface.normal_from_shear(ux * bound, uy * bound)
+        else:
+            extra = gap
         normal = solve_normal(
             surface, extra, force, initial_pressure=pressure,
             tolerance=options.normal_tolerance, max_iterations=options.normal_max_iterations,
@@ -559,7 +596,8 @@ def sliding_step(
             f"sliding coupling not converged after {counts['coupling']} passes (pressure "
             f"change {change:.3g})"
         )
-    qx, qy = mu * ux * pressure, mu * uy * pressure
+    bound = friction_bound(mu, pressure, cap)
+    qx, qy = ux * bound, uy * bound
     zero = np.zeros_like(gap)
     res_x, res_y = (zero, zero) if residual is None else (residual.x, residual.y)
     pxs, pys = (
@@ -569,11 +607,11 @@ def sliding_step(
         pressure, qx, qy, previous.shift, pxs, pys, res_x, res_y, None, None, force, normal,
         position,
     )  # fmt: skip
-    # all the increment slips along its motion under mu p: the work is mu times the mean of
-    # the normal force at its ends times the travel (the trapezoid of the shears would count
-    # a reversal's opposite shear)
-    forces = (float(np.sum(previous.pressure)), float(np.sum(pressure)))
-    work = mu * 0.5 * sum(forces) * surface.grid.cell_area * length
+    # all the increment slips along its motion under g = min(mu p, cap): the work is the mean
+    # of the friction force sum g dA at its ends times the travel (the trapezoid of the shears
+    # would count a reversal's opposite shear); mu times the mean normal force without a cap
+    forces = (float(np.sum(friction_bound(mu, previous.pressure, cap))), float(np.sum(bound)))
+    work = 0.5 * sum(forces) * surface.grid.cell_area * length
     return StepResult(
         state, converged, counts, normal.residual, message, np.zeros(gap.shape, bool),
         normal.approach, work,
@@ -608,7 +646,9 @@ def _step_result(
     )
 
 
-def _merged_coupling(operators, base_gap, force, known, shear_target, pressure, shear, counts):
+def _merged_coupling(
+    operators, base_gap, force, known, shear_target, pressure, shear, counts, cap
+):  # fmt: skip
     """Coupled increment in one active-set iteration (:func:`solve_tangential_coupled`).
 
     After every Newton step of the tangential iteration the normal problem is solved again
@@ -655,6 +695,7 @@ def _merged_coupling(operators, base_gap, force, known, shear_target, pressure, 
         shear,
         tolerance=options.slip_tolerance,
         max_iterations=options.slip_max_iterations // 2,
+        shear_cap=cap,
     )
     counts["slip"] += tangential.iterations
     # converged: the shear tractions were solved with the pressure before the last renewal

@@ -57,6 +57,7 @@ import numpy as np
 
 from ..numerics.grid import SurfaceGrid, fft_length
 from .convolution import SurfaceOperator, cerruti_inverse, wavenumbers
+from .tangential import friction_bound
 
 #: Upwind schemes: first order (CONTACT's) and second order.
 ORDERS = (1, 2)
@@ -395,6 +396,7 @@ def solve_steady_tangential(
     tolerance: float = 1e-8,
     max_iterations: int = 5000,
     max_newton: int = 100,
+    shear_cap: np.ndarray | float | None = None,
 ) -> SteadySolution:
     """Steady rolling tractions for a given pressure and rigid slip (module docstring).
 
@@ -425,6 +427,9 @@ def solve_steady_tangential(
         Cap on tangential operator applications.
     max_newton : int
         Cap on Newton steps.
+    shear_cap : ndarray or float, optional
+        Orowan's shear limit ``m tau_c`` (Pa) capping the disks
+        (:func:`solver.surface.tangential.friction_bound`); None: Coulomb's law alone.
 
     Returns
     -------
@@ -439,7 +444,7 @@ def solve_steady_tangential(
             "needs free cells ahead of it; widen the grid along x"
         )
     steady = SteadyOperator(operator, contact, order)
-    bound = friction_coefficient * pressure[contact]
+    bound = friction_bound(friction_coefficient, pressure, shear_cap)[contact]
     c = np.array([rigid[0][contact], rigid[1][contact]])
     count = bound.size
     r = 1.0 / max(steady.diagonal, 1e-300)  # the scaling: the inverse of A's diagonal

@@ -11,7 +11,10 @@ displacement increment, plus the previous shift), and ``Delta`` the rigid tangen
 body 1 relative to body 2 (m), an unknown when the tangential force is prescribed (a rolling
 increment at a given creepage prescribes it instead: the force is then free, ``force=None``,
 and the caller folds ``Delta`` into ``c``).  Coulomb's law with memory:  stick ``s = 0,
-|q| <= mu p``;  slip ``|q| = mu p, q = -mu p s/|s|``.
+|q| <= mu p``;  slip ``|q| = mu p, q = -mu p s/|s|``.  A shear limit (Orowan's law,
+``friction.shear_limit``) replaces every ``mu p`` by ``g = min(mu p, m tau_c)``
+(:func:`friction_bound`): the disks shrink where the cap binds, nothing else changes, so every
+statement below holds with ``g`` for ``mu p``.
 
 For a given pressure these are the optimality conditions of the convex problem (Kalker's
 minimum complementary energy)
@@ -48,6 +51,7 @@ largest of the caller's scale, the rms of ``K_t q`` over the contact and the shi
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -94,6 +98,27 @@ class TangentialSolution:
     residual: float
     converged: bool
     message: str
+
+
+def friction_bound(
+    friction_coefficient: float, pressure: np.ndarray, cap: np.ndarray | float | None = None
+) -> np.ndarray:
+    """The radius of each cell's friction disk (Pa): ``mu p``, or ``min(mu p, cap)``.
+
+    ``cap``: Orowan's shear limit ``m tau_c`` (Pa), one value or one per cell; None: Coulomb's
+    law alone.  Zero outside the contact (``p = 0``).
+    """
+    bound = friction_coefficient * np.maximum(pressure, 0.0)
+    return bound if cap is None else np.minimum(bound, cap)
+
+
+def over_capacity(bound: np.ndarray, target: np.ndarray | None) -> bool:
+    """True when a prescribed force per cell area ``target`` (Pa) reaches the disks' capacity.
+
+    The largest force the contact can transmit is ``sum bound dA`` (every cell slipping along
+    the force); a shear limit lowers it below ``mu W``.
+    """
+    return target is not None and bool(np.hypot(*target) >= (1.0 - 1e-12) * _sum(bound))
 
 
 def _sum(a: np.ndarray) -> float:
@@ -485,6 +510,7 @@ def solve_tangential(
     tolerance: float = 1e-8,
     max_iterations: int = 5000,
     check_every: int = 5,
+    shear_cap: np.ndarray | float | None = None,
 ) -> TangentialSolution:
     """Solve the incremental Coulomb problem for a given pressure and tangential force.
 
@@ -514,6 +540,11 @@ def solve_tangential(
         iteration); reaching it gives ``converged=False``.
     check_every : int
         Projected-gradient iterations between optimality checks.
+    shear_cap : ndarray or float, optional
+        Orowan's shear limit ``m tau_c`` (Pa) capping the disks, ``|q| <= min(mu p, cap)``
+        (:func:`friction_bound`); None: Coulomb's law alone.  A force the capped disks cannot
+        carry (:func:`over_capacity`) is not solved: every contact cell slips along it at its
+        bound, not converged, and the message says so.
 
     Returns
     -------
@@ -522,9 +553,11 @@ def solve_tangential(
     area = operator.grid.cell_area
     contact = pressure > 0.0
     n_contact = max(int(contact.sum()), 1)
-    bound = friction_coefficient * np.where(contact, pressure, 0.0)
+    bound = friction_bound(friction_coefficient, pressure, shear_cap)
     cx, cy = offset
     target = None if force is None else np.array(force, dtype=float) / area
+    if over_capacity(bound, target):
+        return _overloaded(operator, bound, contact, cx, cy, target)
     if not (cx.any() or cy.any()) and (target is None or not target.any()):
         # nothing drives the shear (no offset, no force): q = 0 is the energy's unique
         # minimiser (K_t is positive definite), every contact cell sticks
@@ -550,6 +583,23 @@ def solve_tangential(
     return _solution(qx, qy, ux, uy, cx, cy, shift, contact, stick, iterations, residual, converged)
 
 
+def _overloaded(operator, bound, contact, cx, cy, target) -> TangentialSolution:
+    """The answer to a force above the disks' capacity: full slip along it, not converged."""
+    direction = target / np.hypot(*target)
+    qx, qy = bound * direction[0], bound * direction[1]
+    ux, uy = operator.tangential(qx, qy)
+    capacity = _sum(bound) * operator.grid.cell_area
+    solution = _solution(qx, qy, ux, uy, cx, cy, (0.0, 0.0), contact, np.zeros_like(contact), 0,
+                         np.inf, False)  # fmt: skip
+    message = (
+        f"the tangential force {np.hypot(*target) * operator.grid.cell_area:.4g} N is at or "
+        f"above what the friction can carry, {capacity:.4g} N (the sum of min(mu p, m tau_c) "
+        "over the contact, lowered by friction.shear_limit): gross sliding; lower the "
+        "tangential force or raise the shear limit"
+    )
+    return dataclasses.replace(solution, message=message)
+
+
 def _solution(qx, qy, ux, uy, cx, cy, shift, contact, stick, iterations, residual, converged):
     sx, sy = ux + cx - shift[0], uy + cy - shift[1]
     message = (
@@ -572,6 +622,7 @@ def solve_tangential_coupled(
     *,
     tolerance: float = 1e-8,
     max_iterations: int = 5000,
+    shear_cap: np.ndarray | float | None = None,
 ) -> TangentialSolution:
     """Tangential solve whose pressure follows the shear tractions (normal-tangential coupling).
 
@@ -604,6 +655,8 @@ def solve_tangential_coupled(
         Relative tolerance of the KKT residual.
     max_iterations : int
         Cap on applications of the tangential operator.
+    shear_cap : ndarray or float, optional
+        Orowan's shear limit capping the disks (:func:`solve_tangential`).
 
     Returns
     -------
@@ -616,7 +669,8 @@ def solve_tangential_coupled(
         pressure, (cx, cy), settled = renew(qx, qy, residual)
         contact = pressure > 0.0
         data.append((contact, cx, cy))
-        return friction_coefficient * np.where(contact, pressure, 0.0), contact, cx, cy, settled
+        bound = friction_bound(friction_coefficient, pressure, shear_cap)
+        return bound, contact, cx, cy, settled
 
     target = None if force is None else np.array(force, dtype=float) / area
     zero = np.zeros_like(initial[0])  # placeholders: the first renewal sets the disks

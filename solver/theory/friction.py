@@ -5,6 +5,8 @@ Sources: Johnson, *Contact Mechanics* (1985), §7.2-7.4 and §8.4; Kalker (1967,
 
 from __future__ import annotations
 
+import math
+
 
 def cattaneo_stick_ratio(tangential_force: float, friction_coefficient: float, normal_force: float):
     """Cattaneo-Mindlin stick radius c/a = (1 - Q/(mu W))^(1/3) for beta = 0."""
@@ -187,3 +189,25 @@ def kalker_linear_force(
     c11, c22, c23 = KALKER_CIRCLE_COEFFICIENTS[nu]
     scale = shear_modulus * radius * radius
     return scale * c11 * creepage[0], scale * (c22 * creepage[1] + c23 * radius * spin)
+
+
+def capped_sliding_force(
+    friction_coefficient: float, max_pressure: float, radius: float, shear_cap: float
+) -> float:
+    """Friction force (N) of a Hertz contact in gross slip under Orowan's law, ``min(mu p, tau_c)``.
+
+    With ``p = p_0 sqrt(1 - r^2/a^2)`` the traction is ``tau_c`` inside the radius
+    ``r_c`` where ``mu p = tau_c``, ``r_c^2 = a^2 (1 - (tau_c / (mu p_0))^2)``, and ``mu p``
+    outside it; integrating over the circle,
+
+        Q = tau_c pi r_c^2 + mu (2 pi a^2 p_0 / 3) (1 - r_c^2 / a^2)^(3/2),
+
+    which is ``mu P`` (``P = 2 pi a^2 p_0 / 3``) when ``tau_c >= mu p_0`` (``r_c = 0``) and tends
+    to ``tau_c pi a^2`` as mu grows.  Exact for a sliding sphere whose pressure stays Hertz's
+    (Dundurs beta = 0, e.g. a rigid sphere on an incompressible half-space); it also bounds
+    the tangential force a static contact under that pressure can carry.
+    """
+    mu, p0, a = friction_coefficient, max_pressure, radius
+    ratio = min(shear_cap / (mu * p0), 1.0)
+    inner = a * a * (1.0 - ratio * ratio)  # r_c^2
+    return shear_cap * math.pi * inner + mu * 2.0 * math.pi * a * a * p0 / 3.0 * ratio**3
