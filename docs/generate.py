@@ -27,7 +27,7 @@ PAGES = ("case-keys", "campaign-keys", "dataset", "cli", "api", "layout")
 _JSON_TYPES = {
     'boolean or "y"': {"anyOf": [{"type": "boolean"}, {"const": "y"}]},
     'number or "inf"': {"anyOf": [{"type": "number"}, {"const": "inf"}]},
-    'number or "yield"': {"anyOf": [{"type": "number"}, {"const": "yield"}]},
+    "number or string": {"anyOf": [{"type": "number"}, {"enum": ["yield", "none"]}]},
     "number or [Qx, Qy]": {
         "anyOf": [{"type": "number"}, {"type": "array", "items": {"type": "number"}}]
     },

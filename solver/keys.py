@@ -420,8 +420,9 @@ CASE_KEYS: tuple[Key, ...] = (
         f"0 or [{MIN_FRICTION:g}, {MAX_FRICTION:g}]; at most {MAX_THEOREM_FRICTION:g} with "
         "solver.method = static_shakedown", "every case",
         "Coulomb coefficient mu (0: frictionless)."),
-    Key("friction", "shear_limit", "number or \"yield\"", "Pa", "none (Coulomb's law alone)",
-        f"a stress in {_range(*SHEAR_LIMIT_RANGE)}, or \"yield\" with an elastic-plastic body",
+    Key("friction", "shear_limit", "number or string", "Pa", "none (Coulomb's law alone)",
+        f"a stress in {_range(*SHEAR_LIMIT_RANGE)}, \"yield\" with an elastic-plastic body, "
+        "or \"none\" (no limit: a campaign sweeps the limit against its absence)",
         "cases with friction",
         "Caps the friction traction: |q| <= min(mu p, m tau_c) (Orowan's law).  A stress: "
         "tau_c everywhere, elastic pairs too.  \"yield\": tau_c is the current shear yield "

@@ -54,15 +54,23 @@ SURFACE_FLOW_REASON = (
 )
 
 
+#: The words of the notes that the plastic zone reached a face of the volume box, or the
+#: contact the domain's edge (:attr:`Result.truncated`).
+TRUNCATED_NOTES = ("face: enlarge the box", "the contact reaches the domain's edge")
+
+
 def stored_status(status: str, notes: str) -> str:
     """A stored case's status as this model tells it (:data:`SOLVE_STATUSES`).
 
     A converged solve whose notes say the surface shear passed the body's limit
-    (:data:`SURFACE_FLOW_NOTE`) is ``"surface_flow"``: case files written before that status
-    existed carry the same evidence in their notes, found by the same criterion.
+    (:data:`SURFACE_FLOW_NOTE`) is ``"surface_flow"``, and one not converged whose notes say
+    the box or the domain cut it (:data:`TRUNCATED_NOTES`) ``"truncated"``: case files written
+    before these rules carry the same evidence in their notes, found by the same criteria.
     """
     if status == "converged" and SURFACE_FLOW_NOTE in notes:
         return "surface_flow"
+    if status == "not_converged" and any(words in notes for words in TRUNCATED_NOTES):
+        return "truncated"
     return status
 
 
@@ -97,6 +105,8 @@ class Result:
         surface domain's edge (a note says which and when): the answer is not to be trusted.
     wall_time : float
         Solve time (s).
+    cpu_time : float
+        Solve CPU time of the process (s), all its threads.
     fields : dict of ndarray
         Further fields, each declared in :data:`solver.variables.FIELDS`: the stress of the
         tractions in body 2 (``[output] fields = ["stress"]``), and for elastic-plastic cases
@@ -139,22 +149,25 @@ class Result:
     melan_factor: float | None = None
     section: tuple[np.ndarray, np.ndarray] | None = None
     surface_flow: bool = False
+    cpu_time: float = 0.0
 
     @property
     def status(self) -> str:
         """``"converged"``, ``"not_converged"``, ``"truncated"`` or ``"surface_flow"``.
 
-        ``"truncated"``: every solve converged, but the plastic zone reaches a face of the
+        The cause before its symptoms.  ``"surface_flow"``: the surface shear traction
+        exceeded what the plastic body can carry (:attr:`surface_flow`; the path ends at that
+        increment, whose top-layer strain is set by the layers, not the material), every
+        increment before it converged.  ``"truncated"``: the plastic zone reaches a face of the
         volume box, or the contact the domain's edge (:attr:`truncated`), so the answer is not
-        to be trusted.  ``"surface_flow"``: every solve converged, but the surface shear
-        traction exceeded what the plastic body can carry (:attr:`surface_flow`): the top
-        layer's plastic strain is set by the layers, not the material.
+        to be trusted, whether or not its solves converged (a loop that failed is in the
+        notes).  ``"not_converged"``: a solve failed, the notes say which and why.
         """
-        if not self.converged:
-            return "not_converged"
-        if self.surface_flow:  # the cause: a box it cuts is cut by the flow
+        if self.surface_flow and self.converged:
             return "surface_flow"
-        return "truncated" if self.truncated else "converged"
+        if self.truncated:
+            return "truncated"
+        return "converged" if self.converged else "not_converged"
 
     @property
     def shakedown(self) -> Shakedown | None:
@@ -271,6 +284,7 @@ class Result:
             **({"melan_factor": self.melan_factor} if self.melan_factor is not None else {}),
             "notes": "; ".join(self.notes),
             "wall_time": self.wall_time,
+            "cpu_time": self.cpu_time,
         }
         return coords, data, attrs
 

@@ -78,7 +78,7 @@ def test_a_misspelt_sampled_key_is_called_sampled(tmp_path):
         load_campaign(path)
     assert str(info.value) == (
         'sampled key "friction.coeficient": friction.coeficient: unknown key; allowed keys are '
-        "coefficient"
+        "coefficient, shear_factor, shear_limit"
     )
 
 

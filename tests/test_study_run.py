@@ -25,7 +25,7 @@ from study.run.driver import RunOptions, run_campaign
 from study.run.writer import CaseWriter
 
 #: Variables that record timing or placement, not physics: they differ between runs.
-TIMING = ("wall_time", "case_time", "peak_rss", "mpi_rank")
+TIMING = ("wall_time", "cpu_time", "case_time", "peak_rss", "mpi_rank")
 
 
 def physics(dataset):

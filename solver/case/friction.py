@@ -19,6 +19,9 @@ from .reading import check_keys, fail, number
 
 #: ``friction.shear_limit`` naming the plastic body's current shear yield stress.
 YIELD = "yield"
+#: ``friction.shear_limit`` naming no limit (Coulomb's law alone: the case without the key), so
+#: that a campaign can sweep the limit against its absence.
+NO_LIMIT = "none"
 
 
 @dataclass(frozen=True)
@@ -83,6 +86,8 @@ def parse_friction(table: Any, plastic: bool) -> tuple[Friction, list[str]]:
             f"{mu:g} is frictionless to the solver's tolerances (the tangential solve's "
             f"scales underflow below {MIN_FRICTION:g}): give 0, or at least {MIN_FRICTION:g}",
         )
+    if friction.get("shear_limit") == NO_LIMIT:  # the same case as without the key
+        friction = {k: v for k, v in friction.items() if k != "shear_limit"}
     if "shear_limit" not in friction:
         if "shear_factor" in friction:
             fail(
@@ -96,8 +101,8 @@ def parse_friction(table: Any, plastic: bool) -> tuple[Friction, list[str]]:
         if limit != YIELD:
             fail(
                 "friction.shear_limit",
-                f'must be a stress in Pa or "yield" (the plastic body\'s shear yield stress), '
-                f"got {limit!r}",
+                f'must be a stress in Pa, "yield" (the plastic body\'s shear yield stress) or '
+                f'"none" (no limit), got {limit!r}',
             )
         if not plastic:
             fail(

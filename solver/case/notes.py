@@ -385,12 +385,13 @@ def surface_shear_note(case) -> str | None:
     """
     body, reference = case.plastic_body, case.reference
     mu = case.friction_coefficient
-    if body is None or reference is None or not mu:
-        return None
+    if body is None or reference is None or not mu or case.friction.follows_yield:
+        return None  # "yield" caps the shear at the top layer's yield stress
     if not any(stage.motion == "slide" for stage in case.stages):
         return None
     limit = body.hardening.shear_limit
-    ratio = mu * reference.max_pressure / limit
+    cap = case.friction.stress_cap
+    ratio = min(mu * reference.max_pressure, math.inf if cap is None else cap) / limit
     if ratio <= 1.0 + 1e-9:  # at the limit to rounding (mu = 0.5, p_0 = 2 k) is not past it
         return None
     return (
@@ -398,9 +399,9 @@ def surface_shear_note(case) -> str | None:
         f"shear stress the elastic-plastic body can carry (sigma_Y / sqrt 3 without "
         f"hardening): where the pressure stays that high no stress field in equilibrium "
         f"with the surface shear stays within yield, the top layer's plastic strain is set "
-        f"by grid.nz and the plasticity loop may not converge; lower the load or "
-        f"friction.coefficient below p_0 = {limit / mu / 1e6:.4g} MPa, or give the body "
-        f"hardening"
+        f"by grid.nz and the case ends as surface_flow where it first does; lower the load or "
+        f"friction.coefficient below p_0 = {limit / mu / 1e6:.4g} MPa, or cap the friction "
+        f'(friction.shear_limit = "yield")'
     )
 
 

@@ -35,7 +35,7 @@ from ..case.substeps import load_substeps, substep_floor
 from ..keys import MIN_CELLS_ACROSS
 from ..numerics.grid import IndexBox, VolumeGrid
 from ..numerics.tensor import equivalent_strain, von_mises
-from ..result import SEPARATED, SLIP, STICK, SURFACE_FLOW_NOTE, Result
+from ..result import SEPARATED, SLIP, STICK, SURFACE_FLOW_NOTE, TRUNCATED_NOTES, Result
 from ..surface.tangential import friction_bound, over_capacity
 from ..variables import BODY1_SUFFIX, CYCLE_PLASTIC_HISTORIES, HISTORIES, PLASTIC_BODY_HISTORIES
 from .operators import CaseOperators
@@ -141,6 +141,7 @@ def _halving_plastic_step(
     guess: np.ndarray | None,
     before_guess: np.ndarray | None = None,
     splits: int = 0,
+    past_model: Callable[..., str] | None = None,
 ) -> PlasticStepResult:
     """An increment of the plasticity loop, halved where its loop does not converge.
 
@@ -150,22 +151,26 @@ def _halving_plastic_step(
     increment is untouched (the same bits as without halving).  The halves' iterations,
     friction work and plastic increments add up; a half that still fails is the answer, not
     converged, with its message (the whole increment's best iterate when the first half
-    fails, so that the state is always the target's).
+    fails, so that the state is always the target's).  ``past_model(state, plastic, target)``
+    (:func:`_past_model`): an increment past what the model can carry is not halved (its end
+    state is past it whatever the path to it).
     """
     step = plastic_step(operators, step_of, state, plastic_state, target, guess, before_guess)
-    past = _past_model(operators, step.contact.state, step.plastic, target)
-    if step.converged or splits == MAX_SPLITS or past:
+    if step.converged or splits == MAX_SPLITS:
+        return step
+    if past_model is not None and past_model(step.contact.state, step.plastic, target):
         return step
     middle = tuple(0.5 * (a + b) for a, b in zip(start, target, strict=True))
     half = None if guess is None else 0.5 * guess
     first = _halving_plastic_step(
-        operators, step_of, state, plastic_state, start, middle, half, None, splits + 1
-    )
+        operators, step_of, state, plastic_state, start, middle, half, None, splits + 1,
+        past_model,
+    )  # fmt: skip
     if not first.converged:  # the whole increment's best iterate: the state at the target
         return dataclasses.replace(step, iterations=step.iterations + first.iterations)
     second = _halving_plastic_step(
         operators, step_of, first.contact.state, first.plastic, middle, target,
-        first.increment, None, splits + 1,
+        first.increment, None, splits + 1, past_model,
     )  # fmt: skip
     iterations = {
         key: step.contact.iterations.get(key, 0)
@@ -283,6 +288,25 @@ def _relabelled(result: Result, case: Case) -> Result:
 
 # -- the driver ------------------------------------------------------------------------------------
 def solve(case: Case) -> Result:
+    """Solve a case over its whole load path (:func:`_solve`), its CPU time measured.
+
+    Parameters
+    ----------
+    case : Case
+        A validated case.
+
+    Returns
+    -------
+    Result
+        As :func:`_solve`, with :attr:`Result.cpu_time`.
+    """
+    cpu = time.process_time()
+    result = _solve(case)
+    result.cpu_time = time.process_time() - cpu
+    return result
+
+
+def _solve(case: Case) -> Result:
     """Solve a case over its whole load path.
 
     Parameters
@@ -419,7 +443,7 @@ def solve(case: Case) -> Result:
             previous = None  # its increment is before_last now, or not needed
             step = _halving_plastic_step(
                 placed, step_of, state, window_plastic, previous_target, target, guess,
-                before_last,
+                before_last, past_model=functools.partial(_past_model, placed),
             )  # fmt: skip
             previous = (guess, load_step) if guess is not None else None
             outcome, guess = step.contact, step.increment
@@ -429,6 +453,10 @@ def solve(case: Case) -> Result:
             if step.message:
                 messages.append(step.message)
             shear_peak = max(shear_peak, (shear_excess(case, outcome.state), k + 1))
+            if "surface_shear_ratio" in history:  # on the increment's own (window) grids
+                k_top = yield_cap(placed, top_layer(step.plastic), 1.0)
+                shear = np.hypot(outcome.state.shear_x, outcome.state.shear_y)
+                history["surface_shear_ratio"][k] = float((shear / k_top).max())
             past = _past_model(placed, outcome.state, step.plastic, target)
             if past:
                 tops = (top_layer(window_plastic), top_layer(step.plastic))
@@ -480,16 +508,12 @@ def solve(case: Case) -> Result:
         ):
             edge_noted = True
             notes.append(
-                f"step {k + 1}: the contact reaches the domain's edge (pressure on its outer "
+                f"step {k + 1}: {TRUNCATED_NOTES[1]} (pressure on its outer "
                 "cells), so the domain truncates it: enlarge the domain (grid.half_width or "
                 "grid.size)"
             )
         if plastic:
             record_plastic(history, k, step.iterations, plastic_state, case)
-            if "surface_shear_ratio" in history:
-                k_top = yield_cap(operators, top_layer(plastic_state), 1.0)
-                shear = np.hypot(state.shear_x, state.shear_y)
-                history["surface_shear_ratio"][k] = float((shear / k_top).max())
             sides = "grid.plastic_half_width" if case.plastic_box else "grid.half_width"
             sides = None if case.grid.periodic else sides
             reached = sorted(
@@ -503,7 +527,7 @@ def solve(case: Case) -> Result:
                 faces_noted = True
                 notes.append(
                     f"step {k + 1}: plastic strain reaches the volume grid's "
-                    f"{', '.join(reached)} face: enlarge the box"
+                    f"{', '.join(reached)} {TRUNCATED_NOTES[0]}"
                 )
         for name, count in sub_iterations.items():  # the sub-steps' iterations count too
             if name in history:
@@ -638,7 +662,8 @@ def _ending_note(
             "field in equilibrium with it stays within yield, so the top layer shears without "
             f"bound (its equivalent plastic strain grew by {grown:.3g} in this increment, set "
             "by grid.nz, not by the material); the path ends here, the increments before it "
-            f"kept ({solved}).  Cap the friction at the shear yield stress "
+            f"kept and this one recorded as the evidence ({solved}: its strains are the "
+            "layers', not the material's).  Cap the friction at the shear yield stress "
             '(friction.shear_limit = "yield"), or lower the load or the friction'
         )
     return (

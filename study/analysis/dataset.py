@@ -43,7 +43,9 @@ class AnalysisError(ValueError):
 
 
 #: Per-case numbers that record the run rather than the contact (listed last).
-RUN_RECORDS = ("mpi_rank", "grid_cells", "steps", "wall_time", "case_time", "peak_rss")
+RUN_RECORDS = (
+    "mpi_rank", "grid_cells", "steps", "wall_time", "cpu_time", "case_time", "peak_rss",
+)  # fmt: skip
 #: Most names a message lists before it says how many more there are.
 LISTED = 10
 

@@ -20,6 +20,7 @@ SCENES = {
     "moving": ("moving", "run_moving", ()),
     "rolling": ("rolling", "run_rolling", ("peers", "steady", "shapes", "repeat")),
     "shakedown": ("shakedown", "run_shakedown", ("incremental",)),
+    "hard": ("hard_cases", "run_hard", ()),
 }
 
 
@@ -38,6 +39,7 @@ DEFAULT_SIZES = {
     "moving": [16, 32],
     "rolling": [32, 64],
     "shakedown": [],  # the campaign fixes the cases
+    "hard": [16, 24, 32],  # the limit's refinement (the scenes' meshes are fixed)
 }
 
 

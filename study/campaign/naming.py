@@ -32,6 +32,7 @@ RESERVED_NAMES = frozenset(
         "stick_radius",
         "steps",
         "wall_time",
+        "cpu_time",
         "case_time",
         "peak_rss",
         "cycle",

@@ -20,7 +20,17 @@ import numpy as np
 from solver.result import STATUS_FLAGS
 
 from .. import analysis
-from . import cycles, global_sensitivity, plastic, rolling, rough, shakedown, tables, theorem
+from . import (
+    atlas,
+    cycles,
+    global_sensitivity,
+    plastic,
+    rolling,
+    rough,
+    shakedown,
+    tables,
+    theorem,
+)
 from .elastic import (
     _convergence_note,
     plot_convergence,
@@ -255,6 +265,8 @@ def build_report(out: str | Path, plots: bool = True) -> Path:
         lines += global_sensitivity.section(dataset, out, name, plt, figures)
     if "creep_force_x" in dataset or "creepage_x_history" in dataset:
         lines += rolling.section(dataset, out, name, plt, figures)
+    if atlas.is_atlas(dataset):
+        lines += atlas.section(dataset, out, name, plt, figures)
     if figures:
         lines += ["## Figures", ""]
         lines += [f"- {title}: `{png.name}` ({note})" for title, png, note in figures]

@@ -8,8 +8,9 @@ zipped key (the one with the dimension's name, if any, indexes it).
 Variables (all with ``units`` and ``long_name``):
 
 - ``status`` (axes): int8 flags 0 pending, 1 converged, 2 not_converged, 3 failed, 4 truncated
-  (converged, but the plastic zone reaches a face of the volume box), 5 surface_flow
-  (converged, but the surface shear exceeded what the plastic body can carry);
+  (the plastic zone reaches a face of the volume box, or the contact the domain's edge), 5
+  surface_flow (the surface shear exceeded what the plastic body can carry: the path ended at
+  that increment, its histories padded with NaN after it);
   ``case_id`` and ``error`` (axes): strings;
 - per-case scalars (axes): :data:`SCALARS`, the histories' reductions declared in
   :mod:`solver.variables` (last step, largest or summed over the steps) and provenance;
@@ -83,6 +84,7 @@ SCALARS = {
     "stick_radius": ("m", "equivalent stick-zone radius sqrt(stick_area / pi)"),
     "steps": ("1", "number of load steps"),
     "wall_time": ("s", "solve wall time"),
+    "cpu_time": ("s", "solve CPU time of the case's process, all its threads (NaN: not recorded)"),
     "case_time": ("s", "wall time of the case on its rank before writing (set-up, solve, checks)"),
     "peak_rss": (
         "byte",
@@ -145,6 +147,7 @@ _ATTRS = (
     "shear_yield_stress",
     "melan_factor",
     "wall_time",
+    "cpu_time",
     "peak_rss",
 )
 
