@@ -19,7 +19,11 @@ import pytest
 
 import solver
 from solver import Case, SpecError
-from solver.theory.friction import capped_sliding_force
+from solver.theory.friction import (
+    capped_partial_slip,
+    capped_sliding_force,
+    cattaneo_stick_ratio,
+)
 
 SPHERE = {"behaviour": "rigid", "radius": 0.01}
 RUBBERY = {"behaviour": "elastic", "E": 10e6, "nu": 0.5}  # incompressible: Dundurs beta = 0
@@ -91,6 +95,61 @@ def test_a_limit_above_mu_p0_is_coulombs_law():
     assert a.status == b.status == "converged"
     assert np.abs(b.shear_x - a.shear_x).max() <= 1e-9 * np.abs(a.shear_x).max()
     assert (a.contact_state == b.contact_state).all()
+
+
+def test_the_capped_partial_slip_reference_is_cattaneo_mindlin_without_a_binding_cap():
+    """The MDR derivation checked on its own: no binding cap gives Cattaneo-Mindlin exactly;
+    a binding one carries the force it was asked for, with |q| <= tau_c."""
+    mu, p0, a = 0.5, 1e9, 1e-4
+    load = 2 * math.pi * a * a * p0 / 3
+    c, traction = capped_partial_slip(mu, p0, a, 2 * mu * p0, 0.6 * mu * load)
+    assert c / a == pytest.approx(cattaneo_stick_ratio(0.6 * mu * load, mu, load), rel=1e-10)
+    r = np.linspace(0.0, a, 41)
+    cattaneo = mu * p0 / a * (np.sqrt(a * a - r * r) - np.sqrt(np.clip(c * c - r * r, 0, None)))
+    assert np.abs(traction(r) - cattaneo).max() <= 1e-9 * mu * p0
+    tau = 0.5 * mu * p0
+    force = 0.6 * capped_sliding_force(mu, p0, a, tau)
+    c, traction = capped_partial_slip(mu, p0, a, tau, force)
+    r = np.linspace(0.0, a, 4001)
+    q = traction(r)
+    assert q.max() <= tau * (1 + 1e-12)
+    assert np.trapezoid(2 * math.pi * r * q, r) == pytest.approx(force, rel=1e-4)
+    assert c < a * math.sqrt(1 - 0.5**2)  # the stick zone inside the capped disk here
+
+
+def test_partial_slip_under_a_reached_limit_against_the_axisymmetric_solution(validation):
+    """Rigid sphere on an incompressible half-space, tau_c = mu p_0 / 2, Q = 0.6 of capacity."""
+    mu, found = 0.5, {}
+    for n in (32, 64):
+        table = _table(RUBBERY, [{"normal_force": 0.01}], {"coefficient": mu}, n)
+        hertz = Case.from_dict(table).reference
+        p0, a = hertz.max_pressure, hertz.radius
+        tau = 0.5 * mu * p0
+        force = 0.6 * capped_sliding_force(mu, p0, a, tau)
+        table["friction"]["shear_limit"] = tau
+        table["load"]["path"].append({"tangential_force": [force, 0.0], "steps": 8})
+        result = solver.solve(Case.from_dict(table))
+        assert result.status == "converged", result.notes
+        c, traction = capped_partial_slip(mu, p0, a, tau, force)
+        radii = np.linspace(0.0, a, 401)
+        x, y = result.grid.mesh()
+        r = np.hypot(x, y)
+        expected = np.interp(r, radii, traction(radii), right=0.0)
+        contact = result.pressure > 0
+        rms = np.sqrt(np.mean((result.shear_x - expected)[contact] ** 2)) / (mu * p0)
+        stick = math.sqrt(result.history["stick_area"][-1] / math.pi)
+        found[n] = (abs(stick / c - 1), rms, c / a)
+    assert found[64][0] < found[32][0] and found[64][0] < 0.02
+    assert found[64][1] < found[32][1] and found[64][1] < 0.01
+    validation(
+        "partial slip under a reached shear limit: rigid sphere on an incompressible "
+        "half-space, tau_c = mu p_0 / 2, Q = 0.6 of the capped capacity",
+        "axisymmetric solution by the method of dimensionality reduction "
+        "(solver.theory.friction.capped_partial_slip, Cattaneo-Mindlin's approximation)",
+        f"stick radius {100 * found[32][0]:.2f} % / {100 * found[64][0]:.2f} %, rms traction "
+        f"{100 * found[32][1]:.2f} % / {100 * found[64][1]:.2f} % of mu p_0 at 32^2 / 64^2 "
+        f"(c/a = {found[64][2]:.4f})",
+    )
 
 
 def test_a_force_above_the_capped_capacity_ends_the_path_told():

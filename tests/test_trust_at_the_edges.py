@@ -171,7 +171,9 @@ def test_a_hand_built_vanishing_yield_stress_is_told_not_raised():
     hardening = dataclasses.replace(case.body2.hardening, yield_stress=5e-324)
     case = dataclasses.replace(case, body2=dataclasses.replace(case.body2, hardening=hardening))
     result = solver.solve(case)
-    assert result.status == "not_converged"
+    assert not result.converged  # and its zone reaches the box: truncated is the status
+    assert result.status == ("truncated" if result.truncated else "not_converged")
+    assert any(note.startswith("diagnosis: the plasticity") for note in result.notes)
     assert np.isfinite(result.history["residual"]).all()
     assert np.isfinite(result.fields["plastic_strain"]).all()
 

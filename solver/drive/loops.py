@@ -59,6 +59,7 @@ from .record import (
     box_faces_reached,
     count_iterations,
     cycle_end,
+    failure_advice,
     failure_notes,
     melan,
     on_common_axes,
@@ -544,6 +545,8 @@ def _solve(case: Case) -> Result:
         if ended[1] == "gross_sliding":
             converged = False
     notes.extend(failure_notes(failures))
+    advice = failure_advice(case, history, failures, faces_noted or edge_noted)
+    notes.extend([advice] if advice else [])
     notes.extend(path_dependence_notes(case) if coupled else [])
     if case.reference is None and not case.grid.periodic:  # heights only: the mesh check
         largest = history["contact_area"].max()

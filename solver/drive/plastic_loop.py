@@ -52,6 +52,9 @@ if TYPE_CHECKING:
 #: away (a load past what the body can carry): it stops and keeps its best iterate, instead of
 #: iterating to the cap with iterates that grow without bound (numpy overflows were seen).
 DIVERGED = 1e3
+#: A loop whose best residual came this many iterations or more before its last made no
+#: progress: its message says it stalled (told, not stopped: the caps bound it).
+STALL_WINDOW = 20
 
 
 @dataclass(frozen=True)
@@ -294,7 +297,7 @@ def plastic_step(
     contact_guess: ContactState | None = None
     totals = {"normal": 0, "slip": 0, "coupling": 0}
     residual, converged, iterations = np.inf, False, 0
-    best = None
+    best, best_at = None, 0
     message = ""
     threads, rows = options.fft_threads, previous_strain.shape[2]
     follows_yield = case.friction.follows_yield
@@ -385,6 +388,7 @@ def plastic_step(
         residual = float(np.max(by_rows(compare, rows, threads)))
         if best is None or residual < best[0]:
             best = (residual, contact, mapped, displacements)
+            best_at = iterations
         failed = [m for m in mapped if not m.converged]
         if failed:
             message = f"return mapping not converged (residual {failed[0].residual:.3g})"
@@ -398,12 +402,17 @@ def plastic_step(
             )
             break
         increment = _mix(mixer, increment, change, options.fft_threads)
+    last = residual  # the last iterate's change, before the best is taken back
     if not converged:  # keep the best iterate
         residual, contact, mapped, displacements = best
     if not converged and not message:
+        stalled = iterations - best_at >= STALL_WINDOW
         message = (
             f"plasticity loop not converged after {options.plastic_max_iterations} iterations "
-            f"(increment change {residual:.3g} of the yield strain)"
+            f"(increment change {last:.3g} of the yield strain at the last, {best[0]:.3g} at "
+            f"its best, iteration {best_at}"
+            + (f": stalled, no progress over its last {iterations - best_at}" if stalled else "")
+            + ")"
         )
     if not contact.converged:
         message = "; ".join(filter(None, (message, contact.message)))

@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from ..case.case import Case
+from ..case.notes import MAX_PERFECT_LAYER
 from ..numerics.tensor import Y_REFLECTION, von_mises
 from ..result import Result
 from ..theory.half_space import hamilton_stress
@@ -382,6 +383,50 @@ def failure_notes(failures: list[tuple[int, str]]) -> list[str]:
         f"{len(failures)} increments did not converge, in steps {', '.join(runs)}; the first: "
         f"{told[0]}; the last: {told[-1]}"
     ]
+
+
+def failure_advice(
+    case: Case, history: dict, failures: list[tuple[int, str]], truncated: bool
+) -> str | None:
+    """One note after the failures: which loops failed, and what to change (None: none failed).
+
+    The remedies follow the case: layers thicker than :data:`MAX_PERFECT_LAYER` of a cell
+    under a body whose checkerboard patterns they let stall (:func:`solver.case.notes.layer_note`),
+    a surface shear past the top layer's yield stress (``friction.shear_limit = "yield"``), a
+    box the plastic zone reached, and smaller increments.
+    """
+    if not failures:
+        return None
+    kinds = {"plasticity loop": "plasticity", "tangential solve": "slip-stick (tangential)",
+             "slip-stick loop": "slip-stick (coupling)", "normal solve": "normal",
+             "return mapping": "return mapping"}  # fmt: skip
+    failed = [name for words, name in kinds.items() if any(words in m for _, m in failures)]
+    advice = []
+    volume, body = case.volume_grid, case.plastic_body
+    if "plasticity" in failed and volume is not None and body is not None:
+        ratio = volume.dz / min(case.surface_grid.dx, case.surface_grid.dy)
+        bounded = body.hardening.law == "perfect" and not body.hardening.kinematic
+        if ratio > MAX_PERFECT_LAYER and (bounded or case.grid.periodic):
+            nz = math.ceil(case.grid.nz * ratio / MAX_PERFECT_LAYER)
+            advice.append(
+                f"thinner layers (they are {ratio:.2g} of a cell: grid.n with nz >= {nz})"
+            )
+        shear = history.get("surface_shear_ratio")
+        if shear is not None and shear.size and shear.max() > 1.0:
+            advice.append(
+                f'friction.shear_limit = "yield" (the surface shear reached {shear.max():.3g} x '
+                "the top layer's shear yield stress)"
+            )
+    if truncated:
+        advice.append("a larger box (grid.half_width, grid.plastic_half_width or grid.depth)")
+    advice.append("more steps in the stages of the failed increments (smaller increments)")
+    steps = sorted({k for k, _ in failures})
+    return (
+        f"diagnosis: the {', '.join(failed) or 'solve'} loop{'s' if len(failed) > 1 else ''} "
+        f"did not reach the tolerance at step{'s' if len(steps) > 1 else ''} "
+        f"{', '.join(map(str, steps[:5]))}{', ...' if len(steps) > 5 else ''}; try "
+        + "; or ".join(advice)
+    )
 
 
 def path_dependence_notes(case: Case) -> list[str]:

@@ -211,3 +211,87 @@ def capped_sliding_force(
     ratio = min(shear_cap / (mu * p0), 1.0)
     inner = a * a * (1.0 - ratio * ratio)  # r_c^2
     return shear_cap * math.pi * inner + mu * 2.0 * math.pi * a * a * p0 / 3.0 * ratio**3
+
+
+def _capped_line_load(x, mu_p0: float, a: float, cap: float):
+    """The MDR line load ``q1(x) = 2 int_0^T g(sqrt(x^2 + t^2)) dt`` of ``g = min(mu p, cap)``.
+
+    ``T = sqrt(a^2 - x^2)``; the cap binds for ``t < t0 = sqrt(r_c^2 - x^2)``, and the rest is
+    the integral of ``(mu p_0 / a) sqrt(T^2 - t^2)``.  Also returns its slope ``q1'(x)``,
+    ``-2 x (mu p_0 / a)(pi/2 - asin(t0 / T))`` (``g'`` is zero where the cap binds).
+    """
+    import numpy as np
+
+    x = np.abs(np.asarray(x, dtype=float))
+    r_c2 = a * a * (1.0 - min(cap / mu_p0, 1.0) ** 2)
+    big_t = np.sqrt(np.maximum(a * a - x * x, 0.0))
+    t0 = np.minimum(np.sqrt(np.maximum(r_c2 - x * x, 0.0)), big_t)
+    ratio = np.divide(t0, big_t, out=np.zeros_like(big_t), where=big_t > 0)
+    angle = np.arcsin(np.clip(ratio, 0.0, 1.0))
+    tail = math.pi * big_t**2 / 4 - 0.5 * (t0 * np.sqrt(big_t**2 - t0**2) + big_t**2 * angle)
+    load = 2.0 * (cap * t0 + mu_p0 / a * tail)
+    slope = -2.0 * x * mu_p0 / a * (0.5 * math.pi - angle)
+    return load, slope
+
+
+def capped_partial_slip(
+    friction_coefficient: float,
+    max_pressure: float,
+    radius: float,
+    shear_cap: float,
+    force: float,
+):
+    """Stick radius (m) and traction (Pa) of a Hertz contact in partial slip under Orowan's law.
+
+    A tangential force ``Q`` below the capacity :func:`capped_sliding_force` on a Hertz pressure
+    (Dundurs beta = 0), with the slip traction ``g = min(mu p, tau_c)``.  Derived with the
+    method of dimensionality reduction (Popov and Hess) under Cattaneo and Mindlin's
+    axisymmetric approximation (the tangential displacement of an x-directed traction taken
+    with the 1/rho kernel of the normal problem, which the Hertzian parts satisfy exactly):
+    the full-slip traction ``g`` maps to the line load ``q1_g(x) = 2 int_x^a r g(r) /
+    sqrt(r^2 - x^2) dr``; every spring of the stick zone ``|x| < c`` has the shift of the
+    rigid body, so ``q1(x) = q1_g(max(|x|, c))``.  Hence
+
+        Q = 2 [c q1_g(c) + int_c^a q1_g(x) dx],
+        q(r) = g(r) for r >= c,   q(r) = -(1/pi) int_c^a q1_g'(x) / sqrt(x^2 - r^2) dx for r < c,
+
+    ``c`` found from ``Q`` (``Q`` falls from the capacity at ``c = 0`` to 0 at ``c = a``).
+    Without a binding cap (``tau_c >= mu p_0``) this is Cattaneo-Mindlin's
+    ``c^3 = a^3 (1 - Q / (mu P))``, ``q = (mu p_0 / a)(sqrt(a^2 - r^2) - sqrt(c^2 - r^2))``.
+
+    Returns
+    -------
+    (float, callable)
+        The stick radius c (m) and ``traction(r)`` (Pa) for an array of radii (m).
+    """
+    import numpy as np
+    from scipy.integrate import quad
+    from scipy.optimize import brentq
+
+    mu_p0, a, cap = friction_coefficient * max_pressure, radius, shear_cap
+
+    def line(x):
+        return float(_capped_line_load(x, mu_p0, a, cap)[0])
+
+    def carried(c):
+        return 2.0 * (c * line(c) + quad(line, c, a, limit=200)[0])
+
+    capacity = carried(0.0)
+    if not 0.0 < force < capacity:
+        raise ValueError(f"force {force:g} N must be in (0, {capacity:g}) N, the capacity")
+    c = brentq(lambda s: carried(s) - force, 0.0, a, xtol=1e-14 * a)
+
+    def traction(r):
+        r = np.abs(np.asarray(r, dtype=float))
+        g = np.minimum(mu_p0 * np.sqrt(np.clip(1.0 - (r / a) ** 2, 0.0, None)), cap)
+        out = np.where(r < a, g, 0.0)
+        for i in np.flatnonzero(r.ravel() < c):
+            ri = r.flat[i]
+
+            def integrand(x, ri=ri):
+                return -float(_capped_line_load(x, mu_p0, a, cap)[1]) / math.sqrt(x * x - ri * ri)
+
+            out.flat[i] = quad(integrand, c, a, limit=200)[0] / math.pi
+        return out
+
+    return c, traction

@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 import sys
 
-from .timing import format_table, isolated, machine
+from .timing import format_table, isolated
 
 #: Shear yield stress of the steel (Pa) and its modulus, Poisson ratio, sphere radius (m).
 K, E, NU, RADIUS = 250e6, 210e9, 0.3, 0.01
@@ -111,7 +111,7 @@ def run_hard(sizes: list[int]) -> int:
                 easy = out["cpu_s"] if easy is None else easy
                 rows.append({**row, **out, "cpu/mu0.3": out["cpu_s"] / easy})
                 print(f"  {scene} mu {mu} {row['law']}: {out['status']}", file=sys.stderr)
-    print(f"Hard cases (issue 58), one thread, each case in a child process; {machine()}")
+    print("Hard cases (issue 58), one thread, each case in a child process")
     print(format_table(rows))
     refined = []
     for n in sizes:
