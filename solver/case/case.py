@@ -38,7 +38,7 @@ from ..theory.hertz import HertzContact, hertz
 from ..theory.sneddon import SneddonContact
 from .batch import NO_TABLE, SharedTables, case_hash
 from .bodies import body_spec, check_surfaces, parse_body
-from .friction import Friction, parse_friction
+from .friction import Friction, parse_friction, sizing_ratio
 from .grid import GridSpec, check_resolution, domain_half_widths, parse_grid
 from .notes import (
     check_line_scene,
@@ -365,6 +365,9 @@ class Case:
             ),
             default=0.0,
         )
+        if not symmetric_pair(body1, body2, stages):  # the friction the zone grows under
+            limits = [b.hardening.shear_limit for b in plastics]
+            ratio = sizing_ratio(friction, ratio, p_max, limits)
         box_key = None  # grid.plastic_half_width as the case's spec records it
         warnings = list(friction_notes)
         if grid.periodic and plastic is not None:

@@ -135,6 +135,35 @@ def parse_friction(table: Any, plastic: bool) -> tuple[Friction, list[str]]:
     return Friction(mu, limit, factor), notes
 
 
+def sizing_ratio(
+    friction: Friction, ratio: float, max_pressure: float, shear_limits: list[float]
+) -> float:
+    """The largest ``|Q| / W`` the plastic box is sized for: the path's, or what the surface bears.
+
+    ``ratio``: the path's largest ``|Q| / W``; ``max_pressure``: Hertz's peak pressure (Pa,
+    NaN for a profile: the path's ratio is kept); ``shear_limits``: each plastic body's bounded
+    shear limit (:attr:`Hardening.shear_limit`, inf for hardening).  A surface cannot carry a
+    shear above the cap ``m tau_c``, nor (Coulomb's law alone) above a bounded body's k, whose
+    passing ends the case (surface flow): the friction field the zone grows under is at most
+    the capped one, whose force is ``mu W (1.5 s - 0.5 s^3)``, ``s = cap / (mu p_0)``
+    (:func:`solver.theory.friction.capped_force_ratio`).  ``"yield"`` on a hardening body
+    keeps the path's ratio (its k grows with the strain).
+    """
+    from ..theory.friction import capped_force_ratio
+
+    mu = friction.coefficient
+    if mu == 0.0 or not math.isfinite(max_pressure):
+        return ratio
+    caps = [k for k in shear_limits if math.isfinite(k)]
+    if friction.follows_yield:
+        caps = [friction.shear_factor * k for k in caps]
+    if friction.stress_cap is not None:
+        caps.append(friction.stress_cap)
+    if not caps:
+        return ratio
+    return min(ratio, mu * capped_force_ratio(min(caps) / (mu * max_pressure)))
+
+
 def limit_reached_note(friction: Friction, mu_p: float) -> str | None:
     """A note when a stress cap is at or above the largest Coulomb traction ``mu_p`` (Pa).
 

@@ -289,25 +289,6 @@ def _relabelled(result: Result, case: Case) -> Result:
 
 # -- the driver ------------------------------------------------------------------------------------
 def solve(case: Case) -> Result:
-    """Solve a case over its whole load path (:func:`_solve`), its CPU time measured.
-
-    Parameters
-    ----------
-    case : Case
-        A validated case.
-
-    Returns
-    -------
-    Result
-        As :func:`_solve`, with :attr:`Result.cpu_time`.
-    """
-    cpu = time.process_time()
-    result = _solve(case)
-    result.cpu_time = time.process_time() - cpu
-    return result
-
-
-def _solve(case: Case) -> Result:
     """Solve a case over its whole load path.
 
     Parameters
@@ -319,8 +300,17 @@ def _solve(case: Case) -> Result:
     -------
     Result
         Final tractions, fields, per-step histories and status; non-convergence is reported in
-        ``Result.converged`` and ``Result.notes``, never raised.
+        ``Result.converged`` and ``Result.notes``, never raised; its CPU time
+        (:attr:`Result.cpu_time`).
     """
+    cpu = time.process_time()
+    result = _solve(case)
+    result.cpu_time = time.process_time() - cpu
+    return result
+
+
+def _solve(case: Case) -> Result:
+    """:func:`solve` without the CPU time."""
     if case.solver.method == "static_shakedown":
         from .theorem import solve_static_shakedown  # scipy.optimize: for this method only
 

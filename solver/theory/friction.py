@@ -208,9 +208,18 @@ def capped_sliding_force(
     the tangential force a static contact under that pressure can carry.
     """
     mu, p0, a = friction_coefficient, max_pressure, radius
-    ratio = min(shear_cap / (mu * p0), 1.0)
-    inner = a * a * (1.0 - ratio * ratio)  # r_c^2
-    return shear_cap * math.pi * inner + mu * 2.0 * math.pi * a * a * p0 / 3.0 * ratio**3
+    return mu * 2.0 * math.pi * a * a * p0 / 3.0 * capped_force_ratio(shear_cap / (mu * p0))
+
+
+def capped_force_ratio(cap_ratio: float) -> float:
+    """``Q / (mu P)`` of :func:`capped_sliding_force` at ``s = tau_c / (mu p_0)``: 1.5 s - 0.5 s^3.
+
+    With ``r_c^2 = a^2 (1 - s^2)`` the closed form divides by ``mu P`` to
+    ``(3/2) s (1 - s^2) + s^3``, independent of the radius (and the same on a Hertz ellipse,
+    whose areas scale by ``a b`` alike); 1 for ``s >= 1``.
+    """
+    s = min(max(cap_ratio, 0.0), 1.0)
+    return 1.5 * s - 0.5 * s**3
 
 
 def _capped_line_load(x, mu_p0: float, a: float, cap: float):

@@ -2,8 +2,8 @@
 
 The top of :mod:`study.report`: it assembles the dataset if needed, writes the summary, the
 convergence and speed-error tables and figures (:mod:`.elastic`), and the plastic
-(:mod:`.plastic`), cyclic (:mod:`.cycles`), shakedown (:mod:`.shakedown`) and rolling
-(:mod:`.rolling`) sections when the campaign has them.
+(:mod:`.plastic`), cyclic (:mod:`.cycles`), shakedown (:mod:`.shakedown`), rolling
+(:mod:`.rolling`) and stability-atlas (:mod:`.atlas`) sections when the campaign has them.
 """
 
 from __future__ import annotations
