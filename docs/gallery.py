@@ -99,7 +99,7 @@ FIGURES: tuple[Figure, ...] = (
     _report("periodic_rough", "spot_sizes", "rough", "a 4-case campaign"),
     _report("periodic_rough_plastic", "residual_topography", "rough", "a 4-case campaign"),
     _report("sobol_swift_sphere", "saltelli", "global_sensitivity", "a 3072-case campaign"),
-    _report("hard_cases", "atlas", "atlas", "a 24-case campaign, two of 128^3"),
+    _report("hard_cases", "atlas", "atlas", "a 24-case campaign"),
 )
 BY_NAME = {figure.name: figure for figure in FIGURES}
 

@@ -105,8 +105,6 @@ class Result:
         surface domain's edge (a note says which and when): the answer is not to be trusted.
     wall_time : float
         Solve time (s).
-    cpu_time : float
-        Solve CPU time of the process (s), all its threads.
     fields : dict of ndarray
         Further fields, each declared in :data:`solver.variables.FIELDS`: the stress of the
         tractions in body 2 (``[output] fields = ["stress"]``), and for elastic-plastic cases
@@ -125,10 +123,13 @@ class Result:
         y and z (m) of a sliding track's cross-section (``solver.method = "static_shakedown"``,
         dimensions ``y_section``, ``z_section``).
     surface_flow : bool
-        True when at some step the surface shear traction exceeded the plastic body's shear
-        limit (:attr:`solver.plasticity.hardening.Hardening.shear_limit`; a note says when):
-        no stress field in equilibrium with it stays within yield, so the plastic strain near
-        the surface depends on the layers.
+        True when the path ended at the increment whose surface shear traction first exceeded
+        the plastic body's bounded shear limit
+        (:attr:`solver.plasticity.hardening.Hardening.shear_limit`; a note says where and by
+        how much): no stress field in equilibrium with it stays within yield, so the plastic
+        strain near the surface depends on the layers.
+    cpu_time : float
+        Solve CPU time of the process (s), all its threads.
     """
 
     case: Case

@@ -366,7 +366,6 @@ def _solve(case: Case) -> Result:
     guess, direction = None, 0.0
     previous = None  # (plastic increment, load increment) of the step before the last
     faces_noted = edge_noted = False
-    shear_peak = (0.0, 0)  # the largest surface shear over the shear limit, and its step
     ended = None  # (increment, why, note) of a path ended past the model (_past_model)
     failures: list[tuple[int, str]] = []  # (step, what did not converge)
     outcome = None
@@ -443,7 +442,6 @@ def _solve(case: Case) -> Result:
             residual = max(outcome.residual, step.residual)
             if step.message:
                 messages.append(step.message)
-            shear_peak = max(shear_peak, (shear_excess(case, outcome.state), k + 1))
             if "surface_shear_ratio" in history:  # on the increment's own (window) grids
                 k_top = yield_cap(placed, top_layer(step.plastic), 1.0)
                 shear = np.hypot(outcome.state.shear_x, outcome.state.shear_y)
@@ -451,7 +449,8 @@ def _solve(case: Case) -> Result:
             past = _past_model(placed, outcome.state, step.plastic, target)
             if past:
                 tops = (top_layer(window_plastic), top_layer(step.plastic))
-                ended = (k, past, _ending_note(k, past, shear_peak[0], tops, step.message))
+                excess = shear_excess(case, outcome.state)
+                ended = (k, past, _ending_note(k, past, excess, tops, step.message))
         else:
             initial = None
             if not coupled and step_of is slip_stick_step:
@@ -607,16 +606,7 @@ def _solve(case: Case) -> Result:
         stress = operators.stress.stress(state.pressure, *shears)
         result.fields["stress"] = stress
         result.fields["von_mises"] = von_mises(stress)
-    result.surface_flow = shear_peak[0] > 1.0 + FLOW_MARGIN
-    if result.surface_flow and ended is None:
-        result.notes.append(
-            f"step {shear_peak[1]}: {SURFACE_FLOW_NOTE} {shear_peak[0]:.3g} x "
-            "the largest shear stress the elastic-plastic body can carry (sigma_Y / sqrt 3 "
-            "without hardening): no stress field in equilibrium with it stays within yield, so "
-            "the top layer shears without bound as the layers thin (its plastic strain is set "
-            "by grid.nz, not by the material) and the plasticity loop may not converge; lower "
-            "the load or the friction, or give the body hardening"
-        )
+    result.surface_flow = ended is not None and ended[1] == "surface_flow"
     if plastic:
         plastic_fields(result, operators, plastic_state)
         result.fields.update({name: np.array(rows) for name, rows in cycle_profiles.items()})
