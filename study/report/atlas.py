@@ -22,7 +22,7 @@ ATLAS_DIM = "corner"
 #: The coordinate of the friction law (the alias of ``friction.shear_limit``).
 LAW = "shear_limit"
 #: Coordinates that follow from the corner rather than define it (not in a corner's label).
-DERIVED = ("Q", "grid_nz", LAW)
+DERIVED = ("Q", "nz", "grid_nz", LAW)
 #: The loops whose iterations the atlas shows (scalars: the histories summed over the path).
 LOOPS = ("normal_iterations", "slip_iterations", "coupling_iterations", "plastic_iterations")
 #: Words of a note that says why a case did not end converged.
@@ -113,9 +113,9 @@ def plot_atlas(dataset, path: Path, plt) -> Path | None:
     table = atlas_table(dataset)
     corners = list(dict.fromkeys(table["corner"]))
     laws = list(dict.fromkeys(table["shear_limit"]))
-    height = 1.2 + 0.32 * len(corners)
+    height = 1.6 + 0.36 * len(corners)
     fig, (chart, bars) = plt.subplots(
-        1, 2, figsize=(11, height), width_ratios=(1, 1.6), layout="constrained"
+        1, 2, figsize=(12, height), width_ratios=(1, 1.4), layout="constrained"
     )
     for _, row in table.iterrows():
         x, y = laws.index(row["shear_limit"]), corners.index(row["corner"])
@@ -132,22 +132,23 @@ def plot_atlas(dataset, path: Path, plt) -> Path | None:
     chart.set_yticks(range(len(corners)), corners, fontsize=8)
     chart.set_title("status, CPU over the easy case (same law)", fontsize=9)
     loops = [loop.removesuffix("_iterations") for loop in LOOPS if loop in dataset]
-    width = 0.8 / max(1, len(laws))
+    offsets = np.linspace(-0.2, 0.2, max(1, len(laws)))
     for j, law in enumerate(laws):
         part = table[table["shear_limit"] == law]
-        positions = np.array([corners.index(c) for c in part["corner"]]) + (j - 0.5) * width
-        left = np.zeros(len(part))
+        positions = np.array([corners.index(c) for c in part["corner"]]) + offsets[j]
         for k, loop in enumerate(loops):
             values = part[loop].to_numpy(float)
-            bars.barh(positions, values, width, left=left, color=f"C{k}",
-                      hatch="//" if j else None, edgecolor="white",
+            bars.plot(values, positions, ls="none", marker=figures.MARKERS[k], color=f"C{k}",
+                      markerfacecolor="white" if j else f"C{k}", markersize=6,
                       label=loop if j == 0 else None)  # fmt: skip
-            left += np.nan_to_num(values)
     bars.set_xscale("symlog", linthresh=10)
     bars.set_ylim(len(corners) - 0.5, -0.5)
-    bars.set_yticks([])
-    bars.set_xlabel("iterations over the path, per loop (hatched: the second law)", fontsize=8)
-    bars.legend(fontsize=7, loc="lower right")
+    bars.set_yticks(range(len(corners)), [])
+    bars.grid(axis="x", alpha=0.3)
+    hollow = f"hollow: shear_limit = {laws[1]}" if len(laws) > 1 else ""
+    bars.set_xlabel(f"iterations over the path, per loop (filled: shear_limit = {laws[0]}; "
+                    f"{hollow})", fontsize=8)  # fmt: skip
+    bars.legend(fontsize=8, ncol=len(loops), loc="lower center", bbox_to_anchor=(0.5, 1.0))
     figures.suptitle(fig, f"Stability atlas: {dataset.attrs.get('campaign', '')}")
     figures.save(plt, fig, path)
     return path
