@@ -55,6 +55,7 @@ def _sliding(n: int, mu: float, cap_ratio: float) -> tuple[solver.Result, float]
     return result, expected
 
 
+@pytest.mark.validation
 def test_sliding_sphere_carries_orowans_closed_form_force(validation):
     """Q = tau_c pi r_c^2 + mu (2 pi a^2 p_0 / 3)(1 - r_c^2/a^2)^(3/2), within 1 % at 64^2."""
     errors = {}
@@ -117,6 +118,7 @@ def test_the_capped_partial_slip_reference_is_cattaneo_mindlin_without_a_binding
     assert c < a * math.sqrt(1 - 0.5**2)  # the stick zone inside the capped disk here
 
 
+@pytest.mark.validation
 def test_partial_slip_under_a_reached_limit_against_the_axisymmetric_solution(validation):
     """Rigid sphere on an incompressible half-space, tau_c = mu p_0 / 2, Q = 0.6 of capacity."""
     mu, found = 0.5, {}
