@@ -257,3 +257,20 @@ def test_a_case_without_a_limit_keeps_its_id():
     """The limit's keys enter the case table only when given (older ids stay)."""
     case = Case.from_dict(_table(STEEL, [{"normal_force": 100.0}], {"coefficient": 0.3}, 32))
     assert case.spec["friction"] == {"coefficient": 0.3}
+
+
+def test_surface_flow_of_a_plastic_body_1_is_told_with_the_bodies_relabelled():
+    """The relabelled solve (body 1 elastic-plastic) keeps the status and where the path ended."""
+    e_star = 210e9 / (1 - 0.3**2)
+    p0 = 4 * SHEAR_YIELD
+    a = math.pi * p0 * 0.01 / (2 * e_star)
+    force = 2 / 3 * math.pi * a * a * p0
+    path = [{"hertz_pressure": p0, "steps": 3},
+            {"tangential_force": [0.9 * 1.0 * force, 0.0], "steps": 6}]  # fmt: skip
+    table = {
+        "body1": dict(EPP_STEEL, radius=0.01), "body2": {"behaviour": "rigid", "radius": "inf"},
+        "friction": {"coefficient": 1.0}, "load": {"path": path}, "grid": {"n": [16, 16, 16]},
+    }  # fmt: skip
+    result = solver.solve(Case.from_dict(table))
+    assert result.status == "surface_flow", result.notes
+    assert len(result.history["normal_force"]) < result.case.total_steps

@@ -284,6 +284,7 @@ def _relabelled(result: Result, case: Case) -> Result:
         result.depth_body1,
         result.truncated,
         result.melan_factor,  # of the plastic body's own residual stress, either label
+        surface_flow=result.surface_flow,
     )
 
 
