@@ -249,7 +249,8 @@ def test_non_convergence_is_reported_as_data():
         16, [{"hertz_pressure": 8e9, "steps": 1}], solver={"plastic_max_iterations": 2}
     )
     result = solver.solve(case)
-    assert result.status == "not_converged"
+    assert not result.converged  # the status says the box first when the zone reaches it
+    assert result.status == ("truncated" if result.truncated else "not_converged")
     assert result.history["step_converged"][0] == 0.0
     assert result.history["residual"][0] > case.solver.plastic_tolerance
     assert any("plasticity loop not converged" in note for note in result.notes)
