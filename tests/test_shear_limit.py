@@ -92,6 +92,7 @@ def test_a_limit_above_mu_p0_is_coulombs_law():
     capped = Case.from_dict(
         _table(STEEL, path, {"coefficient": 0.3, "shear_limit": 1.5 * 0.3 * p0}, 32)
     )
+    assert any("the limit caps nothing unless" in w for w in capped.warnings)  # told
     a, b = solver.solve(plain), solver.solve(capped)
     assert a.status == b.status == "converged"
     assert np.abs(b.shear_x - a.shear_x).max() <= 1e-9 * np.abs(a.shear_x).max()

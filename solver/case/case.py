@@ -38,7 +38,7 @@ from ..theory.hertz import HertzContact, hertz
 from ..theory.sneddon import SneddonContact
 from .batch import NO_TABLE, SharedTables, case_hash
 from .bodies import body_spec, check_surfaces, parse_body
-from .friction import Friction, parse_friction, sizing_ratio
+from .friction import Friction, limit_reached_note, parse_friction, sizing_ratio
 from .grid import GridSpec, check_resolution, domain_half_widths, parse_grid
 from .notes import (
     check_line_scene,
@@ -456,9 +456,10 @@ class Case:
         if solver.method == "static_shakedown":  # no loops: the theorem's own notes
             notes = check_static_shakedown(case)
         else:
+            peak = case.reference.max_pressure if case.reference is not None else math.nan
             notes = (
                 layer_note(case), surface_shear_note(case), window_note(case),
-                rolling_step_note(case), scale_note(case),
+                rolling_step_note(case), scale_note(case), limit_reached_note(friction, mu * peak),
             )  # fmt: skip
             notes = tuple(filter(None, notes))
         if notes:  # the case is not yet given out: its cached quantities stay
