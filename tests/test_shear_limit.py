@@ -275,3 +275,32 @@ def test_surface_flow_of_a_plastic_body_1_is_told_with_the_bodies_relabelled():
     result = solver.solve(Case.from_dict(table))
     assert result.status == "surface_flow", result.notes
     assert len(result.history["normal_force"]) < result.case.total_steps
+
+
+def test_the_limit_holds_on_a_periodic_rough_interface():
+    """One period of a rough elastic-perfectly plastic surface sheared at mu = 0.8: Coulomb's
+    law alone asks its spots for more than k and ends at that increment; under the limit the
+    shear stops at k and the path converges."""
+    k = 1e9 / math.sqrt(3.0)
+    body2 = {
+        "behaviour": "elastic-plastic", "radius": "inf", "E": 210e9, "nu": 0.3,
+        "hardening": {"law": "perfect", "yield_stress": 1e9},
+        "roughness": {"hurst": 0.8, "long_cutoff": 5e-5, "short_cutoff": 2.5e-5, "rms": 5e-8,
+                      "seed": 1},
+    }  # fmt: skip
+    path = [{"normal_force": 2.0, "steps": 3},
+            {"normal_force": 2.0, "tangential_force": [0.8, 0.0], "steps": 4}]  # fmt: skip
+    results = {}
+    for limit in ("none", "yield"):
+        table = {
+            "body1": {"behaviour": "rigid", "radius": "inf"}, "body2": body2,
+            "friction": {"coefficient": 0.8, "shear_limit": limit}, "load": {"path": path},
+            "grid": {"n": [32, 32, 16], "size": 1e-4, "depth": 1.25e-5, "periodic": True},
+        }  # fmt: skip
+        results[limit] = solver.solve(Case.from_dict(table))
+    plain, capped = results["none"], results["yield"]
+    assert plain.status == "surface_flow", plain.notes
+    assert len(plain.history["normal_force"]) < plain.case.total_steps
+    assert capped.status == "converged", capped.notes
+    assert np.hypot(capped.shear_x, capped.shear_y).max() <= k * (1 + 1e-9)
+    assert capped.history["tangential_force_x"][-1] == pytest.approx(0.8, rel=1e-9)
