@@ -456,7 +456,8 @@ class Case:
         if solver.method == "static_shakedown":  # no loops: the theorem's own notes
             notes = check_static_shakedown(case)
         else:
-            peak = case.reference.max_pressure if case.reference is not None else math.nan
+            hertzian = case.reference is not None and case.pair.geometry.hertzian
+            peak = case.reference.max_pressure if hertzian else math.nan  # a profile: none
             notes = (
                 layer_note(case), surface_shear_note(case), window_note(case),
                 rolling_step_note(case), scale_note(case), limit_reached_note(friction, mu * peak),
