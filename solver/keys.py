@@ -86,6 +86,8 @@ MAX_THEOREM_FRICTION = 1.0
 #: Shear limits accepted by ``friction.shear_limit`` (Pa): from soft polymers to above any
 #: metal's shear strength.
 SHEAR_LIMIT_RANGE = (1e3, 1e11)
+#: Smallest Orowan factor ``friction.shear_factor`` accepted (a cap that small is a limit).
+MIN_SHEAR_FACTOR = 1e-3
 #: Smallest positive friction coefficient accepted: below it the tangential solve's scales
 #: (mu p, the tractions it bounds) underflow its residual (1e-9 gave NaN residuals,
 #: 2026-11-28); such a contact is frictionless to the solver's tolerances: give 0.
@@ -428,7 +430,8 @@ CASE_KEYS: tuple[Key, ...] = (
         "tau_c everywhere, elastic pairs too.  \"yield\": tau_c is the current shear yield "
         "stress of the plastic body's top layer under each cell, k = sigma_Y(e_p) / sqrt 3, "
         "following its hardening (the softer body's where both are plastic)."),
-    Key("friction", "shear_factor", "number", "1", "1", "(0, 1]", "friction.shear_limit",
+    Key("friction", "shear_factor", "number", "1", "1", f"[{MIN_SHEAR_FACTOR:g}, 1]",
+        "friction.shear_limit",
         "Orowan's factor m: the cap is m tau_c (an interface weaker than the metal)."),
     Key("grid", "n", "integer or [nx, ny] or [nx, ny, nz]", "cells", "required",
         f"each in [4, {MAX_CELLS}]; the contact spans >= {MIN_CELLS_ACROSS} cells",

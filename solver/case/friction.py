@@ -14,7 +14,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from ..keys import MAX_FRICTION, MIN_FRICTION, SHEAR_LIMIT_RANGE, table_keys
+from ..keys import MAX_FRICTION, MIN_FRICTION, MIN_SHEAR_FACTOR, SHEAR_LIMIT_RANGE, table_keys
 from .reading import check_keys, fail, number
 
 #: ``friction.shear_limit`` naming the plastic body's current shear yield stress.
@@ -121,10 +121,11 @@ def parse_friction(table: Any, plastic: bool) -> tuple[Friction, list[str]]:
                 f'"yield"; got {limit:g}',
             )
     factor = number(friction.get("shear_factor", 1.0), "friction.shear_factor")
-    if not 0.0 < factor <= 1.0:  # NaN fails too
+    if not MIN_SHEAR_FACTOR <= factor <= 1.0:  # NaN fails too
         fail(
             "friction.shear_factor",
-            f"Orowan's factor m must be in (0, 1] (the cap is m times the limit), got {factor:g}",
+            f"Orowan's factor m must be in (0, 1] (the cap is m times the limit), at least "
+            f"{MIN_SHEAR_FACTOR:g} (below, give a smaller limit), got {factor:g}",
         )
     notes = []
     if mu == 0.0:

@@ -180,10 +180,7 @@ class RunSummary:
     skipped : int
         Cases finished by earlier runs (not recomputed).
     converged, not_converged, truncated, surface_flow, failed : int
-        Cases of this run by outcome (``truncated``: the plastic zone reaches a face of the
-        volume box, or the contact the domain's edge; ``surface_flow``: the surface shear
-        exceeded what the plastic body can carry, the path ended there:
-        :attr:`solver.Result.status`).
+        Cases of this run by outcome (:attr:`solver.Result.status`).
     pending : int
         Cases with neither a (complete) result nor a failure (recorded, or of this run) at
         the end.
@@ -237,10 +234,7 @@ class RunSummary:
             else ""
         )
         if self.surface_flow:
-            cut += (
-                f"{self.surface_flow} surface flow (the surface shear past the body's limit: "
-                "each path ended there), "
-            )
+            cut += f"{self.surface_flow} surface flow (the surface shear past the body's limit), "
         overhead = "" if math.isnan(self.overhead) else f"overhead {self.overhead:.4f} s per case; "
         text = (
             f"campaign {self.campaign}: {self.total} cases; this run {self.converged} converged, "
