@@ -344,8 +344,8 @@ def test_a_declared_infinity_is_data_and_an_undeclared_nan_a_failure(tmp_path):
 def test_a_theorem_case_file_from_before_the_certified_lower_bound_is_not_reused():
     """Model version 5 changed what a static_shakedown case computes (the certified lower bound
     that shakedown_load_factor follows): its id carries version 5, a file of version 4 is
-    refused for it; the same scene solved incrementally takes version 6 (friction on a
-    perfectly plastic body ends at surface flow), and frictionless the oldest version."""
+    refused for it; the same scene solved incrementally takes version 7 (its plasticity loops
+    stop when they stall), with friction or without, and an elastic one the oldest version."""
     from solver.case.case import MODEL_CHANGES, MODEL_VERSION, OLDEST_MODEL
 
     theorem = solver.Case.from_dict(_table())
@@ -356,6 +356,10 @@ def test_a_theorem_case_file_from_before_the_certified_lower_bound_is_not_reused
         solver.Case.from_dict(table)
     incremental = _table()
     del incremental["solver"]
-    assert solver.Case.from_dict(incremental).spec["model"] == 6 and "surface" in MODEL_CHANGES[6]
+    assert solver.Case.from_dict(incremental).spec["model"] == 7 and "no progress" in MODEL_CHANGES[7]
     incremental["friction"] = {"coefficient": 0.0}
+    assert solver.Case.from_dict(incremental).spec["model"] == 7
+    incremental["body2"] = {
+        key: value for key, value in incremental["body2"].items() if key != "hardening"
+    } | {"behaviour": "elastic"}
     assert solver.Case.from_dict(incremental).spec["model"] == OLDEST_MODEL

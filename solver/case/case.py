@@ -85,7 +85,7 @@ from .volume import size_open_volume
 #: Version 1: elastic-plastic bodies solved as elastic; 2: a plastic increment whose loop did
 #: not converge was kept as it was, where 3 halves it, and a sliding increment's friction work
 #: missed the step after a reversal (3 alters every case); then :data:`MODEL_CHANGES`.
-MODEL_VERSION = 6
+MODEL_VERSION = 7
 #: The oldest version a case may be solved by (the last change that altered every case).
 OLDEST_MODEL = 3
 #: The changes after :data:`OLDEST_MODEL`: version -> what it alters (:func:`case_model`).
@@ -96,19 +96,23 @@ MODEL_CHANGES = {
     "positions (static_shakedown_lower_bound), which shakedown_load_factor now follows",
     6: "a case with friction on a body of bounded flow stress ends at the first increment whose "
     "surface shear passes the body's shear limit (status surface_flow) instead of solving on",
+    7: "a plasticity loop, or a slip-stick loop coupling the pressure and the shear (beta != 0 "
+    "with friction), that makes no progress over 25 iterations stops there, told (a plastic "
+    "increment keeps its best iterate and is halved), instead of iterating on to its cap",
 }
 
 
-def case_model(stages: Sequence[LoadStage], method: str, can_flow: bool = False) -> int:
+def case_model(stages: Sequence[LoadStage], method: str, iterated: bool = False) -> int:
     """The model version that solves a case as this code does (:data:`MODEL_CHANGES`).
 
-    ``method`` is ``solver.method``; ``can_flow``: friction acts on an elastic-plastic body
-    whose flow stress is bounded (:attr:`Hardening.shear_limit`), so its surface may flow.
+    ``method`` is ``solver.method``; ``iterated``: a plasticity loop (an elastic-plastic
+    body) or a slip-stick loop coupling pressure and shear solves its increments (version 7
+    holds every change of version 6, to the cases whose friction may make the surface flow).
     """
-    if can_flow and method != "static_shakedown":
-        return 6
     if method == "static_shakedown":
         return 5
+    if iterated:
+        return 7
     if any(stage.motion == "roll" and stage.spin for stage in stages):
         return 4
     return OLDEST_MODEL
@@ -382,9 +386,8 @@ class Case:
             )
             warnings += notes
         solver, solver_spec = parse("solver", table.get("solver", NO_TABLE), _solver)
-        can_flow = mu > 0 and not symmetric_pair(body1, body2, stages)
-        can_flow = can_flow and any(math.isfinite(b.hardening.shear_limit) for b in plastics)
-        version = case_model(stages, solver.method, can_flow)
+        coupled = mu > 0 and pair.dundurs_beta != 0 and not solver.goodman
+        version = case_model(stages, solver.method, bool(plastics) or coupled)
         if model < version:
             fail(
                 "model",

@@ -22,8 +22,10 @@ The loop stops when ``max |G(d) - d| <= plastic_tolerance * sigma_Y0 / E`` in ev
 change of the increment relative to its yield strain) and the contact step converged.  The
 iterates are mixed by Anderson acceleration (:mod:`solver.numerics.anderson`, memory
 ``solver.anderson_memory``); the contact step starts from the previous iterate's tractions.
-Hitting ``plastic_max_iterations`` returns the last iterate with ``converged = False`` and its
-residual.
+Hitting ``plastic_max_iterations``, or :data:`~solver.drive.steps.STALL_WINDOW` iterations
+without progress, or iterates that run away (:data:`DIVERGED`) returns the best iterate with
+``converged = False``, its residual and a message with the residual's history (first, best,
+last).
 """
 
 from __future__ import annotations
@@ -40,7 +42,7 @@ from ..numerics.tensor import complete_deviator, deviator
 from ..numerics.threads import by_rows
 from ..plasticity.return_mapping import return_mapping_by_blocks
 from ..volume.eigenstrain_kernels import DEVIATORIC
-from .steps import ContactState, ResidualDisplacement, StepResult
+from .steps import STALL_WINDOW, ContactState, ResidualDisplacement, StepResult
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -52,9 +54,6 @@ if TYPE_CHECKING:
 #: away (a load past what the body can carry): it stops and keeps its best iterate, instead of
 #: iterating to the cap with iterates that grow without bound (numpy overflows were seen).
 DIVERGED = 1e3
-#: A loop whose best residual came this many iterations or more before its last made no
-#: progress: its message says it stalled (told, not stopped: the caps bound it).
-STALL_WINDOW = 20
 
 
 @dataclass(frozen=True)
@@ -297,6 +296,7 @@ def plastic_step(
     contact_guess: ContactState | None = None
     totals = {"normal": 0, "slip": 0, "coupling": 0}
     residual, converged, iterations = np.inf, False, 0
+    first = np.inf  # the first iterate's change (the residual history's start)
     best, best_at = None, 0
     message = ""
     threads, rows = options.fft_threads, previous_strain.shape[2]
@@ -386,6 +386,7 @@ def plastic_step(
                 for p, m in zip(previous_plastic, mapped, strict=True)
             ]
         residual = float(np.max(by_rows(compare, rows, threads)))
+        first = residual if iterations == 1 else first
         if best is None or residual < best[0]:
             best = (residual, contact, mapped, displacements)
             best_at = iterations
@@ -401,18 +402,23 @@ def plastic_step(
                 f"{residual:.3g} of the yield strain, {residual / best[0]:.3g} x its best)"
             )
             break
+        if iterations - best_at >= STALL_WINDOW:  # no progress: stop, keep the best (halved)
+            message = (
+                f"plasticity loop stalled after {iterations} iterations, no progress over its "
+                f"last {STALL_WINDOW} (increment change of the yield strain {first:.3g} at the "
+                f"first, {best[0]:.3g} at its best, iteration {best_at}, {residual:.3g} at the "
+                "last)"
+            )
+            break
         increment = _mix(mixer, increment, change, options.fft_threads)
     last = residual  # the last iterate's change, before the best is taken back
     if not converged:  # keep the best iterate
         residual, contact, mapped, displacements = best
     if not converged and not message:
-        stalled = iterations - best_at >= STALL_WINDOW
         message = (
             f"plasticity loop not converged after {options.plastic_max_iterations} iterations "
-            f"(increment change {last:.3g} of the yield strain at the last, {best[0]:.3g} at "
-            f"its best, iteration {best_at}"
-            + (f": stalled, no progress over its last {iterations - best_at}" if stalled else "")
-            + ")"
+            f"(increment change of the yield strain {first:.3g} at the first, {best[0]:.3g} at "
+            f"its best, iteration {best_at}, {last:.3g} at the last)"
         )
     if not contact.converged:
         message = "; ".join(filter(None, (message, contact.message)))

@@ -22,7 +22,7 @@ from ..theory.shakedown import melan_factor
 from ..variables import BODY1_SUFFIX, CYCLE_PROFILES, FIELDS, PLASTIC_ZONE_THRESHOLD
 from .operators import CaseOperators
 from .plastic_loop import PlasticState, mirror
-from .steps import StepResult
+from .steps import STALL_WINDOW, StepResult
 
 #: Fewest increments per normal-loading stage for which the stick zone of a coupled
 #: (beta != 0) scene is trusted; fewer give a path-dependence note.
@@ -421,10 +421,18 @@ def failure_advice(
         advice.append("a larger box (grid.half_width, grid.plastic_half_width or grid.depth)")
     advice.append("more steps in the stages of the failed increments (smaller increments)")
     steps = sorted({k for k, _ in failures})
+    stalled = sorted({k for k, m in failures if "stalled" in m})
     return (
         f"diagnosis: the {', '.join(failed) or 'solve'} loop{'s' if len(failed) > 1 else ''} "
         f"did not reach the tolerance at step{'s' if len(steps) > 1 else ''} "
-        f"{', '.join(map(str, steps[:5]))}{', ...' if len(steps) > 5 else ''}; try "
+        f"{', '.join(map(str, steps[:5]))}{', ...' if len(steps) > 5 else ''}"
+        + (
+            f" (stalled, stopped after {STALL_WINDOW} iterations without progress, at "
+            f"{len(stalled)} of them)"
+            if stalled
+            else ""
+        )
+        + "; try "
         + "; or ".join(advice)
     )
 

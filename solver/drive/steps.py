@@ -67,6 +67,12 @@ INEXACT = 0.03
 #: Coupled increments start with the merged iteration (:func:`_merged_coupling`); False
 #: alternates whole normal and tangential solves from the start (its fallback), for comparison.
 MERGED_COUPLING = True
+#: A fixed-point loop (the plasticity loop, the slip-stick coupling) whose best residual came
+#: this many iterations before its last makes no progress: it stops there, told, instead of
+#: iterating on to its cap.  Measured over the test suite's 557 plasticity loops: the
+#: converged ones set a new best at most 12 iterations after the last (most at every
+#: iteration); those that reached the cap had gone 25 to 96 iterations without one.
+STALL_WINDOW = 25
 
 
 @dataclass(frozen=True)
@@ -365,6 +371,7 @@ def slip_stick_step(
         pressure, qx, qy = normal.pressure, tangential.shear_x, tangential.shear_y
     mixer = Anderson(options.anderson_memory)  # on the shear tractions, the coupling's state
     first = counts["coupling"]
+    changes = []  # the pressure change of each pass (the coupling's residual history)
     for loop in range(1, options.coupling_max_iterations + 1):
         # Inexact fixed point: inner solves only as tight as the coupling is converged; the
         # loop ends when the pressure change is below the coupling tolerance in a pass whose
@@ -416,6 +423,17 @@ def slip_stick_step(
             and change < options.coupling_tolerance
             and inexact <= options.coupling_tolerance  # inner solves as tight as the coupling
         ):
+            break
+        changes.append(change)
+        best_at = int(np.argmin(changes)) + 1
+        if loop - best_at >= STALL_WINDOW:
+            converged_all = False
+            messages.append(
+                f"slip-stick loop stalled after {loop} iterations, no progress over its last "
+                f"{STALL_WINDOW} (pressure change {changes[0]:.3g} at the first, "
+                f"{changes[best_at - 1]:.3g} at its best, iteration {best_at}, {change:.3g} at "
+                "the last)"
+            )
             break
     else:
         converged_all = False
