@@ -5,6 +5,7 @@ and the status ``truncated``; the key is refused where it cannot be honoured.
 """
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -304,17 +305,55 @@ def test_nothing_set_no_truncated_case_up_to_six_times_yield(law, mu):
     assert result.status == "converged", result.notes
 
 
-def test_a_window_the_cells_cannot_resolve_stops_there_and_says_the_cells_to_use():
-    """n = 16 at p_H = 6.875 sigma_Y0: the window stops at 1.6 a_H (10 cells across the contact)."""
+def test_cells_too_few_for_the_window_the_zone_asks_are_raised_and_said():
+    """n = 16 at p_H = 6.875 sigma_Y0: 16 cells resolve a window of 1.6 a_H (10 cells across the
+    contact), narrower than the zone asks: the cells grow so that the window holds the zone at
+    the same cell size, and a note says so; rebuilt from its spec (as the run does) the case is
+    the same.  With the window given, the cells are kept and the narrow window told."""
     from solver.keys import MIN_CELLS_ACROSS
 
     case = _linear_steel(6.875, n=16)
-    assert 0 < 16 / MIN_CELLS_ACROSS - case.grid.half_width <= 1.001e-3  # rounded down
-    (note,) = case.warnings
     wide = _linear_steel(6.875, n=32)  # the window the zone asks for
-    need = math.ceil(16 * wide.grid.half_width / case.grid.half_width)
+    need = math.ceil(16 * wide.grid.half_width / (16 / MIN_CELLS_ACROSS))
+    assert case.grid.half_width == wide.grid.half_width > 16 / MIN_CELLS_ACROSS
+    assert (case.grid.nx, case.grid.ny, case.grid.nz) == (need, need, 16)
+    (note,) = case.warnings
+    assert note.startswith(f"grid.n: raised to {need} x {need} cells (from 16 x 16)")
+    rebuilt = solver.Case.from_dict(case.to_dict())
+    assert rebuilt.case_id == case.case_id and rebuilt.grid == case.grid
+    given = _linear_steel(6.875, n=16, half_width=1.599)
+    (note,) = given.warnings
+    assert (given.grid.nx, given.grid.half_width) == (16, 1.599)
+    # the cells given kept their size (a whole cell more at most: rounded up)
+    assert 1.0 - 1.0 / need < case.surface_grid.dx / given.surface_grid.dx <= 1.0
     assert note.startswith("grid.half_width: the window (1.599 a_H) is narrower")
     assert f"give n >= {need} and leave half_width out" in note
-    # rebuilt from its spec (half_width then given, as the run does): the same note
-    assert solver.Case.from_dict(case.to_dict()).warnings == (note,)
-    assert not _linear_steel(6.875, n=need).warnings
+
+
+def test_a_sliding_window_narrower_than_the_zone_is_told():
+    """A sliding case's window covers the track and is not sized for the zone: beside the track
+    a zone wider than it (sized for the sliding shear mu p) is told, with the half width to
+    give; at 2 sigma_Y0 the zone fits and nothing is said."""
+    from solver.keys import PLASTIC_WIDTH_MARGIN
+    from solver.theory.hertz import hertz_yield_half_width
+
+    def sliding(ratio: float) -> solver.Case:
+        table = _linear_steel(ratio, mu=0.3).to_dict()
+        del table["model"]
+        radius = solver.Case.from_dict(table).reference.max_semi_axis
+        table["grid"] = {"n": [40, 32, 24]}
+        path = [{"hertz_pressure": ratio * 0.8e9, "steps": 4}]
+        table["load"] = {"path": [*path, {"slide": [3 * radius, 0.0], "steps": 24}]}
+        return solver.Case.from_dict(table)
+
+    case = sliding(5.0)
+    (note,) = case.warnings
+    assert case.grid.half_width == 1.5 and note.startswith(
+        "grid.half_width: beside the track the window reaches 1.5 a_H, narrower than the "
+        "plastic box"
+    )
+    given = float(re.search(r"give half_width >= ([0-9.]+)", note).group(1))
+    extent = [hertz_yield_half_width(4e9, 0.8e9, 0.3, mu, case.grid.depth, 4.0) for mu in (0.3, 0)]
+    assert given == pytest.approx(PLASTIC_WIDTH_MARGIN * extent[0], rel=0.01)  # mu p sliding
+    assert extent[0] > extent[1]  # wider than frictionless: sized for the sliding friction
+    assert not sliding(2.0).warnings

@@ -369,6 +369,8 @@ class Case:
             ),
             default=0.0,
         )
+        if any(st.motion == "slide" for st in stages):  # gross sliding: |Q| = mu W
+            ratio = max(ratio, mu)
         if not symmetric_pair(body1, body2, stages):  # the friction the zone grows under
             limits = [b.hardening.shear_limit for b in plastics]
             ratio = sizing_ratio(friction, ratio, p_max, limits)

@@ -20,6 +20,7 @@ from ..keys import (
     MAX_PERIODIC_DEPTH,
     MAX_ROLLING_STEP,
     MAX_THEOREM_FRICTION,
+    MIN_CELLS_ACROSS,
     PLASTIC_WIDTH_MARGIN,
 )
 from .grid import GridSpec, require_yield_cells
@@ -490,14 +491,31 @@ def rolling_step_note(case) -> str | None:
     )
 
 
-def narrow_window_note(grid: Any, zone: float, sized: bool) -> str:
+def more_cells_note(given: tuple[int, int], grid: Any, zone: float) -> str:
+    """The note of cells added so that the window sized for the plastic zone stays resolved.
+
+    ``given``: (nx, ny) as given; ``grid`` the sized grid; ``zone`` (units of a_H):
+    :data:`PLASTIC_WIDTH_MARGIN` x the elastic yield region's half width at the largest load.
+    """
+    return (
+        f"grid.n: raised to {grid.nx} x {grid.ny} cells (from {given[0]} x {given[1]}) so that "
+        f"the window holds the plastic zone predicted ({zone:.4g} a_H: {PLASTIC_WIDTH_MARGIN:g} "
+        "x the elastic yield region's half width at the largest load) with the contact "
+        f"resolved as the cells given resolve it ({MIN_CELLS_ACROSS} cells across); give "
+        "grid.half_width to keep the cells given (the zone may then be cut: the case ends "
+        "truncated)"
+    )
+
+
+def narrow_window_note(grid: Any, zone: float, sized: bool, moving: bool = False) -> str:
     """The note of a surface window narrower than the plastic box the yield region asks for.
 
     ``zone`` (units of a_H): :data:`PLASTIC_WIDTH_MARGIN` x the elastic yield region's half
     width at the largest load, at most :data:`MAX_AUTO_HALF_WIDTH`; ``sized``: the window was
     sized from it (no ``grid.half_width`` given).  The same words whether the window was given
     or held back by the cells (a case rebuilt from its spec gives it), with the cells that keep
-    today's cell size over the wider window.
+    today's cell size over the wider window; ``moving``: a sliding case's window, which covers
+    the track and is not sized for the zone.
     """
     need = f"{PLASTIC_WIDTH_MARGIN:g} x the elastic yield region's half width at the largest load"
     if sized and zone >= MAX_AUTO_HALF_WIDTH:
@@ -510,6 +528,13 @@ def narrow_window_note(grid: Any, zone: float, sized: bool) -> str:
         return (
             f"grid.size: the domain is narrower than the plastic box the yield region asks for "
             f"({zone:.4g} a_H: {need}), so the case may end truncated; enlarge grid.size"
+        )
+    if moving:  # the window covers the track: it is not sized for the zone
+        return (
+            f"grid.half_width: beside the track the window reaches {grid.half_width:g} a_H, "
+            f"narrower than the plastic box the yield region asks for ({zone:.4g} a_H: {need}), "
+            f"so the case may end truncated; give half_width >= {zone:.4g}, with grid.n raised "
+            "in proportion to the window's sides to keep the cells' size"
         )
     cells = math.ceil(max(grid.nx, grid.ny) * zone / grid.half_width - 1e-9)
     return (

@@ -24,7 +24,7 @@ from ..keys import (
 )
 from ..theory.hertz import hertz
 from .grid import GridSpec, check_volume, domain_half_widths
-from .notes import narrow_window_note, plastic_regime, profile_regime
+from .notes import more_cells_note, narrow_window_note, plastic_regime, profile_regime
 from .path import LoadStage, profile_radius, symmetric_pair
 from .reading import fail
 from .sizing import (
@@ -153,14 +153,22 @@ def size_open_volume(
         auto = box_width(grid.half_width)
         if auto >= grid.half_width and not moving:  # the box fills the window: is it wider?
             zone = box_width(MAX_AUTO_HALF_WIDTH)
-            if window_free:  # as wide as the zone asks and the cells resolve the contact
+            if window_free:  # as wide as the zone asks, the contact resolved as the cells do
                 contact = hertz(force, e_star, (kx, ky)) if region is None else None
-                widest = resolved_half_width(grid, contact)
-                window = max(DEFAULT_HALF_WIDTH, min(zone, widest))
+                given_cells = (grid.nx, grid.ny)
+                grid = _cells_for(grid, min(zone, MAX_AUTO_HALF_WIDTH), contact)
+                window = max(DEFAULT_HALF_WIDTH, min(zone, resolved_half_width(grid, contact)))
                 grid = dataclasses.replace(grid, half_width=window)
-                auto = grid.half_width
+                # the box a rebuild from the spec (the window then given) finds: the same case
+                auto = box_width(grid.half_width)
+                if (grid.nx, grid.ny) != given_cells:
+                    warnings.append(more_cells_note(given_cells, grid, zone))
             if zone > grid.half_width or (window_free and zone >= MAX_AUTO_HALF_WIDTH):
                 warnings.append(narrow_window_note(grid, zone, window_free))
+        elif moving and auto >= grid.half_width and grid.size is None:
+            zone = box_width(MAX_AUTO_HALF_WIDTH)  # beside the track: the box is the window
+            if zone > grid.half_width:
+                warnings.append(narrow_window_note(grid, zone, False, moving=True))
         chosen = grid.plastic_half_width
         if moving:  # the box covers the track: the window
             if chosen is not None:
@@ -192,3 +200,21 @@ def size_open_volume(
         depth = grid.depth_body1 if own else grid.depth
         check_volume(body, depth, grid.nz, p_max, given_key, region)
     return grid, box_key, warnings
+
+
+def _cells_for(grid: GridSpec, window: float, contact) -> GridSpec:
+    """The grid with cells enough for a window of half side ``window`` (units of a_H).
+
+    The cells the window is resolved by (:func:`resolved_half_width`: the contact
+    :data:`~solver.keys.MIN_CELLS_ACROSS` cells across) are kept, so that a window sized to
+    hold the plastic zone predicted is never held back below it by the cells given: nx and
+    ny grow in proportion (the cell's shape kept) where the cells given resolve a narrower
+    window; the grid as given otherwise.
+    """
+    scale = window / resolved_half_width(grid, contact)
+    while scale > 1.0:
+        grid = dataclasses.replace(
+            grid, nx=math.ceil(grid.nx * scale - 1e-9), ny=math.ceil(grid.ny * scale - 1e-9)
+        )
+        scale = window / resolved_half_width(grid, contact)
+    return grid

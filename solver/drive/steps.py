@@ -69,9 +69,10 @@ INEXACT = 0.03
 MERGED_COUPLING = True
 #: A fixed-point loop (the plasticity loop, the slip-stick coupling) whose best residual came
 #: this many iterations before its last makes no progress: it stops there, told, instead of
-#: iterating on to its cap.  Measured over the test suite's 557 plasticity loops: the
-#: converged ones set a new best at most 12 iterations after the last (most at every
-#: iteration); those that reached the cap had gone 25 to 96 iterations without one.
+#: iterating on to its cap.  Measured over the test suite's 2,270 plasticity loops (at
+#: 151a4c3): the 2,230 converged ones set a new best at most 12 iterations after the last
+#: (most at every iteration); of the 27 that ran to the cap of 100, 24 had gone 25 to 96
+#: iterations without one.
 STALL_WINDOW = 25
 
 
