@@ -313,7 +313,8 @@ def hertz_yield_half_width(
     The elastic prediction of the plastic zone's half width: the stress of a Hertz pressure
     with a sliding shear ``q_x = traction_ratio p``
     (:func:`solver.theory.half_space.hamilton_stress`, closed form) is sampled every 0.02 a in the
-    planes ``y = 0`` and ``x = 0`` for ``0 < z <= depth``, ``|x|, |y| <= reach``; the largest
+    planes ``y = 0`` and ``x = 0`` for ``0 < z <= depth``, ``|x|, |y|`` on the multiples of
+    0.02 a up to ``reach`` (or the one past it); the largest
     ``|x|`` or ``|y|`` where the von Mises stress reaches ``yield_stress`` is returned (0 when
     nothing yields, ``reach`` when the region reaches the sampled edge).
 
@@ -394,7 +395,10 @@ def _unit_potential(reach: float, rows: int, plane: int):
     cached = _POTENTIALS.get((reach, plane))
     if cached is None or cached[0] < rows:
         step = _YIELD_STEP
-        lateral = np.linspace(-reach, reach, 2 * math.ceil(reach / step) + 1)
+        # one lattice whatever the reach (x = k step): a zone inside two reaches has one
+        # extent, so a box sized within a window equals the zone that sized the window
+        reaches = math.ceil(reach / step - 1e-9)
+        lateral = step * np.arange(-reaches, reaches + 1)
         z = np.arange(step / 2, step * (rows - 0.5) + step / 2, step)[:rows]
         across, down = np.meshgrid(lateral, z, indexing="ij")
         x, y = (across, 0.0 * across) if plane == 0 else (0.0 * across, across)
