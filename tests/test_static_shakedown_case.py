@@ -356,7 +356,9 @@ def test_a_theorem_case_file_from_before_the_certified_lower_bound_is_not_reused
         solver.Case.from_dict(table)
     incremental = _table()
     del incremental["solver"]
-    assert solver.Case.from_dict(incremental).spec["model"] == 7 and "no progress" in MODEL_CHANGES[7]
+    assert (
+        solver.Case.from_dict(incremental).spec["model"] == 7 and "no progress" in MODEL_CHANGES[7]
+    )
     incremental["friction"] = {"coefficient": 0.0}
     assert solver.Case.from_dict(incremental).spec["model"] == 7
     incremental["body2"] = {
