@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from study_fixtures import copy_cases, pair_campaign, write
 
-from study.analysis.fields import MISSING_FLAG, open_fields
+from study.analysis.fields import LATTICE_TOL, MISSING_FLAG, open_fields
 from study.campaign import load_campaign
 from study.run import storage
 from study.run.driver import RunOptions, run_campaign
@@ -216,17 +216,20 @@ def test_a_load_sweep_lays_each_case_on_the_finest_cells_in_metres(sized_by_load
             data.load()  # in memory: point selections on the file are slow
             step = {d: float(np.diff(data[d].values).mean()) for d in grid}
             spacing.append(step)
-            # inside the box: within half a cell of one of the case's own cell centres
-            inside = {
-                d: np.abs(data[d].sel({d: grid[d]}, method="nearest").values - grid[d])
-                <= step[d] / 2
-                for d in grid
-            }
+            # the case's cell holding each point: the nearest centre, a point on a face between
+            # two cells (within LATTICE_TOL of a cell) taking the upper one; none off its box
+            held, inside = {}, {}
+            for d in grid:
+                centres = data[d].values
+                offset = (grid[d] - centres[0]) / step[d]
+                nearest = np.floor(offset + 0.5 + LATTICE_TOL).astype(int)
+                inside[d] = (nearest >= 0) & (nearest < centres.size)
+                held[d] = centres[np.clip(nearest, 0, centres.size - 1)]
             one = fields.sel(p_h=case.coords["p_h"])
             for name in ("plastic_strain", "residual_stress", "pressure", "contact_state"):
                 variable = data[name]
                 cell_dims = [d for d in variable.dims if d in grid]
-                expected = variable.sel({d: grid[d] for d in cell_dims}, method="nearest").values
+                expected = variable.sel({d: held[d] for d in cell_dims}).values
                 mask = np.ones(expected.shape, dtype=bool)
                 for axis, d in enumerate(variable.dims):
                     if d in grid:

@@ -610,7 +610,8 @@ class Case:
         """Cells of the plastic box in the volume grid, or None for the whole window.
 
         Centred on the axis (the same cells in body 1's mirrored frame): the fewest cells with
-        the window's parity that cover ``[-w, w]`` along x and y, ``w`` =
+        the window's parity whose outer cells' centres lie at ``-w`` and ``w`` or beyond along
+        x and y (a zone that reaches ``w`` then stays off the box's side cells), ``w`` =
         ``grid.plastic_half_width`` x the largest Hertz semi-axis, and whose padded length
         (twice as many) is a fast FFT size (:func:`~solver.numerics.grid.fft_size`); every
         layer.  None when that is the whole window.
@@ -621,7 +622,8 @@ class Case:
         surface = self.surface_grid
         ranges = []
         for n, d in ((surface.nx, surface.dx), (surface.ny, surface.dy)):
-            cells = min(n, math.ceil(2 * half / d - 1e-9))
+            # the outer cells' centres (where the stress is collocated) at w or beyond
+            cells = min(n, math.ceil(2 * half / d + 1.0 - 1e-9))
             cells += (n - cells) % 2  # centred: as many cells left as right
             while cells < n and fft_size(2 * cells) != 2 * cells:
                 cells += 2
