@@ -88,6 +88,11 @@ MAX_THEOREM_FRICTION = 1.0
 SHEAR_LIMIT_RANGE = (1e3, 1e11)
 #: Smallest Orowan factor ``friction.shear_factor`` accepted (a cap that small is a limit).
 MIN_SHEAR_FACTOR = 1e-3
+#: Wear laws of ``wear.law`` (:mod:`solver.case.wear`).
+WEAR_LAWS = ("archard", "energy")
+#: Wear coefficients accepted (1/Pa): Archard's k of metals is 1e-18 to 1e-13 1/Pa
+#: (1e-9 to 1e-4 mm^3/(N m)); above the range a micrometre of slip at 1 GPa wears a micrometre.
+WEAR_COEFFICIENT_RANGE = (1e-24, 1e-10)
 #: Smallest positive friction coefficient accepted: below it the tangential solve's scales
 #: (mu p, the tractions it bounds) underflow its residual (1e-9 gave NaN residuals,
 #: 2026-11-28); such a contact is frictionless to the solver's tolerances: give 0.
@@ -235,6 +240,8 @@ CASE_KEYS: tuple[Key, ...] = (
         "Tolerances, iteration caps and FFT settings of the loops."),
     Key("", "output", "table", "", "optional", "an output table", "every case",
         "Optional field outputs."),
+    Key("", "wear", "table", "", "optional", "a wear table", "cases that slip",
+        "Wear: the worn surface fed back into the contact after every increment."),
     Key("", "model", "integer", "", "the current model",
         "a version that solves the case as the current model does",
         "every case", "The model version a normalised case was written by (part of the case "
@@ -433,6 +440,15 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("friction", "shear_factor", "number", "1", "1", f"[{MIN_SHEAR_FACTOR:g}, 1]",
         "friction.shear_limit",
         "Orowan's factor m: the cap is m tau_c (an interface weaker than the metal)."),
+    Key("wear", "law", "string", "", "required", ", ".join(WEAR_LAWS), "wear",
+        "archard: the depth worn dh = k p |s| (p the pressure, s the local slip increment); "
+        "energy: dh = alpha q . s, the friction energy dissipated per area (Fouvry)."),
+    Key("wear", "body1", "number", "1/Pa", "0 (no wear)",
+        f"0 or {_range(*WEAR_COEFFICIENT_RANGE)}; 0 when body 1 slides or rolls", "wear",
+        "Body 1's coefficient k (m^3 per N per m) or alpha (m^3 per J); a rigid body wears too."),
+    Key("wear", "body2", "number", "1/Pa", "0 (no wear)",
+        f"0 or {_range(*WEAR_COEFFICIENT_RANGE)}", "wear",
+        "Body 2's coefficient k or alpha (one of the two bodies must wear)."),
     Key("grid", "n", "integer or [nx, ny] or [nx, ny, nz]", "cells", "required",
         f"each in [4, {MAX_CELLS}]; the contact spans >= {MIN_CELLS_ACROSS} cells",
         "every case", "Cells per side of the surface grid, and nz cells in depth of the volume "

@@ -151,6 +151,12 @@ HISTORIES: dict[str, History] = {
         "in time; q on body 2, s the slip increment of body 2 relative to body 1)",
         "sum",
     ),
+    "wear_volume": History(
+        "m3",
+        "volume worn off in the step, both bodies ([wear]: the depths worn times the cell area)",
+        "sum",
+    ),
+    "max_wear_depth": History("m", "largest depth worn off a body so far ([wear])", "max"),
     "step_cycle": History("1", "load cycle of the step (0: outside a cycle block)", None),
     "static_shakedown_limit": History(
         "1",
@@ -258,6 +264,12 @@ FIELDS: dict[str, Field] = {
     "pressure": Field(("x", "y"), "Pa", "contact pressure"),
     "initial_gap": Field(
         ("x", "y"), "m", "initial gap of the bodies' shapes (with a profile or point heights)"
+    ),
+    "wear_depth": Field(
+        ("x", "y"), "m", "depth worn off body 2 along the path ([wear]; its surface receded)"
+    ),
+    "wear_depth_body1": Field(
+        ("x", "y"), "m", "depth worn off body 1 along the path ([wear]; in place: it does not move)"
     ),
     "shear_x": Field(("x", "y"), "Pa", "shear traction x", -1.0),
     "shear_y": Field(("x", "y"), "Pa", "shear traction y"),

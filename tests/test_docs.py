@@ -65,6 +65,7 @@ def test_the_parser_accepts_exactly_the_declared_keys():
         "friction": ({}, "friction"),
         "solver": ({}, "solver"),
         "output": ({}, "output"),
+        "wear": ({}, "wear"),
         "load.path[i]": (BASE["load"], "load"),
     }
     for table, (content, where) in tables.items():

@@ -78,6 +78,7 @@ from .sizing import (
     periodic_depth,
 )
 from .volume import size_open_volume
+from .wear import Wear, check_wear_case, parse_wear
 
 #: Version of the physical model: part of every case id, so that files computed by an older
 #: model are never reused.  A case records the version of the last change that alters its
@@ -200,6 +201,7 @@ class Case:
     spec: dict = field(default_factory=dict, compare=False, hash=False, repr=False)
     warnings: tuple[str, ...] = field(default=(), compare=False, hash=False, repr=False)
     friction: Friction = Friction()
+    wear: Wear | None = None
 
     # -- construction -----------------------------------------------------------------------
     @classmethod
@@ -418,6 +420,9 @@ class Case:
                 "solver.residual_print",
                 "only an elastic-plastic body leaves a print to ignore: leave the key out",
             )
+        wear = parse_wear(table["wear"]) if "wear" in table else None
+        if wear is not None:
+            check_wear_case(wear, stages, mu, has_plastic)
         fields, output_spec = parse("output", table.get("output", NO_TABLE), _output)
         if "stress" in fields and not grid.nz:
             fail("output.fields", "stress needs a volume grid: give grid.n = [nx, ny, nz]")
@@ -451,9 +456,11 @@ class Case:
             },
             "solver": solver_spec,
             "output": output_spec,
+            **({"wear": wear.spec()} if wear is not None else {}),
         }
         case = cls(
-            body1, body2, tuple(stages), mu, grid, solver, fields, spec, tuple(warnings), friction
+            body1, body2, tuple(stages), mu, grid, solver, fields, spec, tuple(warnings),
+            friction, wear,
         )  # fmt: skip
         case.__dict__["pair"] = pair  # the cached Case.pair: the same bodies, built once
         check_resolution(case)

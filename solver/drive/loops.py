@@ -56,6 +56,7 @@ from .record import (
     PLASTIC_FRICTION_HISTORY,
     PLASTIC_HISTORY,
     STEADY_HISTORY,
+    WEAR_HISTORY,
     box_faces_reached,
     count_iterations,
     cycle_end,
@@ -82,6 +83,7 @@ from .steps import (
     slip_stick_step,
     steady_step,
 )
+from .wear import WornSurfaces
 from .window import Follower, shifted
 
 #: Halvings of an increment whose plasticity loop does not converge (down to 1/8 of it).
@@ -332,6 +334,8 @@ def _solve(case: Case) -> Result:
         names += ("position_x", "position_y")
     if case.grid.periodic:
         names += PERIODIC_HISTORY
+    worn = WornSurfaces(case, operators.gap.shape) if case.wear is not None else None
+    names += WEAR_HISTORY if worn is not None else ()
     if plastic:
         names += PLASTIC_HISTORY + (PERIODIC_PLASTIC_HISTORY if case.grid.periodic else ())
         names += PLASTIC_FRICTION_HISTORY if "friction_work" in names else ()
@@ -377,7 +381,7 @@ def _solve(case: Case) -> Result:
     creeps = case.creep_ramp()
     for k, (target, stage) in enumerate(zip(targets, case.increment_stages(), strict=True)):
         creep = next(creeps)
-        work = 0.0  # friction work of the step, its sub-steps included
+        work = worn_volume = 0.0  # friction work and wear of the step, sub-steps included
         sub_iterations = dict.fromkeys((*ITERATION_HISTORY.values(), "plastic_iterations"), 0)
         if plastic and cycles[k] and (k == 0 or cycles[k] != cycles[k - 1]):
             cycle_start = [(p.equivalent.copy(), p.strain.copy()) for p in plastic_state]
@@ -400,6 +404,8 @@ def _solve(case: Case) -> Result:
                 placed, state, window_plastic, _ = _placed(
                     follower, operators, state, plastic_state, previous_target, sub
                 )
+                if worn is not None:
+                    worn.place(placed, follower)
                 if plastic:  # sub-steps are increments of the plastic history too
                     step = plastic_step(placed, contact_step, state, window_plastic, sub, guess)
                     state = step.contact.state
@@ -416,11 +422,14 @@ def _solve(case: Case) -> Result:
                     sub_outcome = contact_step(placed, state, sub)
                     state = sub_outcome.state
                     work += sub_outcome.friction_work
+                    worn_volume += worn.add(sub_outcome, follower, area) if worn else 0.0
                     count_iterations(sub_iterations, sub_outcome.iterations)
         messages = []
         placed, state, window_plastic, (di, dj) = _placed(
             follower, operators, state, plastic_state, previous_target, target
         )
+        if worn is not None:
+            worn.place(placed, follower)
         if plastic:
             load_step = np.subtract(target, previous_target)
             before_last = None
@@ -466,6 +475,9 @@ def _solve(case: Case) -> Result:
         state = outcome.state
         previous_target = target
         record(history, k, outcome, area, case.grid.periodic)
+        if worn is not None:
+            history["wear_volume"][k] = worn_volume + worn.add(outcome, follower, area)
+            history["max_wear_depth"][k] = max(float(d.max()) for d in worn.depth.values())
         if outcome.creepage is not None:
             history["creepage_x"][k], history["creepage_y"][k], history["spin"][k] = (
                 outcome.creepage
@@ -473,7 +485,8 @@ def _solve(case: Case) -> Result:
         if case.grid.periodic:  # every step's spot sizes: the distribution along the path
             step_spots.append(spot_areas(state.pressure > 0, area, periodic=True))
         if case.grid.periodic and state.normal is None:  # unloaded
-            record_touching(history, k, operators.gap, plastic_state)
+            gap = operators.gap if worn is None else operators.gap + worn.gap
+            record_touching(history, k, gap, plastic_state)
         if "friction_work" in history:
             history["friction_work"][k] = work + outcome.friction_work
         if cycle_start is not None and cycles[k]:
@@ -616,6 +629,9 @@ def _solve(case: Case) -> Result:
     geometry = case.pair.geometry
     if geometry.profiles or geometry.surfaces:  # a quadric's gap is told by its radii
         result.fields["initial_gap"] = operators.gap
+    if worn is not None:
+        for body, depth in worn.depth.items():
+            result.fields["wear_depth" + ("_body1" if body == 1 else "")] = depth
     if case.grid.periodic:  # spots of each step, largest first, NaN past the step's count
         table = np.full((total, max([1, *map(len, step_spots)])), np.nan)
         for k, areas in enumerate(step_spots):

@@ -90,6 +90,9 @@ class CaseOperators:
     local : CaseOperators or None
         The bundle on the window that follows a moving contact (:attr:`Case.moving_window`
         cells, body 2's volume under it), placed by :meth:`at`; None without one.
+    wear : ndarray or None
+        The bodies' worn depths summed (m) on this bundle's grid, added to the gap of every
+        solve (:mod:`solver.drive.wear`); None: nothing wears.
     """
 
     case: Case
@@ -100,6 +103,7 @@ class CaseOperators:
     stress1: SubsurfaceStressOperator | None = None
     eigenstrain1: EigenstrainOperator | None = None
     local: CaseOperators | None = None
+    wear: np.ndarray | None = None
     _moved: tuple | None = field(default=None, init=False, repr=False)
 
     def gap_at(self, position: tuple[float, float]) -> np.ndarray:

@@ -43,6 +43,8 @@ FRICTION_HISTORY = (
 )  # fmt: skip
 
 
+#: Histories of a case that wears (``[wear]``).
+WEAR_HISTORY = ("wear_volume", "max_wear_depth")
 #: What a periodic case records beside the contact histories (the period is the nominal area).
 PERIODIC_HISTORY = ("contact_fraction", "mean_separation")
 #: ... and beside the plastic histories.

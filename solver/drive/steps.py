@@ -176,6 +176,10 @@ class StepResult:
     creepage : (float, float, float) or None
         (xi, eta, spin) of a steady rolling step: given, or the creepage found for a prescribed
         force; None in other steps.
+    slid_pressure, dissipation : ndarray or None
+        Per cell, of a case that wears (:mod:`solver.drive.wear`): the mean pressure of the
+        increment's ends times its local slip distance ``(p + p_prev)/2 |s|`` (N/m), and the
+        friction energy dissipated per area ``-(q + q_prev)/2 . s`` (J/m^2); None otherwise.
     """
 
     state: ContactState
@@ -187,6 +191,8 @@ class StepResult:
     approach: float = 0.0
     friction_work: float = 0.0
     creepage: tuple[float, float, float] | None = None
+    slid_pressure: np.ndarray | None = None
+    dissipation: np.ndarray | None = None
 
 
 def position_of(target: tuple) -> tuple[float, float]:
@@ -198,6 +204,8 @@ def _extra_gap(
     operators: CaseOperators, residual: ResidualDisplacement | None, position=(0.0, 0.0)
 ) -> np.ndarray:
     gap = operators.gap_at(position)
+    if operators.wear is not None:
+        gap = gap + operators.wear
     return gap if residual is None else gap + residual.z
 
 
@@ -378,7 +386,8 @@ def slip_stick_step(
         # loop ends when the pressure change is below the coupling tolerance in a pass whose
         # inner solves were at least that tight.
         inexact = min(1e-2, INEXACT * change) if coupled else 0.0
-        normal = _reusable_normal(previous, force, position, coupled, residual)
+        worn = coupled or operators.wear is not None  # the gap changed: solve again
+        normal = _reusable_normal(previous, force, position, worn, residual)
         if normal is None:
             extra = base_gap + surface.normal_from_shear(qx, qy) if coupled else base_gap
             normal = solve_normal(
@@ -631,9 +640,16 @@ def sliding_step(
     # would count a reversal's opposite shear); mu times the mean normal force without a cap
     forces = (float(np.sum(friction_bound(mu, previous.pressure, cap))), float(np.sum(bound)))
     work = 0.5 * sum(forces) * surface.grid.cell_area * length
+    wear = {}
+    if case.wear is not None:
+        bounds = friction_bound(mu, previous.pressure, cap) + bound
+        wear = {
+            "slid_pressure": 0.5 * (previous.pressure + pressure) * length,
+            "dissipation": 0.5 * bounds * length,
+        }
     return StepResult(
         state, converged, counts, normal.residual, message, np.zeros(gap.shape, bool),
-        normal.approach, work,
+        normal.approach, work, **wear,
     )  # fmt: skip
 
 
@@ -652,17 +668,18 @@ def _step_result(
     )  # fmt: skip
     mean_x = 0.5 * (tangential.shear_x + previous.shear_x)
     mean_y = 0.5 * (tangential.shear_y + previous.shear_y)
-    work = -float(np.sum(mean_x * tangential.slip_x + mean_y * tangential.slip_y))
+    dissipation = -(mean_x * tangential.slip_x + mean_y * tangential.slip_y)
+    wear = {}
+    if operators.case.wear is not None:
+        distance = np.hypot(tangential.slip_x, tangential.slip_y)
+        wear = {
+            "slid_pressure": 0.5 * (normal.pressure + previous.pressure) * distance,
+            "dissipation": dissipation,
+        }
     return StepResult(
-        state,
-        converged,
-        counts,
-        worst,
-        message,
-        tangential.stick,
-        normal.approach,
-        work * operators.case.surface_grid.cell_area,
-    )
+        state, converged, counts, worst, message, tangential.stick, normal.approach,
+        float(dissipation.sum()) * operators.case.surface_grid.cell_area, **wear,
+    )  # fmt: skip
 
 
 def _merged_coupling(

@@ -17,7 +17,9 @@ from .surfaces import read_surface
 #: Top-level tables of a campaign file.
 TOP_LEVEL = ("campaign", "base", "sweep", "zip", "sample", "alias", "define")
 #: First segments of a swept key.
-CASE_TABLES = ("body1", "body2", "load", "friction", "grid", "solver", "output", "materials")
+CASE_TABLES = (
+    "body1", "body2", "load", "friction", "grid", "solver", "output", "wear", "materials",
+)  # fmt: skip
 #: The pseudo-key that sweeps Dundurs' beta.
 BETA_KEY = "materials.dundurs_beta"
 #: 2-D surface fields a case file may keep (``[campaign] fields``).

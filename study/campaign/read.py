@@ -118,7 +118,7 @@ def expand_campaign(
     unknown = sorted(set(table) - set(TOP_LEVEL))
     if unknown:
         hint = ""
-        if unknown[0] in ("body1", "body2", "load", "friction", "grid", "solver", "output"):
+        if unknown[0] in ("body1", "body2", "load", "friction", "grid", "solver", "output", "wear"):
             hint = f"; case tables go under [base] (write [base.{unknown[0]}])"
         elif unknown[0] == "axes":
             hint = "; coordinate names go in [alias]"

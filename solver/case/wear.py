@@ -1,0 +1,121 @@
+"""The ``[wear]`` table: the worn surface fed back into the contact.
+
+After every increment each worn body loses a depth of material at each surface cell,
+
+    archard:  dh = k p |s|          (k in 1/Pa = m^3 per N per m slid)
+    energy:   dh = alpha (-q . s)   (alpha in 1/Pa = m^3 per J dissipated, Fouvry's law)
+
+with ``s`` the local slip increment of the increment, ``p`` and ``q`` the means of the pressure
+and the shear traction at its two ends (the trapezoid in time, as the friction work is summed).
+A stick cell does not slip, so it does not wear.  The depths of both bodies add to the gap
+between them (each surface recedes), increment after increment.  A rigid body wears as well:
+its shape, not its elasticity, is what the wear changes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from ..keys import WEAR_COEFFICIENT_RANGE, WEAR_LAWS, table_keys
+from .reading import check_keys, fail, number
+
+
+@dataclass(frozen=True)
+class Wear:
+    """A wear law and each body's coefficient (module docstring).
+
+    Attributes
+    ----------
+    law : str
+        ``"archard"`` (the depth per pressure and distance slid) or ``"energy"`` (per friction
+        energy dissipated).
+    body1, body2 : float
+        The bodies' coefficients k or alpha (1/Pa); 0: the body does not wear.
+    """
+
+    law: str
+    body1: float = 0.0
+    body2: float = 0.0
+
+    @property
+    def bodies(self) -> tuple[int, ...]:
+        """The bodies that wear (1, 2)."""
+        return tuple(b for b, k in ((1, self.body1), (2, self.body2)) if k > 0.0)
+
+    def coefficient(self, body: int) -> float:
+        """Body ``body``'s coefficient (1/Pa)."""
+        return self.body1 if body == 1 else self.body2
+
+    def spec(self) -> dict:
+        """The normalised table."""
+        return {"law": self.law, "body1": self.body1, "body2": self.body2}
+
+
+def parse_wear(table: Any) -> Wear:
+    """The wear of a ``[wear]`` table (its own rules; the case's are in :class:`Case`)."""
+    wear = check_keys(table, "wear", table_keys("wear"))
+    if "law" not in wear:
+        fail("wear.law", f"is required: one of {', '.join(WEAR_LAWS)}")
+    law = wear["law"]
+    if law not in WEAR_LAWS:
+        fail(
+            "wear.law",
+            f"must be one of {', '.join(repr(x) for x in WEAR_LAWS)} (archard: dh = k p |s|; "
+            f"energy: dh = alpha q . s), got {law!r}",
+        )
+    low, high = WEAR_COEFFICIENT_RANGE
+    coefficients = {}
+    for body in ("body1", "body2"):
+        value = number(wear.get(body, 0.0), f"wear.{body}")
+        if not (value == 0.0 or low <= value <= high):  # NaN fails too
+            fail(
+                f"wear.{body}",
+                f"the {law} coefficient of {body} must be 0 (it does not wear) or in "
+                f"[{low:g}, {high:g}] 1/Pa, got {value:g}",
+            )
+        coefficients[body] = value
+    if not any(coefficients.values()):
+        fail("wear", "no body wears: give wear.body1 or wear.body2 a positive coefficient (1/Pa)")
+    return Wear(law, **coefficients)
+
+
+def check_wear_case(wear: Wear, stages, mu: float, plastic: bool) -> None:
+    """Refuse a case whose wear the solver cannot honour (each with the key to change).
+
+    ``stages``: the load stages; ``mu``: Coulomb's coefficient; ``plastic``: an elastic-plastic
+    body.
+    """
+    if plastic:
+        fail(
+            "wear",
+            "wear of a case with an elastic-plastic body is not built yet (the plastic "
+            "strain under a receding surface): make the bodies elastic or rigid",
+        )
+    if any(s.motion == "steady" for s in stages):
+        fail(
+            "wear",
+            "a steady rolling stage has no increments over which the surface could wear: "
+            "roll the contact transiently (load.path[i].roll) instead",
+        )
+    moving = any(s.motion in ("slide", "roll") for s in stages)
+    if moving and wear.body1 > 0.0:
+        fail(
+            "wear.body1",
+            "the moving body 1's worn surface travels with it, which is not built yet: "
+            "let body 2 wear (wear.body2), or fret body 1 in place (tangential_force)",
+        )
+    slips = moving or any(math.hypot(*s.tangential_force) > 0.0 for s in stages)
+    if not slips:
+        fail(
+            "wear",
+            "no stage of load.path slips (a tangential_force, a slide or a roll), so nothing "
+            "wears: add such a stage or remove the table",
+        )
+    if wear.law == "energy" and mu == 0.0:
+        fail(
+            "wear.law",
+            '"energy" wears by the friction energy, and friction.coefficient is 0 '
+            '(frictionless): give a coefficient, or law = "archard"',
+        )

@@ -1,0 +1,52 @@
+"""Wear along the load path: each increment's worn depth added to the bodies' surfaces.
+
+:mod:`solver.case.wear` states the laws.  The steps give, per cell, what the laws take: the
+pressure times the local slip distance of the increment (``p |s|``, Archard) and the friction
+energy dissipated per area (``-q . s``, the energy law), the trapezoid in time of the
+increment's two ends.  The depths live on the case's surface grid (the whole track of a moving
+contact, body 2's frame); their sum adds to the gap of the next increment's solves.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..case.case import Case
+from .steps import StepResult
+
+
+class WornSurfaces:
+    """The worn depths of the bodies (m) on the case's surface grid (module docstring).
+
+    Parameters
+    ----------
+    case : Case
+        A case with a ``[wear]`` table.
+    shape : (int, int)
+        The case's surface grid.
+    """
+
+    def __init__(self, case: Case, shape: tuple[int, int]) -> None:
+        self.wear = case.wear
+        self.depth = {body: np.zeros(shape) for body in self.wear.bodies}
+        self.gap = np.zeros(shape)  # the sum over the bodies: the gap's addition
+        self.volume = 0.0  # worn so far (m^3), both bodies
+
+    def place(self, operators, follower) -> None:
+        """Give the increment's operators (a window's, when it follows) the worn gap."""
+        operators.wear = self.gap if follower is None else follower.cut(self.gap)
+
+    def add(self, outcome: StepResult, follower, cell_area: float) -> float:
+        """Wear the increment of ``outcome`` into the surfaces; its worn volume (m^3)."""
+        driver = outcome.slid_pressure if self.wear.law == "archard" else outcome.dissipation
+        if driver is None:  # nothing slipped (an unloaded or normal step)
+            return 0.0
+        driver = np.maximum(driver, 0.0)  # round-off of a dissipation in stick
+        volume = 0.0
+        for body, depth in self.depth.items():
+            worn = self.wear.coefficient(body) * driver
+            (depth if follower is None else follower.cut(depth))[...] += worn
+            (self.gap if follower is None else follower.cut(self.gap))[...] += worn
+            volume += float(worn.sum()) * cell_area
+        self.volume += volume
+        return volume

@@ -1,0 +1,192 @@
+"""Wear (issue 59, first step): the worn depth of every increment fed back into the gap."""
+
+import math
+
+import numpy as np
+import pytest
+
+import solver
+
+E, NU, RADIUS, W, MU = 210e9, 0.3, 0.01, 100.0, 0.5
+STEEL = {"behaviour": "elastic", "E": E, "nu": NU}
+
+
+def _sliding(n: int, law: str = "archard", k: float = 1e-15, travel: float = 3e-4) -> dict:
+    """A rigid sphere sliding over elastic steel (beta != 0: the shears' coupling iterated)."""
+    return {
+        "body1": {"behaviour": "rigid", "radius": RADIUS},
+        "body2": STEEL,
+        "load": {"path": [{"normal_force": W, "steps": 2}, {"slide": [travel, 0.0], "steps": 12}]},
+        "friction": {"coefficient": MU},
+        "grid": {"n": n},
+        "wear": {"law": law, "body2": k},
+    }
+
+
+def _fretting(n: int, share: float, k: float = 1e-15, cycles: int = 1) -> dict:
+    """Two steel spheres' contact (a sphere on a flat: beta = 0) fretted at +-share mu W."""
+    q = share * MU * W
+    swing = [{"tangential_force": [f, 0.0], "steps": 8} for f in (-q, q)]
+    return {
+        "body1": {**STEEL, "radius": RADIUS},
+        "body2": STEEL,
+        "load": {
+            "path": [
+                {"normal_force": W, "steps": 1},
+                {"tangential_force": [q, 0.0], "steps": 8},
+                {"cycles": cycles, "stages": swing},
+            ]
+        },
+        "friction": {"coefficient": MU},
+        "grid": {"n": n},
+        "wear": {"law": "archard", "body1": k, "body2": k},
+    }
+
+
+@pytest.mark.parametrize("n", [32, 64])
+def test_gross_slip_wears_k_W_s_and_the_energy_law_alpha_times_the_work(n):
+    """Archard in gross slip: every contact cell slips the travel s, so the volume is k W s
+    (the normal load held); the energy law's volume is alpha times the friction work."""
+    k, travel = 1e-15, 3e-4
+    result = solver.solve(solver.Case.from_dict(_sliding(n, k=k, travel=travel)))
+    assert result.status == "converged"
+    history, area = result.history, result.case.surface_grid.cell_area
+    volume = history["wear_volume"].sum()
+    assert volume == pytest.approx(k * W * travel, rel=1e-2)
+    assert result.fields["wear_depth"].sum() * area == pytest.approx(volume, rel=1e-12)
+    # pressed in place, the dissimilar pair slips only radially at the edge (Spence): a trace
+    assert 0.0 < history["wear_volume"][:2].sum() < 1e-5 * volume
+    assert np.all(np.diff(history["max_wear_depth"]) >= 0.0)  # the deepest point only grows
+    energy = solver.solve(solver.Case.from_dict(_sliding(n, "energy", k, travel)))
+    work = energy.history["friction_work"].sum()
+    assert work == pytest.approx(MU * W * travel, rel=1e-2)
+    assert energy.history["wear_volume"].sum() == pytest.approx(k * work, rel=1e-6)
+
+
+def test_the_stick_zone_of_a_fretted_sphere_does_not_wear():
+    """Partial slip at +-0.6 mu W (Mindlin and Deresiewicz): the stick disk of radius
+    c = a (1 - Q / (mu W))^(1/3) never slips, so it does not wear; the annulus does.  Both
+    bodies wear alike (identical elastic bodies, the same slip)."""
+    share = 0.6
+    for n in (32, 64):
+        case = solver.Case.from_dict(_fretting(n, share))
+        result = solver.solve(case)
+        assert result.status == "converged"
+        a = case.reference.radius
+        c = a * (1.0 - share) ** (1.0 / 3.0)
+        x, y = case.surface_grid.mesh()
+        r, h = np.hypot(x, y), case.surface_grid.dx
+        depth = result.fields["wear_depth"]
+        annulus = depth[(r > c + h) & (r < a - h)]
+        assert annulus.min() > 0.0
+        assert depth[r < c - h].max() < 1e-4 * annulus.min()
+        assert depth[r > a + h].max() == 0.0
+        np.testing.assert_array_equal(result.fields["wear_depth_body1"], depth)
+
+
+def test_the_worn_surface_moves_the_pressure_into_the_stick_zone():
+    """Fretted long enough to wear a fraction of the approach, the annulus carries less and
+    the stick zone more (the worn gap is fed back: Ciavarella and Hills' trend); W held."""
+    share = 0.6
+    fresh = solver.solve(solver.Case.from_dict(_fretting(32, share, k=1e-15)))
+    worn = solver.solve(solver.Case.from_dict(_fretting(32, share, k=2e-11, cycles=10)))
+    assert worn.status == "converged"
+    case = worn.case
+    a = case.reference.radius
+    c = a * (1.0 - share) ** (1.0 / 3.0)
+    x, y = case.surface_grid.mesh()
+    r, area = np.hypot(x, y), case.surface_grid.cell_area
+    depth = worn.fields["wear_depth"] + worn.fields["wear_depth_body1"]
+    assert depth.max() > 0.02 * case.reference.approach  # a wear that matters
+    inner = r < c
+
+    def carried(result, where):
+        return result.pressure[where].sum() * area
+
+    assert carried(worn, inner) > 1.05 * carried(fresh, inner)
+    assert carried(worn, ~inner) < 0.95 * carried(fresh, ~inner)
+    assert worn.pressure.sum() * area == pytest.approx(W, rel=1e-6)
+    data = worn.to_xarray()
+    assert data["wear_depth"].attrs["units"] == "m"
+    assert data["wear_volume"].attrs["units"] == "m3"
+
+
+BAD = [
+    ({"law": "abrasion", "body2": 1e-15}, "wear.law", "must be one of 'archard', 'energy'"),
+    ({"body2": 1e-15}, "wear.law", "is required"),
+    ({"law": "archard", "body2": -1e-15}, "wear.body2", "must be 0 (it does not wear) or in"),
+    ({"law": "archard", "body2": math.nan}, "wear.body2", "finite"),
+    ({"law": "archard"}, "wear", "no body wears"),
+    ({"law": "archard", "body1": 1e-15, "tribofilm": 1}, "wear.tribofilm", "unknown key"),
+]
+
+
+@pytest.mark.parametrize(("table", "where", "what"), BAD)
+def test_bad_wear_tables_are_refused_in_one_line(table, where, what):
+    case = _sliding(32)
+    case["wear"] = table
+    with pytest.raises(solver.SpecError) as info:
+        solver.Case.from_dict(case)
+    message = str(info.value)
+    assert message.startswith(f"{where}:") and what in message and "\n" not in message
+
+
+def test_wear_the_solver_cannot_honour_is_refused():
+    """A moving body 1's wear, a path that never slips, the energy law without friction, an
+    elastic-plastic body, a steady roll: each refused with the key to change."""
+    moving = _sliding(32)
+    moving["wear"] = {"law": "archard", "body1": 1e-15}
+    pressed = _fretting(32, 0.5)
+    pressed["load"] = {"normal_force": W, "steps": 2}
+    frictionless = _sliding(32, "energy")
+    frictionless["friction"] = {"coefficient": 0.0}
+    plastic = _sliding(32)
+    perfect = {"law": "perfect", "yield_stress": 1e9}
+    plastic["body2"] = {**STEEL, "behaviour": "elastic-plastic", "hardening": perfect}
+    plastic["grid"] = {"n": [32, 32, 16]}
+    for table, where, what in (
+        (moving, "wear.body1", "travels with it"),
+        (pressed, "wear", "no stage of load.path slips"),
+        (frictionless, "wear.law", "friction.coefficient is 0"),
+        (plastic, "wear", "elastic-plastic body is not built yet"),
+    ):
+        with pytest.raises(solver.SpecError) as info:
+            solver.Case.from_dict(table)
+        assert str(info.value).startswith(f"{where}:") and what in str(info.value)
+    # frictionless sliding still wears by Archard's law (the pressure slides)
+    archard = _sliding(32)
+    archard["friction"] = {"coefficient": 0.0}
+    result = solver.solve(solver.Case.from_dict(archard))
+    assert result.history["wear_volume"].sum() == pytest.approx(1e-15 * W * 3e-4, rel=1e-2)
+
+
+def test_a_case_without_wear_keeps_its_id():
+    table = _sliding(32)
+    del table["wear"]
+    case = solver.Case.from_dict(table)
+    assert "wear" not in case.spec and case.wear is None
+    assert solver.Case.from_dict(case.to_dict()).case_id == case.case_id
+
+
+def test_a_transient_roll_wears_alpha_times_its_friction_work():
+    """Rolling with creepage (Kalker's transient march): the micro-slip at the trailing edge
+    dissipates, and the energy law wears alpha times that work, in the track's frame."""
+    table = {
+        "body1": {**STEEL, "radius": RADIUS},
+        "body2": STEEL,
+        "load": {
+            "path": [
+                {"normal_force": W, "steps": 1},
+                {"roll": [6e-4, 0.0], "creepage": [1e-3, 0.0], "steps": 24},
+            ]
+        },
+        "friction": {"coefficient": 0.3},
+        "grid": {"n": [96, 32]},
+        "wear": {"law": "energy", "body2": 1e-15},
+    }
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "converged"
+    work = result.history["friction_work"].sum()
+    assert work > 0.0
+    assert result.history["wear_volume"].sum() == pytest.approx(1e-15 * work, rel=1e-6)
+    assert result.fields["wear_depth"].shape == result.case.surface_grid.shape
