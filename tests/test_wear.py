@@ -133,22 +133,21 @@ def test_bad_wear_tables_are_refused_in_one_line(table, where, what):
 
 def test_wear_the_solver_cannot_honour_is_refused():
     """A moving body 1's wear, a path that never slips, the energy law without friction, an
-    elastic-plastic body, a steady roll: each refused with the key to change."""
+    elastic-plastic body 1: each refused with the key to change."""
     moving = _sliding(32)
     moving["wear"] = {"law": "archard", "body1": 1e-15}
     pressed = _fretting(32, 0.5)
     pressed["load"] = {"normal_force": W, "steps": 2}
     frictionless = _sliding(32, "energy")
     frictionless["friction"] = {"coefficient": 0.0}
-    plastic = _sliding(32)
-    perfect = {"law": "perfect", "yield_stress": 1e9}
-    plastic["body2"] = {**STEEL, "behaviour": "elastic-plastic", "hardening": perfect}
+    plastic = _fretting(32, 0.5)
+    plastic["body1"] = {**_plastic(1e9), "radius": RADIUS}
     plastic["grid"] = {"n": [32, 32, 16]}
     for table, where, what in (
         (moving, "wear.body1", "travels with it"),
         (pressed, "wear", "no stage of load.path slips"),
         (frictionless, "wear.law", "friction.coefficient is 0"),
-        (plastic, "wear", "elastic-plastic body is not built yet"),
+        (plastic, "wear", "elastic-plastic body 1 is not built yet"),
     ):
         with pytest.raises(solver.SpecError) as info:
             solver.Case.from_dict(table)
@@ -158,6 +157,52 @@ def test_wear_the_solver_cannot_honour_is_refused():
     archard["friction"] = {"coefficient": 0.0}
     result = solver.solve(solver.Case.from_dict(archard))
     assert result.history["wear_volume"].sum() == pytest.approx(1e-15 * W * 3e-4, rel=1e-2)
+
+
+def _plastic(yield_stress: float) -> dict:
+    return {**STEEL, "behaviour": "elastic-plastic",
+            "hardening": {"law": "perfect", "yield_stress": yield_stress}}  # fmt: skip
+
+
+def test_a_worn_elastic_plastic_body_keeps_its_strain_and_its_elastic_limit_is_elastic():
+    """The sliding sphere over a perfectly plastic body 2: with a yield stress nothing reaches
+    (2e10 Pa at p_0 = 2.18 GPa) it wears as the elastic body does; at 1.2 GPa (p_0 = 1.8
+    sigma_Y, mu = 0.3) it yields under the track and still wears k W s in gross slip."""
+    table = _sliding(32)
+    table["friction"] = {"coefficient": 0.3}
+    elastic = solver.solve(solver.Case.from_dict(table))
+    for yield_stress in (2e10, 1.2e9):
+        table = _sliding(32)
+        table["body2"] = _plastic(yield_stress)
+        table["friction"] = {"coefficient": 0.3}  # mu p_0 below k: the surface does not flow
+        table["grid"] = {"n": [32, 32, 24]}  # layers 0.6 of a cell (the layer note's bound)
+        result = solver.solve(solver.Case.from_dict(table))
+        assert result.status == "converged", result.notes
+        volume = result.history["wear_volume"].sum()
+        assert volume == pytest.approx(1e-15 * W * 3e-4, rel=1e-2)
+        strain = result.history["max_plastic_strain"].max()
+        if yield_stress > 1e10:
+            assert strain == 0.0
+            np.testing.assert_allclose(
+                result.fields["wear_depth"], elastic.fields["wear_depth"], rtol=1e-9, atol=1e-22
+            )
+        else:
+            assert strain > 1e-3
+            assert not any(n.startswith("wear:") for n in result.notes)  # 0.5 nm of 15 um layers
+
+
+def test_wear_past_half_the_top_layer_is_told():
+    """Worn deeper than half the plastic body's top layer: the fields of the removed material
+    are still counted, and the notes say so."""
+    table = _sliding(32, k=1e-10, travel=3e-4)
+    table["body2"] = _plastic(2e10)
+    table["grid"] = {"n": [32, 32, 16], "depth": 0.05}
+    case = solver.Case.from_dict(table)
+    result = solver.solve(case)
+    layer = case.volume_grid.dz
+    assert result.history["max_wear_depth"][-1] > 0.5 * layer
+    (note,) = [n for n in result.notes if n.startswith("wear:")]
+    assert f"({layer:.3g} m thick)" in note
 
 
 def test_a_case_without_wear_keeps_its_id():

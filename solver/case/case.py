@@ -422,7 +422,7 @@ class Case:
             )
         wear = parse_wear(table["wear"]) if "wear" in table else None
         if wear is not None:
-            check_wear_case(wear, stages, mu, has_plastic)
+            check_wear_case(wear, stages, mu, body1.behaviour == "elastic-plastic")
         fields, output_spec = parse("output", table.get("output", NO_TABLE), _output)
         if "stress" in fields and not grid.nz:
             fail("output.fields", "stress needs a volume grid: give grid.n = [nx, ny, nz]")

@@ -81,17 +81,17 @@ def parse_wear(table: Any) -> Wear:
     return Wear(law, **coefficients)
 
 
-def check_wear_case(wear: Wear, stages, mu: float, plastic: bool) -> None:
+def check_wear_case(wear: Wear, stages, mu: float, plastic_body1: bool) -> None:
     """Refuse a case whose wear the solver cannot honour (each with the key to change).
 
-    ``stages``: the load stages; ``mu``: Coulomb's coefficient; ``plastic``: an elastic-plastic
-    body.
+    ``stages``: the load stages; ``mu``: Coulomb's coefficient; ``plastic_body1``: body 1 is
+    elastic-plastic.
     """
-    if plastic:
+    if plastic_body1:
         fail(
             "wear",
-            "wear of a case with an elastic-plastic body is not built yet (the plastic "
-            "strain under a receding surface): make the bodies elastic or rigid",
+            "wear with an elastic-plastic body 1 is not built yet: make body 2 the "
+            "elastic-plastic one (swap the bodies' tables)",
         )
     if any(s.motion == "steady" for s in stages):
         fail(

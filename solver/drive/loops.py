@@ -74,6 +74,7 @@ from .record import (
     touches_edge,
 )
 from .steps import (
+    ADDITIVE,
     ContactState,
     StepResult,
     normal_step,
@@ -82,6 +83,7 @@ from .steps import (
     sliding_step,
     slip_stick_step,
     steady_step,
+    summed,
 )
 from .wear import WornSurfaces
 from .window import Follower, shifted
@@ -152,11 +154,11 @@ def _halving_plastic_step(
     the contact passes) whose fixed point the loop cannot reach from the last state is retried
     as two halves from the same state, down to 1/2^:data:`MAX_SPLITS` of it.  A converged
     increment is untouched (the same bits as without halving).  The halves' iterations,
-    friction work and plastic increments add up; a half that still fails is the answer, not
-    converged, with its message (the whole increment's best iterate when the first half
-    fails, so that the state is always the target's).  ``past_model(state, plastic, target)``
-    (:func:`_past_model`): an increment past what the model can carry is not halved (its end
-    state is past it whatever the path to it).
+    friction work (and what wears) and plastic increments add up; a half that still fails is
+    the answer, not converged, with its message (the whole increment's best iterate when the
+    first half fails, so that the state is always the target's).
+    ``past_model(state, plastic, target)`` (:func:`_past_model`): an increment past what the
+    model can carry is not halved (its end state is past it whatever the path to it).
     """
     step = plastic_step(operators, step_of, state, plastic_state, target, guess, before_guess)
     if step.converged or splits == MAX_SPLITS:
@@ -184,7 +186,7 @@ def _halving_plastic_step(
     contact = dataclasses.replace(
         second.contact,
         iterations=iterations,
-        friction_work=first.contact.friction_work + second.contact.friction_work,
+        **summed((first.contact, second.contact), ADDITIVE),
     )
     return dataclasses.replace(
         second,
@@ -412,6 +414,7 @@ def _solve(case: Case) -> Result:
                     plastic_state = _left(follower, plastic_state, step.plastic)
                     guess, previous = step.increment, None  # no extrapolation across sub-steps
                     work += step.contact.friction_work
+                    worn_volume += worn.add(step.contact, follower, area) if worn else 0.0
                     count_iterations(sub_iterations, step.contact.iterations, step.iterations)
                     if not step.converged:
                         converged = False
@@ -570,6 +573,8 @@ def _solve(case: Case) -> Result:
             "from Mindlin-Deresiewicz at 64^2)"
         )
 
+    if plastic and worn is not None and (note := worn.removed_layer_note(volume.dz)):
+        notes.append(note)
     if plastic:
         largest = max(float(p.equivalent.max()) for p in plastic_state)
         if largest > SMALL_STRAIN_LIMIT:

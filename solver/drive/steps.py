@@ -195,6 +195,20 @@ class StepResult:
     dissipation: np.ndarray | None = None
 
 
+#: What a step's parts add up to over the increment (halves of it): its friction work and the
+#: per-cell quantities that wear (None where a part has none).
+ADDITIVE = ("friction_work", "slid_pressure", "dissipation")
+
+
+def summed(parts, names=ADDITIVE) -> dict:
+    """The sums over the steps ``parts`` of the attributes ``names`` (None ones skipped)."""
+    out = {}
+    for name in names:
+        values = [getattr(p, name) for p in parts if getattr(p, name) is not None]
+        out[name] = sum(values[1:], values[0]) if values else None
+    return out
+
+
 def position_of(target: tuple) -> tuple[float, float]:
     """Body 1's apex over body 2 (m) of a step target (W, Q_x, Q_y[, p_x, p_y])."""
     return (float(target[3]), float(target[4])) if len(target) > 3 else (0.0, 0.0)

@@ -50,3 +50,21 @@ class WornSurfaces:
             volume += float(worn.sum()) * cell_area
         self.volume += volume
         return volume
+
+    def removed_layer_note(self, layer: float) -> str | None:
+        """A note when the deepest wear passes half the plastic body's top layer ``layer`` (m).
+
+        The volume grid of an elastic-plastic body stays where it is while its surface recedes:
+        the plastic strain and residual stress of the worn-off material are still counted.
+        That is the small-wear approximation (the removed part of the top layer carries a part
+        of the print it made); past half a layer it is told.
+        """
+        deepest = max(float(d.max()) for d in self.depth.values())
+        if deepest <= 0.5 * layer:
+            return None
+        return (
+            f"wear: the deepest wear ({deepest:.3g} m) passes half the plastic body's top layer "
+            f"({layer:.3g} m thick), whose plastic strain and residual stress are still counted "
+            "(the volume grid does not recede with the worn surface): the plastic fields near "
+            "the surface are an approximation there"
+        )
