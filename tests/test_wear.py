@@ -235,3 +235,52 @@ def test_a_transient_roll_wears_alpha_times_its_friction_work():
     assert work > 0.0
     assert result.history["wear_volume"].sum() == pytest.approx(1e-15 * work, rel=1e-6)
     assert result.fields["wear_depth"].shape == result.case.surface_grid.shape
+
+
+def _punch(k: float, cycles: int) -> tuple:
+    """A rigid flat punch (face radius 1 mm) slid to and fro by 5 % of its radius over a
+    wearing steel flat, W = 100 N: its pressure, position and face radius."""
+    radius = 1e-3
+    stroke = 0.05 * radius
+    swing = [{"slide": [s, 0.0], "steps": 2} for s in (-stroke / 2, stroke / 2)]
+    punch = {"shape": "flat_punch", "radius": radius, "edge_radius": radius}
+    table = {
+        "body1": {"behaviour": "rigid", "profile": punch},
+        "body2": STEEL,
+        "load": {
+            "path": [
+                {"normal_force": W, "steps": 1},
+                {"slide": [stroke / 2, 0.0], "steps": 1},
+                {"cycles": cycles, "stages": swing},
+            ]
+        },
+        "friction": {"coefficient": MU},
+        "grid": {"n": 32},
+        "wear": {"law": "archard", "body2": k},
+    }
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "converged"
+    x, y = result.case.surface_grid.mesh()
+    r = np.hypot(x - result.history["position_x"][-1], y)
+    return result, r, radius
+
+
+def test_a_fretted_flat_punch_wears_towards_a_uniform_pressure():
+    """Under a rigid flat punch in gross slip the fresh pressure is Boussinesq's,
+    W / (2 pi a sqrt(a^2 - r^2)), highest at the edge; the edge wears fastest, and the only
+    pressure under which a rigid approach wears the face uniformly is uniform: ten cycles
+    later the pressure over the face is flat."""
+
+    def edge_over_centre(pressure, r, a):
+        edge, centre = (r > 0.6 * a) & (r < 0.8 * a), r < 0.2 * a
+        return pressure[edge].mean() / pressure[centre].mean()
+
+    fresh, r, a = _punch(1e-18, 1)
+    boussinesq = 1.0 / np.sqrt(a * a - np.minimum(r, 0.999 * a) ** 2)
+    expected = edge_over_centre(boussinesq, r, a)
+    assert expected > 1.3
+    assert edge_over_centre(fresh.pressure, r, a) == pytest.approx(expected, rel=0.05)
+    worn, r, a = _punch(2e-11, 10)
+    assert edge_over_centre(worn.pressure, r, a) == pytest.approx(1.0, abs=0.05)
+    area = worn.case.surface_grid.cell_area
+    assert worn.pressure.sum() * area == pytest.approx(W, rel=1e-6)
