@@ -449,6 +449,11 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("wear", "body2", "number", "1/Pa", "0 (no wear)",
         f"0 or {_range(*WEAR_COEFFICIENT_RANGE)}", "wear",
         "Body 2's coefficient k or alpha (one of the two bodies must wear)."),
+    Key("wear", "cycle_jump", "integer", "cycles", "1 (every cycle solved)",
+        f"[1, {MAX_CYCLES:,}]; with a cycle block", "wear",
+        "Cycles one solved cycle stands for: each cycle block of N cycles is solved as "
+        "ceil(N / J) cycles, each one's wear scaled by the J cycles it stands for (the last by "
+        "the rest)."),
     Key("grid", "n", "integer or [nx, ny] or [nx, ny, nz]", "cells", "required",
         f"each in [4, {MAX_CELLS}]; the contact spans >= {MIN_CELLS_ACROSS} cells",
         "every case", "Cells per side of the surface grid, and nz cells in depth of the volume "

@@ -157,6 +157,12 @@ HISTORIES: dict[str, History] = {
         "sum",
     ),
     "max_wear_depth": History("m", "largest depth worn off a body so far ([wear])", "max"),
+    "cycle_weight": History(
+        "1",
+        "load cycles the step's cycle stands for ([wear]; wear.cycle_jump: its wear is scaled "
+        "by them; 1 without a jump)",
+        None,
+    ),
     "step_cycle": History("1", "load cycle of the step (0: outside a cycle block)", None),
     "static_shakedown_limit": History(
         "1",

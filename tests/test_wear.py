@@ -6,6 +6,8 @@ import numpy as np
 import pytest
 
 import solver
+from study.bench.wear import RADIUS as PUNCH_RADIUS
+from study.bench.wear import punch_table
 
 E, NU, RADIUS, W, MU = 210e9, 0.3, 0.01, 100.0, 0.5
 STEEL = {"behaviour": "elastic", "E": E, "nu": NU}
@@ -237,32 +239,13 @@ def test_a_transient_roll_wears_alpha_times_its_friction_work():
     assert result.fields["wear_depth"].shape == result.case.surface_grid.shape
 
 
-def _punch(k: float, cycles: int) -> tuple:
-    """A rigid flat punch (face radius 1 mm) slid to and fro by 5 % of its radius over a
-    wearing steel flat, W = 100 N: its pressure, position and face radius."""
-    radius = 1e-3
-    stroke = 0.05 * radius
-    swing = [{"slide": [s, 0.0], "steps": 2} for s in (-stroke / 2, stroke / 2)]
-    punch = {"shape": "flat_punch", "radius": radius, "edge_radius": radius}
-    table = {
-        "body1": {"behaviour": "rigid", "profile": punch},
-        "body2": STEEL,
-        "load": {
-            "path": [
-                {"normal_force": W, "steps": 1},
-                {"slide": [stroke / 2, 0.0], "steps": 1},
-                {"cycles": cycles, "stages": swing},
-            ]
-        },
-        "friction": {"coefficient": MU},
-        "grid": {"n": 32},
-        "wear": {"law": "archard", "body2": k},
-    }
-    result = solver.solve(solver.Case.from_dict(table))
+def _punch(k: float, cycles: int, jump: int = 1) -> tuple:
+    """The benchmark's fretted flat punch: its result, r about its last position, its radius."""
+    result = solver.solve(solver.Case.from_dict(punch_table(k, cycles, jump)))
     assert result.status == "converged"
     x, y = result.case.surface_grid.mesh()
     r = np.hypot(x - result.history["position_x"][-1], y)
-    return result, r, radius
+    return result, r, PUNCH_RADIUS
 
 
 def test_a_fretted_flat_punch_wears_towards_a_uniform_pressure():
@@ -284,3 +267,42 @@ def test_a_fretted_flat_punch_wears_towards_a_uniform_pressure():
     assert edge_over_centre(worn.pressure, r, a) == pytest.approx(1.0, abs=0.05)
     area = worn.case.surface_grid.cell_area
     assert worn.pressure.sum() * area == pytest.approx(W, rel=1e-6)
+
+
+def test_cycle_jumps_approach_every_cycle_solved():
+    """The fretted punch over 200 cycles: solved every cycle, and with jumps of 5 and 10 cycles
+    (40 and 20 solved, each one's wear scaled): the same worn volume, the worn profile within
+    2 % of the deepest wear at 10, closer at 5 (an explicit step in cycles: first order)."""
+    every, _, _ = _punch(1e-12, 200)
+    assert len(every.history["normal_force"]) == 2 + 200 * 4
+    errors = []
+    for jump in (10, 5):
+        jumped, _, _ = _punch(1e-12, 200, jump)
+        history = jumped.history
+        assert len(history["normal_force"]) == 2 + (200 // jump) * 4
+        assert set(history["cycle_weight"][2:]) == {jump}
+        assert history["wear_volume"].sum() == pytest.approx(
+            every.history["wear_volume"].sum(), rel=1e-9
+        )
+        depth, reference = jumped.fields["wear_depth"], every.fields["wear_depth"]
+        errors.append(np.abs(depth - reference).max() / reference.max())
+    assert errors[0] < 0.02
+    assert errors[1] < 0.6 * errors[0]
+
+
+def test_a_jump_past_a_block_stands_for_its_rest():
+    """7 cycles with jumps of 3: three solved cycles standing for 3, 3 and 1; a jump of 10^9
+    or 0 is refused, and so is a jump without a cycle block."""
+    table = _fretting(32, 0.5, cycles=7)
+    table["wear"]["cycle_jump"] = 3
+    case = solver.Case.from_dict(table)
+    assert [s.weight for s in case.stages if s.cycle] == [3, 3, 3, 3, 1, 1]
+    assert case.cycles == 3 and case.spec["load"]["path"][2]["cycles"] == 7
+    for jump, what in ((0, "must be"), (10**9, "must be")):
+        table["wear"]["cycle_jump"] = jump
+        with pytest.raises(solver.SpecError, match=f"^wear.cycle_jump: {what}"):
+            solver.Case.from_dict(table)
+    table = _sliding(32)
+    table["wear"]["cycle_jump"] = 2
+    with pytest.raises(solver.SpecError, match="^wear.cycle_jump: the path has no cycle block"):
+        solver.Case.from_dict(table)

@@ -288,6 +288,7 @@ class Case:
             if max(kx, ky) / min(kx, ky) > 100:
                 fail("body1.radius_x", "contact ellipse too slender (R_x/R_y beyond 1:100)")
 
+        wear = parse_wear(table["wear"]) if "wear" in table else None
         load = table["load"]
         if not isinstance(load, dict):
             fail("load", "must be a table")
@@ -298,7 +299,7 @@ class Case:
                 raw_stages = list(raw_stages)
             if not isinstance(raw_stages, list) or not raw_stages:
                 fail("load.path", "must be a non-empty array of tables ([[load.path]])")
-            stages, paths, given = parse_path(raw_stages, pair)
+            stages, paths, given = parse_path(raw_stages, pair, wear.cycle_jump if wear else 1)
         else:
             stage, spec = parse_stage(load, "load", (0.0, (0.0, 0.0), False), pair, True)
             stages, paths, given = [stage], ["load"], [spec]
@@ -420,7 +421,6 @@ class Case:
                 "solver.residual_print",
                 "only an elastic-plastic body leaves a print to ignore: leave the key out",
             )
-        wear = parse_wear(table["wear"]) if "wear" in table else None
         if wear is not None:
             check_wear_case(wear, stages, mu, body1.behaviour == "elastic-plastic")
         fields, output_spec = parse("output", table.get("output", NO_TABLE), _output)

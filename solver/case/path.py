@@ -58,6 +58,10 @@ class LoadStage:
     spin : float
         Rigid rotation of body 1 relative to body 2 about z per unit distance rolled (1/m),
         counter-clockwise from x to y, about the contact's centre.
+    weight : int
+        Load cycles the stage's cycle stands for: 1, or under ``wear.cycle_jump`` J the J
+        cycles of the block it represents (the block's last solved cycle the rest), its wear
+        scaled by them.
     """
 
     normal_force: float
@@ -68,14 +72,18 @@ class LoadStage:
     motion: str = ""
     creepage: tuple[float, float] | None = None
     spin: float = 0.0
+    weight: int = 1
 
 
-def parse_path(raw_stages: list, pair: Pair) -> tuple[list[LoadStage], list[str], list[dict]]:
+def parse_path(
+    raw_stages: list, pair: Pair, jump: int = 1
+) -> tuple[list[LoadStage], list[str], list[dict]]:
     """Stages of a load path with its cycle blocks repeated, their paths, the normalised path.
 
     An entry ``{cycles = N, stages = [...]}`` repeats its stages N times (cycles numbered on
-    from the previous block's: 1 .. N for the first); a stage without a normal (tangential)
-    force keeps the previous one, also across cycles.
+    from the previous block's: 1 .. N for the first), or under a cycle ``jump`` J > 1
+    ``ceil(N / J)`` times, each repeat standing for J cycles (:attr:`LoadStage.weight`); a stage
+    without a normal (tangential) force keeps the previous one, also across cycles.
     """
     stages, paths, given = [], [], []
     previous = (0.0, (0.0, 0.0), False)  # (W, Q, the force free: a creepage stage before)
@@ -102,16 +110,18 @@ def parse_path(raw_stages: list, pair: Pair) -> tuple[list[LoadStage], list[str]
             if not isinstance(inner, list) or not inner:
                 fail(f"{path}.stages", "must be a non-empty array of tables ([[...stages]])")
             block, offset = [], max((stage.cycle for stage in stages), default=0)
-            for cycle in range(offset + 1, offset + cycles + 1):
+            solved = -(-cycles // jump)
+            for cycle in range(offset + 1, offset + solved + 1):
                 if cycle == offset + 2:  # the block's increments are known: refuse before
                     per_cycle = sum(spec["steps"] for spec in block)  # repeating it
-                    count(f"{path}.cycles", per_cycle * (cycles - 1))
+                    count(f"{path}.cycles", per_cycle * (solved - 1))
+                weight = jump if cycle < offset + solved else cycles - jump * (solved - 1)
                 for j, sub in enumerate(inner):
                     where = f"{path}.stages[{j}]"
                     if isinstance(sub, dict) and "cycles" in sub:
                         fail(f"{where}.cycles", "cycle blocks do not nest; flatten the block")
                     stage, spec = parse_stage(sub, where, previous, pair, not stages)
-                    stage = dataclasses.replace(stage, cycle=cycle)
+                    stage = dataclasses.replace(stage, cycle=cycle, weight=weight)
                     stages.append(stage)
                     paths.append(where)
                     previous = _after(stage)
@@ -135,15 +145,23 @@ def _after(stage: LoadStage) -> tuple:
     return stage.normal_force, stage.tangential_force, free
 
 
-def path_cycles(path: list[dict]) -> int:
-    """Load cycles of a normalised load path (0 without a cycle block)."""
-    return sum(entry.get("cycles", 0) for entry in path)
+def path_cycles(path: list[dict], jump: int = 1) -> int:
+    """Load cycles solved of a normalised load path (0 without a cycle block).
+
+    ``jump``: ``wear.cycle_jump`` (a block of N cycles solved as ceil(N / jump)).
+    """
+    return sum(-(-entry.get("cycles", 0) // jump) for entry in path)
 
 
-def path_steps(path: list[dict]) -> int:
-    """Load increments of a normalised load path (:meth:`Case.to_dict`), cycles repeated."""
+def path_steps(path: list[dict], jump: int = 1) -> int:
+    """Load increments of a normalised load path (:meth:`Case.to_dict`), cycles repeated.
+
+    ``jump``: ``wear.cycle_jump`` (the solved cycles counted).
+    """
     return sum(
-        entry["cycles"] * path_steps(entry["stages"]) if "cycles" in entry else entry["steps"]
+        -(-entry["cycles"] // jump) * path_steps(entry["stages"])
+        if "cycles" in entry
+        else entry["steps"]
         for entry in path
     )
 

@@ -18,8 +18,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from ..keys import WEAR_COEFFICIENT_RANGE, WEAR_LAWS, table_keys
-from .reading import check_keys, fail, number
+from ..keys import MAX_CYCLES, WEAR_COEFFICIENT_RANGE, WEAR_LAWS, table_keys
+from .reading import check_keys, fail, integer, number
 
 
 @dataclass(frozen=True)
@@ -33,11 +33,14 @@ class Wear:
         energy dissipated).
     body1, body2 : float
         The bodies' coefficients k or alpha (1/Pa); 0: the body does not wear.
+    cycle_jump : int
+        Load cycles one solved cycle stands for (:attr:`LoadStage.weight`).
     """
 
     law: str
     body1: float = 0.0
     body2: float = 0.0
+    cycle_jump: int = 1
 
     @property
     def bodies(self) -> tuple[int, ...]:
@@ -49,8 +52,14 @@ class Wear:
         return self.body1 if body == 1 else self.body2
 
     def spec(self) -> dict:
-        """The normalised table."""
-        return {"law": self.law, "body1": self.body1, "body2": self.body2}
+        """The normalised table (the jump only when there is one)."""
+        table = {"law": self.law, "body1": self.body1, "body2": self.body2}
+        return table | ({"cycle_jump": self.cycle_jump} if self.cycle_jump > 1 else {})
+
+
+def cycle_jump(spec: dict) -> int:
+    """The cycle jump of a normalised case table (1: every cycle solved)."""
+    return spec.get("wear", {}).get("cycle_jump", 1)
 
 
 def parse_wear(table: Any) -> Wear:
@@ -78,7 +87,8 @@ def parse_wear(table: Any) -> Wear:
         coefficients[body] = value
     if not any(coefficients.values()):
         fail("wear", "no body wears: give wear.body1 or wear.body2 a positive coefficient (1/Pa)")
-    return Wear(law, **coefficients)
+    jump = integer(wear.get("cycle_jump", 1), "wear.cycle_jump", 1, MAX_CYCLES)
+    return Wear(law, **coefficients, cycle_jump=jump)
 
 
 def check_wear_case(wear: Wear, stages, mu: float, plastic_body1: bool) -> None:
@@ -112,6 +122,12 @@ def check_wear_case(wear: Wear, stages, mu: float, plastic_body1: bool) -> None:
             "wear",
             "no stage of load.path slips (a tangential_force, a slide or a roll), so nothing "
             "wears: add such a stage or remove the table",
+        )
+    if wear.cycle_jump > 1 and not any(s.cycle for s in stages):
+        fail(
+            "wear.cycle_jump",
+            "the path has no cycle block (load.path[i] = {cycles = N, stages = [...]}) to jump "
+            "over: add one, or leave the key out",
         )
     if wear.law == "energy" and mu == 0.0:
         fail(

@@ -414,7 +414,7 @@ def _solve(case: Case) -> Result:
                     plastic_state = _left(follower, plastic_state, step.plastic)
                     guess, previous = step.increment, None  # no extrapolation across sub-steps
                     work += step.contact.friction_work
-                    worn_volume += worn.add(step.contact, follower, area) if worn else 0.0
+                    worn_volume += worn.add(step.contact, follower, area, k) if worn else 0.0
                     count_iterations(sub_iterations, step.contact.iterations, step.iterations)
                     if not step.converged:
                         converged = False
@@ -425,7 +425,7 @@ def _solve(case: Case) -> Result:
                     sub_outcome = contact_step(placed, state, sub)
                     state = sub_outcome.state
                     work += sub_outcome.friction_work
-                    worn_volume += worn.add(sub_outcome, follower, area) if worn else 0.0
+                    worn_volume += worn.add(sub_outcome, follower, area, k) if worn else 0.0
                     count_iterations(sub_iterations, sub_outcome.iterations)
         messages = []
         placed, state, window_plastic, (di, dj) = _placed(
@@ -479,8 +479,9 @@ def _solve(case: Case) -> Result:
         previous_target = target
         record(history, k, outcome, area, case.grid.periodic)
         if worn is not None:
-            history["wear_volume"][k] = worn_volume + worn.add(outcome, follower, area)
+            history["wear_volume"][k] = worn_volume + worn.add(outcome, follower, area, k)
             history["max_wear_depth"][k] = max(float(d.max()) for d in worn.depth.values())
+            history["cycle_weight"][k] = worn.weights[k]
         if outcome.creepage is not None:
             history["creepage_x"][k], history["creepage_y"][k], history["spin"][k] = (
                 outcome.creepage

@@ -44,7 +44,7 @@ FRICTION_HISTORY = (
 
 
 #: Histories of a case that wears (``[wear]``).
-WEAR_HISTORY = ("wear_volume", "max_wear_depth")
+WEAR_HISTORY = ("wear_volume", "max_wear_depth", "cycle_weight")
 #: What a periodic case records beside the contact histories (the period is the nominal area).
 PERIODIC_HISTORY = ("contact_fraction", "mean_separation")
 #: ... and beside the plastic histories.

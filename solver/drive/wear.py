@@ -4,7 +4,8 @@
 pressure times the local slip distance of the increment (``p |s|``, Archard) and the friction
 energy dissipated per area (``-q . s``, the energy law), the trapezoid in time of the
 increment's two ends.  The depths live on the case's surface grid (the whole track of a moving
-contact, body 2's frame); their sum adds to the gap of the next increment's solves.
+contact, body 2's frame); their sum adds to the gap of the next increment's solves.  Under a
+cycle jump (``wear.cycle_jump``) each solved cycle's wear is scaled by the cycles it stands for.
 """
 
 from __future__ import annotations
@@ -31,20 +32,25 @@ class WornSurfaces:
         self.depth = {body: np.zeros(shape) for body in self.wear.bodies}
         self.gap = np.zeros(shape)  # the sum over the bodies: the gap's addition
         self.volume = 0.0  # worn so far (m^3), both bodies
+        # the cycles each increment's cycle stands for (wear.cycle_jump): its wear scaled
+        self.weights = np.repeat([s.weight for s in case.stages], [s.steps for s in case.stages])
 
     def place(self, operators, follower) -> None:
         """Give the increment's operators (a window's, when it follows) the worn gap."""
         operators.wear = self.gap if follower is None else follower.cut(self.gap)
 
-    def add(self, outcome: StepResult, follower, cell_area: float) -> float:
-        """Wear the increment of ``outcome`` into the surfaces; its worn volume (m^3)."""
+    def add(self, outcome: StepResult, follower, cell_area: float, step: int) -> float:
+        """Wear increment ``step``'s ``outcome`` into the surfaces; its worn volume (m^3).
+
+        Scaled by the cycles the increment's cycle stands for (``wear.cycle_jump``).
+        """
         driver = outcome.slid_pressure if self.wear.law == "archard" else outcome.dissipation
         if driver is None:  # nothing slipped (an unloaded or normal step)
             return 0.0
         driver = np.maximum(driver, 0.0)  # round-off of a dissipation in stick
         volume = 0.0
         for body, depth in self.depth.items():
-            worn = self.wear.coefficient(body) * driver
+            worn = (self.weights[step] * self.wear.coefficient(body)) * driver
             (depth if follower is None else follower.cut(depth))[...] += worn
             (self.gap if follower is None else follower.cut(self.gap))[...] += worn
             volume += float(worn.sum()) * cell_area

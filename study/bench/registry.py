@@ -21,6 +21,7 @@ SCENES = {
     "rolling": ("rolling", "run_rolling", ("peers", "steady", "shapes", "repeat")),
     "shakedown": ("shakedown", "run_shakedown", ("incremental",)),
     "hard": ("hard_cases", "run_hard", ()),
+    "wear": ("wear", "run_wear", ()),
 }
 
 
@@ -40,6 +41,7 @@ DEFAULT_SIZES = {
     "rolling": [32, 64],
     "shakedown": [],  # the campaign fixes the cases
     "hard": [16, 24, 32],  # the limit's refinement (the scenes' meshes are fixed)
+    "wear": [32],
 }
 
 

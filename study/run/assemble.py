@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 import solver
+from solver.case.wear import cycle_jump
 from solver.drive.record import axis_value
 from solver.result import (
     HISTORY_META,
@@ -153,7 +154,7 @@ _ATTRS = (
 
 
 def _case_steps(spec: dict) -> int:
-    return solver.case.path.path_steps(spec["load"]["path"])
+    return solver.case.path.path_steps(spec["load"]["path"], cycle_jump(spec))
 
 
 def _grid_cells(spec: dict) -> int:
@@ -343,7 +344,8 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     scalars = {name: np.full(shape, np.nan) for name in SCALARS}
     histories: dict[str, np.ndarray] = {}
     cycle_count = max(
-        solver.case.path.path_cycles(case.spec["load"]["path"]) for case in campaign.cases
+        solver.case.path.path_cycles(case.spec["load"]["path"], cycle_jump(case.spec))
+        for case in campaign.cases
     )
     per_cycle: dict[str, np.ndarray] = {}
     regimes = None  # shakedown flags, when a case has them
