@@ -333,6 +333,12 @@ FIELDS: dict[str, Field] = {
         "1",
         "1 where the static limit's yield condition binds at some load position",
     ),
+    "cycle_wear_profile": Field(
+        ("cycle", "x"),
+        "m",
+        "depth worn off both bodies together (the gap's growth) along x through the contact axis "
+        "at the end of each solved load cycle ([wear]; in body 2's frame)",
+    ),
     "cycle_rut_profile": Field(
         ("cycle", "y"),
         "m",

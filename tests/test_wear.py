@@ -286,6 +286,12 @@ def test_cycle_jumps_approach_every_cycle_solved():
         )
         depth, reference = jumped.fields["wear_depth"], every.fields["wear_depth"]
         errors.append(np.abs(depth - reference).max() / reference.max())
+        # the worn profile through the axis at each solved cycle's end, the last one the field's
+        profiles = jumped.fields["cycle_wear_profile"]
+        assert profiles.shape == (200 // jump, depth.shape[0])
+        assert np.all(np.diff(profiles.max(axis=1)) > 0.0)
+        middle = depth.shape[1] // 2
+        np.testing.assert_allclose(profiles[-1], depth[:, middle - 1 : middle + 1].mean(axis=1))
     assert errors[0] < 0.02
     assert errors[1] < 0.6 * errors[0]
 

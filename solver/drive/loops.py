@@ -482,6 +482,10 @@ def _solve(case: Case) -> Result:
             history["wear_volume"][k] = worn_volume + worn.add(outcome, follower, area, k)
             history["max_wear_depth"][k] = max(float(d.max()) for d in worn.depth.values())
             history["cycle_weight"][k] = worn.weights[k]
+            if cycles[k] and (k + 1 == total or cycles[k + 1] != cycles[k]):  # a cycle's end
+                ny = worn.gap.shape[1]
+                profile = worn.gap[:, (ny - 1) // 2 : ny // 2 + 1].mean(axis=1)
+                cycle_profiles.setdefault("cycle_wear_profile", []).append(profile)
         if outcome.creepage is not None:
             history["creepage_x"][k], history["creepage_y"][k], history["spin"][k] = (
                 outcome.creepage
@@ -629,9 +633,9 @@ def _solve(case: Case) -> Result:
     result.surface_flow = ended is not None and ended[1] == "surface_flow"
     if plastic:
         plastic_fields(result, operators, plastic_state)
-        result.fields.update({name: np.array(rows) for name, rows in cycle_profiles.items()})
         if loaded_positions:
             result.melan_factor = melan(case, operators, plastic_state, loaded_positions)
+    result.fields.update({name: np.array(rows) for name, rows in cycle_profiles.items()})
     geometry = case.pair.geometry
     if geometry.profiles or geometry.surfaces:  # a quadric's gap is told by its radii
         result.fields["initial_gap"] = operators.gap
