@@ -312,3 +312,39 @@ def test_a_jump_past_a_block_stands_for_its_rest():
     table["wear"]["cycle_jump"] = 2
     with pytest.raises(solver.SpecError, match="^wear.cycle_jump: the path has no cycle block"):
         solver.Case.from_dict(table)
+
+
+def test_one_pass_of_a_sphere_wears_the_track_of_its_line_load():
+    """A rigid sphere sliding once over an incompressible flat (beta = 0: Hertz's pressure,
+    unchanged by a wear far below the approach): a point of the track at y wears
+    k int p dx = k p_0 (pi a / 2)(1 - y^2 / a^2); across the middle of the track the worn
+    depth converges to it with the cells (the window follows the contact)."""
+    k, travel = 1e-15, 6.0
+    errors = []
+    for per_diameter in (12, 24, 48):  # cells across the contact
+        table = {
+            "body1": {"behaviour": "rigid", "radius": RADIUS},
+            "body2": {**STEEL, "nu": 0.5},
+            "load": {"path": [{"normal_force": W, "steps": 1}]},
+            "friction": {"coefficient": 0.3},
+            "grid": {"n": 32},
+        }
+        reference = solver.Case.from_dict(table).reference
+        a, p0 = reference.radius, reference.max_pressure
+        table["load"]["path"].append(
+            {"slide": [travel * a, 0.0], "steps": round(travel * per_diameter / 2)}
+        )
+        table["grid"] = {"n": [round(per_diameter * (travel + 3) / 2), round(1.5 * per_diameter)]}
+        table["wear"] = {"law": "archard", "body2": k}
+        case = solver.Case.from_dict(table)
+        assert case.moving_window is not None  # the window that follows the contact
+        result = solver.solve(case)
+        assert result.status == "converged"
+        x, y = case.surface_grid.mesh()
+        middle = np.argmin(np.abs(x[:, 0] - travel * a / 2))
+        across = y[middle]
+        expected = k * p0 * (math.pi * a / 2) * np.clip(1.0 - (across / a) ** 2, 0.0, None)
+        worn = result.fields["wear_depth"][middle]
+        errors.append(np.abs(worn - expected).max() / expected.max())
+    assert errors[-1] < 0.01
+    assert errors[0] > errors[1] > errors[2]
