@@ -201,11 +201,15 @@ ADDITIVE = ("friction_work", "slid_pressure", "dissipation")
 
 
 def summed(parts, names=ADDITIVE) -> dict:
-    """The sums over the steps ``parts`` of the attributes ``names`` (None ones skipped)."""
+    """The sums over the steps ``parts`` of the attributes ``names``.
+
+    None values are skipped; a name no part has is left out.
+    """
     out = {}
     for name in names:
-        values = [getattr(p, name) for p in parts if getattr(p, name) is not None]
-        out[name] = sum(values[1:], values[0]) if values else None
+        values = [getattr(p, name) for p in parts if getattr(p, name, None) is not None]
+        if values:
+            out[name] = sum(values[1:], values[0])
     return out
 
 
