@@ -46,6 +46,7 @@ _JSON_TYPES = {
     },
     "number": {"type": "number"},
     "integer": {"type": "integer"},
+    'integer or "auto"': {"anyOf": [{"type": "integer"}, {"const": "auto"}]},
     "string": {"type": "string"},
     "boolean": {"type": "boolean"},
     "array of strings": {"type": "array", "items": {"type": "string"}},

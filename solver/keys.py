@@ -93,6 +93,13 @@ WEAR_LAWS = ("archard", "energy")
 #: Wear coefficients accepted (1/Pa): Archard's k of metals is 1e-18 to 1e-13 1/Pa
 #: (1e-9 to 1e-4 mm^3/(N m)); above the range a micrometre of slip at 1 GPa wears a micrometre.
 WEAR_COEFFICIENT_RANGE = (1e-24, 1e-10)
+#: Relative pressure changes a cycle jump may make under ``wear.cycle_jump = "auto"``
+#: (:mod:`solver.drive.wear`): the default and the accepted range.  The worn profile's error
+#: is about half the bound, relative to the deepest wear.
+PRESSURE_CHANGE = 0.05
+PRESSURE_CHANGE_RANGE = (1e-4, 0.2)
+#: Most cycles solved per cycle block under ``wear.cycle_jump = "auto"`` (the default).
+SOLVED_CYCLES = 100
 #: Smallest positive friction coefficient accepted: below it the tangential solve's scales
 #: (mu p, the tractions it bounds) underflow its residual (1e-9 gave NaN residuals,
 #: 2026-11-28); such a contact is frictionless to the solver's tolerances: give 0.
@@ -449,11 +456,21 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("wear", "body2", "number", "1/Pa", "0 (no wear)",
         f"0 or {_range(*WEAR_COEFFICIENT_RANGE)}", "wear",
         "Body 2's coefficient k or alpha (one of the two bodies must wear)."),
-    Key("wear", "cycle_jump", "integer", "cycles", "1 (every cycle solved)",
-        f"[1, {MAX_CYCLES:,}]; with a cycle block", "wear",
+    Key("wear", "cycle_jump", "integer or \"auto\"", "cycles", "1 (every cycle solved)",
+        f"[1, {MAX_CYCLES:,}] or \"auto\"; with a cycle block", "wear",
         "Cycles one solved cycle stands for: each cycle block of N cycles is solved as "
         "ceil(N / J) cycles, each one's wear scaled by the J cycles it stands for (the last by "
-        "the rest)."),
+        "the rest).  \"auto\": each solved cycle's J is set from the pressure change the "
+        "cycles before made, so that a jump changes the pressure by at most "
+        "wear.pressure_change of its peak."),
+    Key("wear", "pressure_change", "number", "1", f"{PRESSURE_CHANGE:g}",
+        _range(*PRESSURE_CHANGE_RANGE), 'wear.cycle_jump = "auto"',
+        "Largest change of the pressure a jump may make, relative to the peak pressure (the "
+        "worn profile's error against every cycle solved is about half of it)."),
+    Key("wear", "solved_cycles", "integer", "cycles", f"{SOLVED_CYCLES}",
+        f"[2, {MAX_CYCLES:,}]", 'wear.cycle_jump = "auto"',
+        "Most cycles solved per cycle block: when the bound asks for more, the last jumps "
+        "grow past it and a note says so."),
     Key("grid", "n", "integer or [nx, ny] or [nx, ny, nz]", "cells", "required",
         f"each in [4, {MAX_CELLS}]; the contact spans >= {MIN_CELLS_ACROSS} cells",
         "every case", "Cells per side of the surface grid, and nz cells in depth of the volume "

@@ -42,9 +42,9 @@ def path_warnings(campaign: Campaign, limit: int = LONG_PATH) -> list[str]:
     a solve per increment, so the line says how many cases, the longest and what to change.
     """
     from solver.case.path import path_steps
-    from solver.case.wear import cycle_jump
+    from solver.case.wear import solved_cycles
 
-    steps = [path_steps(c.spec["load"]["path"], cycle_jump(c.spec)) for c in campaign.cases]
+    steps = [path_steps(c.spec["load"]["path"], solved_cycles(c.spec)) for c in campaign.cases]
     long = [s for s in steps if s > limit]
     if not long:
         return []

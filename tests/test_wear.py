@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import solver
+from solver.theory.wear import fretting_wear_limit
 from study.bench.wear import RADIUS as PUNCH_RADIUS
 from study.bench.wear import punch_table
 
@@ -120,7 +121,16 @@ BAD = [
     ({"law": "archard", "body2": math.nan}, "wear.body2", "finite"),
     ({"law": "archard"}, "wear", "no body wears"),
     ({"law": "archard", "body1": 1e-15, "tribofilm": 1}, "wear.tribofilm", "unknown key"),
-]
+    ({"law": "archard", "body2": 1e-15, "cycle_jump": "x"}, "wear.cycle_jump", '"auto"'),
+    ({"law": "archard", "body2": 1e-15, "pressure_change": 0.1}, "wear.pressure_change",
+     'give it with cycle_jump = "auto"'),
+    ({"law": "archard", "body2": 1e-15, "cycle_jump": "auto", "pressure_change": 1.0},
+     "wear.pressure_change", "must be in [0.0001, 0.2]"),
+    ({"law": "archard", "body2": 1e-15, "cycle_jump": "auto", "pressure_change": math.nan},
+     "wear.pressure_change", "finite"),
+    ({"law": "archard", "body2": 1e-15, "cycle_jump": "auto", "solved_cycles": 1},
+     "wear.solved_cycles", "must be between 2 and"),
+]  # fmt: skip
 
 
 @pytest.mark.parametrize(("table", "where", "what"), BAD)
@@ -239,9 +249,9 @@ def test_a_transient_roll_wears_alpha_times_its_friction_work():
     assert result.fields["wear_depth"].shape == result.case.surface_grid.shape
 
 
-def _punch(k: float, cycles: int, jump: int = 1) -> tuple:
+def _punch(k: float, cycles: int, jump: int | str = 1, **rule) -> tuple:
     """The benchmark's fretted flat punch: its result, r about its last position, its radius."""
-    result = solver.solve(solver.Case.from_dict(punch_table(k, cycles, jump)))
+    result = solver.solve(solver.Case.from_dict(punch_table(k, cycles, jump, **rule)))
     assert result.status == "converged"
     x, y = result.case.surface_grid.mesh()
     r = np.hypot(x - result.history["position_x"][-1], y)
@@ -296,6 +306,57 @@ def test_cycle_jumps_approach_every_cycle_solved():
     assert errors[1] < 0.6 * errors[0]
 
 
+def _solved_weights(result) -> list[int]:
+    """The cycles each solved cycle stood for (its last increment's cycle_weight)."""
+    history = result.history
+    cycle = history["step_cycle"]
+    ends = np.flatnonzero((cycle > 0) & (np.append(cycle[1:], 0) != cycle))
+    return history["cycle_weight"][ends].astype(int).tolist()
+
+
+def test_automatic_jumps_bound_the_profile_error_by_half_the_pressure_change():
+    """wear.cycle_jump = "auto" over the punch's 200 cycles: each jump set so that it changes
+    the pressure by at most eps of its peak, which bounds the worn profile's error against
+    every cycle solved by about eps / 2 of the deepest wear (solver.drive.wear); a tighter
+    eps solves more cycles and errs less."""
+    every, _, _ = _punch(1e-12, 200)
+    reference = every.fields["wear_depth"]
+    errors, solved = [], []
+    for eps in (0.1, 0.05):
+        auto, _, _ = _punch(1e-12, 200, "auto", pressure_change=eps)
+        weights = _solved_weights(auto)
+        assert sum(weights) == 200 and weights[0] == 1 and max(weights) > 2
+        assert len(auto.history["normal_force"]) == 2 + 4 * len(weights)
+        assert auto.history["wear_volume"].sum() == pytest.approx(
+            every.history["wear_volume"].sum(), rel=1e-9
+        )
+        errors.append(np.abs(auto.fields["wear_depth"] - reference).max() / reference.max())
+        solved.append(len(weights))
+        assert errors[-1] < eps / 2
+    assert solved[1] > solved[0] and errors[1] < errors[0]
+
+
+def test_automatic_jumps_within_a_budget_cover_every_block_and_say_so():
+    """Two blocks of 60 cycles, at most 4 solved each: the jumps grow past the bound to stand
+    for the 60 cycles of each block, and the note says so; a block covered early skips its
+    remaining solved cycles (the histories hold the increments solved)."""
+    table = _fretting(24, 0.5, k=1e-12, cycles=60)
+    table["load"]["path"].append(dict(table["load"]["path"][-1]))
+    table["wear"] |= {"cycle_jump": "auto", "solved_cycles": 4}
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "converged"
+    weights = _solved_weights(result)
+    assert len(weights) <= 8 and 60 in np.cumsum(weights) and sum(weights) == 120
+    assert any("grew past the pressure bound" in note for note in result.notes)
+    table["wear"] |= {"solved_cycles": 1000, "pressure_change": 0.2}
+    loose = solver.solve(solver.Case.from_dict(table))
+    weights = _solved_weights(loose)
+    assert len(weights) < 2 * 60 and sum(weights) == 120
+    assert not any("grew past" in note for note in loose.notes)
+    steps = len(loose.history["normal_force"])
+    assert steps == 1 + 8 + 16 * len(weights) == len(loose.history["cycle_weight"])
+
+
 def test_a_jump_past_a_block_stands_for_its_rest():
     """7 cycles with jumps of 3: three solved cycles standing for 3, 3 and 1; a jump of 10^9
     or 0 is refused, and so is a jump without a cycle block."""
@@ -348,3 +409,43 @@ def test_one_pass_of_a_sphere_wears_the_track_of_its_line_load():
         errors.append(np.abs(worn - expected).max() / expected.max())
     assert errors[-1] < 0.01
     assert errors[0] > errors[1] > errors[2]
+
+
+def test_partial_slip_wears_to_ciavarella_and_hills_limit():
+    """A sphere fretted in partial slip (Q = 0.6 mu W, nu = 0: Cattaneo's stick circle exact)
+    wears its annulus until it carries no pressure: the stick zone, unworn, carries the load
+    as Hertz's pressure of radius c plus a flat punch's, the approach is c^2/R + P/(2cE*), and
+    the annulus is worn to just touching (solver.theory.wear).  The pressure inside 0.7 c and
+    the approach converge to the limit with the cells; the worn annulus (beyond 1.15 c, away
+    from the punch's edge singularity) is within 3 % of the limit's depth at 64 cells."""
+    share, errors = 0.6, []
+    for n in (48, 64):
+        table = _fretting(n, share, k=1e-10, cycles=200)
+        for body in ("body1", "body2"):
+            table[body] = {**table[body], "nu": 0.0}
+        table["wear"]["cycle_jump"] = "auto"
+        result = solver.solve(solver.Case.from_dict(table))
+        assert result.status == "converged"
+        case = result.case
+        limit = fretting_wear_limit(W, RADIUS, case.pair.composite_modulus, share)
+        c, h = limit.stick_radius, case.surface_grid.dx
+        x, y = case.surface_grid.mesh()
+        r = np.hypot(x, y)
+        annulus_load = result.pressure[r > c + h].sum() * case.surface_grid.cell_area
+        assert annulus_load < 1e-4 * W
+        inner = r < 0.7 * c
+        expected = limit.pressure(r[inner])
+        worn = result.fields["wear_depth"] + result.fields["wear_depth_body1"]
+        ring = (r > max(c + 1.5 * h, 1.15 * c)) & (r < case.reference.radius - h)
+        depth = limit.worn_depth(r[ring])
+        errors.append(
+            (
+                np.abs(result.pressure[inner] - expected).max() / expected.max(),
+                abs(result.history["approach"][-1] / limit.approach - 1.0),
+                np.abs(worn[ring] - depth).max() / depth.max(),
+            )
+        )
+    (p48, d48, h48), (p64, d64, h64) = errors
+    assert p64 < 0.5 * p48 and p64 < 0.005
+    assert d64 < 0.5 * d48 and d64 < 0.002
+    assert h64 < min(h48, 0.03)

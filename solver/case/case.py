@@ -299,7 +299,7 @@ class Case:
                 raw_stages = list(raw_stages)
             if not isinstance(raw_stages, list) or not raw_stages:
                 fail("load.path", "must be a non-empty array of tables ([[load.path]])")
-            stages, paths, given = parse_path(raw_stages, pair, wear.cycle_jump if wear else 1)
+            stages, paths, given = parse_path(raw_stages, pair, wear)
         else:
             stage, spec = parse_stage(load, "load", (0.0, (0.0, 0.0), False), pair, True)
             stages, paths, given = [stage], ["load"], [spec]

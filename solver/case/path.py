@@ -10,8 +10,9 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..bodies.geometry import MAX_PROFILE_SLOPE, Geometry
 from ..bodies.materials import Pair
@@ -26,6 +27,9 @@ from ..keys import (
 )
 from ..theory.hertz import hertz, hertz_force_for_pressure
 from ..theory.sneddon import radius_for_force
+
+if TYPE_CHECKING:
+    from .wear import Wear
 from .reading import CYCLE_BLOCK, STAGE, check_keys, entries, fail, integer, number, plain, show
 
 
@@ -61,7 +65,9 @@ class LoadStage:
     weight : int
         Load cycles the stage's cycle stands for: 1, or under ``wear.cycle_jump`` J the J
         cycles of the block it represents (the block's last solved cycle the rest), its wear
-        scaled by them.
+        scaled by them (under ``"auto"`` 1 here; the solve sets them).
+    block : int
+        Load cycles of the stage's cycle block (0 outside one).
     """
 
     normal_force: float
@@ -73,16 +79,17 @@ class LoadStage:
     creepage: tuple[float, float] | None = None
     spin: float = 0.0
     weight: int = 1
+    block: int = 0
 
 
 def parse_path(
-    raw_stages: list, pair: Pair, jump: int = 1
+    raw_stages: list, pair: Pair, wear: Wear | None = None
 ) -> tuple[list[LoadStage], list[str], list[dict]]:
     """Stages of a load path with its cycle blocks repeated, their paths, the normalised path.
 
     An entry ``{cycles = N, stages = [...]}`` repeats its stages N times (cycles numbered on
-    from the previous block's: 1 .. N for the first), or under a cycle ``jump`` J > 1
-    ``ceil(N / J)`` times, each repeat standing for J cycles (:attr:`LoadStage.weight`); a stage
+    from the previous block's: 1 .. N for the first), or under a ``wear`` cycle jump as
+    :meth:`Wear.solved` times, each repeat standing for cycles (:attr:`LoadStage.weight`); a stage
     without a normal (tangential) force keeps the previous one, also across cycles.
     """
     stages, paths, given = [], [], []
@@ -110,18 +117,18 @@ def parse_path(
             if not isinstance(inner, list) or not inner:
                 fail(f"{path}.stages", "must be a non-empty array of tables ([[...stages]])")
             block, offset = [], max((stage.cycle for stage in stages), default=0)
-            solved = -(-cycles // jump)
-            for cycle in range(offset + 1, offset + solved + 1):
+            weights = wear.weights(cycles) if wear else [1] * cycles
+            solved = len(weights)
+            for cycle, weight in enumerate(weights, start=offset + 1):
                 if cycle == offset + 2:  # the block's increments are known: refuse before
                     per_cycle = sum(spec["steps"] for spec in block)  # repeating it
                     count(f"{path}.cycles", per_cycle * (solved - 1))
-                weight = jump if cycle < offset + solved else cycles - jump * (solved - 1)
                 for j, sub in enumerate(inner):
                     where = f"{path}.stages[{j}]"
                     if isinstance(sub, dict) and "cycles" in sub:
                         fail(f"{where}.cycles", "cycle blocks do not nest; flatten the block")
                     stage, spec = parse_stage(sub, where, previous, pair, not stages)
-                    stage = dataclasses.replace(stage, cycle=cycle, weight=weight)
+                    stage = dataclasses.replace(stage, cycle=cycle, weight=weight, block=cycles)
                     stages.append(stage)
                     paths.append(where)
                     previous = _after(stage)
@@ -145,21 +152,22 @@ def _after(stage: LoadStage) -> tuple:
     return stage.normal_force, stage.tangential_force, free
 
 
-def path_cycles(path: list[dict], jump: int = 1) -> int:
+def path_cycles(path: list[dict], solved: Callable[[int], int] = int) -> int:
     """Load cycles solved of a normalised load path (0 without a cycle block).
 
-    ``jump``: ``wear.cycle_jump`` (a block of N cycles solved as ceil(N / jump)).
+    ``solved``: the cycles solved of a block of N (:func:`solver.case.wear.solved_cycles`;
+    under an automatic jump the most).
     """
-    return sum(-(-entry.get("cycles", 0) // jump) for entry in path)
+    return sum(solved(entry["cycles"]) for entry in path if "cycles" in entry)
 
 
-def path_steps(path: list[dict], jump: int = 1) -> int:
+def path_steps(path: list[dict], solved: Callable[[int], int] = int) -> int:
     """Load increments of a normalised load path (:meth:`Case.to_dict`), cycles repeated.
 
-    ``jump``: ``wear.cycle_jump`` (the solved cycles counted).
+    ``solved``: as :func:`path_cycles`.
     """
     return sum(
-        -(-entry["cycles"] // jump) * path_steps(entry["stages"])
+        solved(entry["cycles"]) * path_steps(entry["stages"])
         if "cycles" in entry
         else entry["steps"]
         for entry in path

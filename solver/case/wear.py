@@ -15,10 +15,19 @@ its shape, not its elasticity, is what the wear changes.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from ..keys import MAX_CYCLES, WEAR_COEFFICIENT_RANGE, WEAR_LAWS, table_keys
+from ..keys import (
+    MAX_CYCLES,
+    PRESSURE_CHANGE,
+    PRESSURE_CHANGE_RANGE,
+    SOLVED_CYCLES,
+    WEAR_COEFFICIENT_RANGE,
+    WEAR_LAWS,
+    table_keys,
+)
 from .reading import check_keys, fail, integer, number
 
 
@@ -33,14 +42,42 @@ class Wear:
         energy dissipated).
     body1, body2 : float
         The bodies' coefficients k or alpha (1/Pa); 0: the body does not wear.
-    cycle_jump : int
-        Load cycles one solved cycle stands for (:attr:`LoadStage.weight`).
+    cycle_jump : int or "auto"
+        Load cycles one solved cycle stands for (:attr:`LoadStage.weight`), or ``"auto"``:
+        set cycle by cycle by :class:`solver.drive.wear.CycleJumps`.
+    pressure_change : float
+        Under ``"auto"``: the largest relative change of the pressure a jump may make.
+    solved_cycles : int
+        Under ``"auto"``: the most cycles solved per cycle block.
     """
 
     law: str
     body1: float = 0.0
     body2: float = 0.0
-    cycle_jump: int = 1
+    cycle_jump: int | str = 1
+    pressure_change: float = PRESSURE_CHANGE
+    solved_cycles: int = SOLVED_CYCLES
+
+    @property
+    def auto(self) -> bool:
+        """The jumps are set as the cycles are solved (``cycle_jump = "auto"``)."""
+        return self.cycle_jump == "auto"
+
+    def solved(self, cycles: int) -> int:
+        """The cycles solved of a block of ``cycles`` (under ``"auto"``: the most)."""
+        if self.auto:
+            return min(cycles, self.solved_cycles)
+        return -(-cycles // self.cycle_jump)
+
+    def weights(self, cycles: int) -> list[int]:
+        """The cycles each solved cycle of a block of ``cycles`` stands for.
+
+        A jump J: J each, the last the rest.  ``"auto"``: 1 each until the solve sets them.
+        """
+        solved = self.solved(cycles)
+        if self.auto:
+            return [1] * solved
+        return [self.cycle_jump] * (solved - 1) + [cycles - self.cycle_jump * (solved - 1)]
 
     @property
     def bodies(self) -> tuple[int, ...]:
@@ -54,12 +91,16 @@ class Wear:
     def spec(self) -> dict:
         """The normalised table (the jump only when there is one)."""
         table = {"law": self.law, "body1": self.body1, "body2": self.body2}
+        if self.auto:
+            rule = {"pressure_change": self.pressure_change, "solved_cycles": self.solved_cycles}
+            return table | {"cycle_jump": "auto"} | rule
         return table | ({"cycle_jump": self.cycle_jump} if self.cycle_jump > 1 else {})
 
 
-def cycle_jump(spec: dict) -> int:
-    """The cycle jump of a normalised case table (1: every cycle solved)."""
-    return spec.get("wear", {}).get("cycle_jump", 1)
+def solved_cycles(spec: dict) -> Callable[[int], int]:
+    """The cycles solved of a block of N, for a normalised case table (its wear's jump)."""
+    wear = spec.get("wear")
+    return parse_wear(wear).solved if wear else (lambda cycles: cycles)
 
 
 def parse_wear(table: Any) -> Wear:
@@ -87,8 +128,24 @@ def parse_wear(table: Any) -> Wear:
         coefficients[body] = value
     if not any(coefficients.values()):
         fail("wear", "no body wears: give wear.body1 or wear.body2 a positive coefficient (1/Pa)")
-    jump = integer(wear.get("cycle_jump", 1), "wear.cycle_jump", 1, MAX_CYCLES)
-    return Wear(law, **coefficients, cycle_jump=jump)
+    jump = wear.get("cycle_jump", 1)
+    if isinstance(jump, str) and jump != "auto":
+        fail("wear.cycle_jump", f'must be an integer (cycles) or "auto", got {jump!r}')
+    if jump != "auto":
+        jump = integer(jump, "wear.cycle_jump", 1, MAX_CYCLES)
+        for key in ("pressure_change", "solved_cycles"):
+            if key in wear:
+                fail(f"wear.{key}", 'sets the automatic jump: give it with cycle_jump = "auto"')
+        return Wear(law, **coefficients, cycle_jump=jump)
+    change = number(wear.get("pressure_change", PRESSURE_CHANGE), "wear.pressure_change")
+    low, high = PRESSURE_CHANGE_RANGE
+    if not low <= change <= high:
+        fail(
+            "wear.pressure_change",
+            f"must be in [{low:g}, {high:g}] (a fraction of the peak pressure), got {change:g}",
+        )
+    solved = integer(wear.get("solved_cycles", SOLVED_CYCLES), "wear.solved_cycles", 2, MAX_CYCLES)
+    return Wear(law, **coefficients, cycle_jump=jump, pressure_change=change, solved_cycles=solved)
 
 
 def check_wear_case(wear: Wear, stages, mu: float, plastic_body1: bool) -> None:
@@ -123,7 +180,7 @@ def check_wear_case(wear: Wear, stages, mu: float, plastic_body1: bool) -> None:
             "no stage of load.path slips (a tangential_force, a slide or a roll), so nothing "
             "wears: add such a stage or remove the table",
         )
-    if wear.cycle_jump > 1 and not any(s.cycle for s in stages):
+    if wear.cycle_jump != 1 and not any(s.cycle for s in stages):
         fail(
             "wear.cycle_jump",
             "the path has no cycle block (load.path[i] = {cycles = N, stages = [...]}) to jump "

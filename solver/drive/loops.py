@@ -263,6 +263,11 @@ def _moved(increment: np.ndarray, cells_x: float, cells_y: float) -> np.ndarray:
     return out
 
 
+def _on_track(follower: Follower | None, values: np.ndarray) -> np.ndarray:
+    """A window's surface field on the whole track's grid (unchanged without a window)."""
+    return values if follower is None else follower.on_track(values)
+
+
 def _relabelled(result: Result, case: Case) -> Result:
     """The result of ``case.swapped()`` told for ``case``, the bodies relabelled.
 
@@ -338,6 +343,7 @@ def _solve(case: Case) -> Result:
         names += PERIODIC_HISTORY
     worn = WornSurfaces(case, operators.gap.shape) if case.wear is not None else None
     names += WEAR_HISTORY if worn is not None else ()
+    jumps = worn.jumps if worn is not None else None
     if plastic:
         names += PLASTIC_HISTORY + (PERIODIC_PLASTIC_HISTORY if case.grid.periodic else ())
         names += PLASTIC_FRICTION_HISTORY if "friction_work" in names else ()
@@ -383,6 +389,9 @@ def _solve(case: Case) -> Result:
     creeps = case.creep_ramp()
     for k, (target, stage) in enumerate(zip(targets, case.increment_stages(), strict=True)):
         creep = next(creeps)
+        before_cycle = functools.partial(_on_track, follower, state.pressure)
+        if jumps is not None and jumps.skip(k, before_cycle):
+            continue  # an automatic jump covered the block's cycles
         work = worn_volume = 0.0  # friction work and wear of the step, sub-steps included
         sub_iterations = dict.fromkeys((*ITERATION_HISTORY.values(), "plastic_iterations"), 0)
         if plastic and cycles[k] and (k == 0 or cycles[k] != cycles[k - 1]):
@@ -486,6 +495,8 @@ def _solve(case: Case) -> Result:
                 ny = worn.gap.shape[1]
                 profile = worn.gap[:, (ny - 1) // 2 : ny // 2 + 1].mean(axis=1)
                 cycle_profiles.setdefault("cycle_wear_profile", []).append(profile)
+            if jumps is not None:
+                jumps.cycle_end(k, _on_track(follower, state.pressure))
         if outcome.creepage is not None:
             history["creepage_x"][k], history["creepage_y"][k], history["spin"][k] = (
                 outcome.creepage
@@ -549,9 +560,15 @@ def _solve(case: Case) -> Result:
         if not step_ok:
             converged = False
             failures.extend((k + 1, m) for m in dict.fromkeys(messages))
+    solved = np.ones(total, dtype=bool) if jumps is None else ~jumps.skipped
     if ended is not None:
-        total = ended[0] + 1  # the histories of the increments solved
-        history = {name: values[:total] for name, values in history.items()}
+        solved[ended[0] + 1 :] = False  # the histories of the increments solved
+    if not solved.all():
+        history = {name: values[solved] for name, values in history.items()}
+        total = int(solved.sum())
+    if jumps is not None and (note := jumps.note()):
+        notes.append(note)
+    if ended is not None:
         notes.append(ended[2])
         if ended[1] == "gross_sliding":
             converged = False

@@ -6,9 +6,30 @@ energy dissipated per area (``-q . s``, the energy law), the trapezoid in time o
 increment's two ends.  The depths live on the case's surface grid (the whole track of a moving
 contact, body 2's frame); their sum adds to the gap of the next increment's solves.  Under a
 cycle jump (``wear.cycle_jump``) each solved cycle's wear is scaled by the cycles it stands for.
+
+The automatic jump (``cycle_jump = "auto"``, :class:`CycleJumps`) bounds the pressure change of
+each jump.  Solving cycle after cycle, the wear of a jump of J cycles is J times its solved
+cycle's: explicit Euler in the cycles, dh/dN = w(p) with w the wear per cycle (Archard:
+w = k p s).  Over the jump the pressure moves by dp, so the cycles it stands for wear at rates
+between w(p) and w(p + dp), and the jump's error is about J (w(p + dp) - w(p)) / 2 =
+(J w / 2) (dp / p) where the wear rate is proportional to the pressure.  A jump that changes
+the pressure by at most a fraction eps of its peak therefore errs by at most eps / 2 of the
+wear it adds, and the jumps together by eps / 2 of the deepest wear.  The change a jump of J
+makes is predicted from the last solved cycle's, dp_n / J_n per cycle (the pressures at the
+ends of consecutive solved cycles, their largest difference over the peak):
+
+    J_(n+1) = min(2 J_n, max(1, floor(eps J_n / (max |p_n - p_(n-1)| / max p_n))))
+
+the doubling a guard against a rate that has not settled.  A block's first solved cycle stands
+for one cycle (its change measured from the pressure before the block).  When the block's
+solved cycles (``wear.solved_cycles``) would run out first, the jumps grow to cover its cycles
+and the solve says so; once the block's cycles are covered its remaining solved cycles are
+skipped.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -34,6 +55,7 @@ class WornSurfaces:
         self.volume = 0.0  # worn so far (m^3), both bodies
         # the cycles each increment's cycle stands for (wear.cycle_jump): its wear scaled
         self.weights = np.repeat([s.weight for s in case.stages], [s.steps for s in case.stages])
+        self.jumps = CycleJumps(case, self.weights) if self.wear.auto else None
 
     def place(self, operators, follower) -> None:
         """Give the increment's operators (a window's, when it follows) the worn gap."""
@@ -74,3 +96,104 @@ class WornSurfaces:
             "(the volume grid does not recede with the worn surface): the plastic fields near "
             "the surface are an approximation there"
         )
+
+
+class CycleJumps:
+    """The automatic cycle jump of ``wear.cycle_jump = "auto"`` (module docstring).
+
+    Parameters
+    ----------
+    case : Case
+        A case whose ``[wear]`` jumps automatically.
+    weights : numpy.ndarray
+        The cycles each increment's cycle stands for (set here, cycle by cycle).
+    """
+
+    def __init__(self, case: Case, weights: np.ndarray) -> None:
+        self.change = case.wear.pressure_change
+        self.weights = weights
+        counts = [s.steps for s in case.stages]
+        self.cycles = case.step_cycles()
+        self.sizes = np.repeat([s.block for s in case.stages], counts)  # N of each step's block
+        self.blocks = np.repeat(_block_ids(case), counts)
+        self.skipped = np.zeros(self.cycles.size, dtype=bool)
+        self.forced: list[int] = []  # cycles whose jump the budget pushed past the bound
+        self.reference = None  # the pressure at the last solved cycle's end (on the track)
+        self.jump = 1  # the next solved cycle's jump
+        self.done = 0  # cycles of the current block stood for so far
+        self.largest = 0.0  # the largest relative pressure change of a solved cycle
+
+    def _first(self, k: int) -> bool:
+        return bool(self.cycles[k]) and (k == 0 or self.cycles[k - 1] != self.cycles[k])
+
+    def _last(self, k: int) -> bool:
+        end = k + 1 == self.cycles.size or self.cycles[k + 1] != self.cycles[k]
+        return bool(self.cycles[k]) and end
+
+    def skip(self, k: int, pressure) -> bool:
+        """Whether increment ``k`` is skipped (its block's cycles all stood for already).
+
+        At a solved cycle's first increment its jump is set; ``pressure()`` gives the pressure
+        on the track before it (asked for at a block's start only).
+        """
+        if self.skipped[k] or not self._first(k):
+            return bool(self.skipped[k])
+        cycle = self.cycles[k]
+        steps = self.cycles == cycle
+        block = self.blocks[k]
+        if k == 0 or self.blocks[k - 1] != block:  # a new block: its first cycle stands for
+            self.reference, self.jump, self.done = pressure(), 1, 0  # one, measured from here
+        left = self.sizes[k] - self.done
+        if left == 0:  # the block is covered: its remaining solved cycles are skipped
+            self.skipped |= (self.blocks == block) & (self.cycles >= cycle)
+            return True
+        later = int(self.cycles[self.blocks == block].max()) - cycle + 1  # solved cycles left
+        jump = self.jump
+        if self.done and jump * later < left:  # the rate held, the budget would run out:
+            jump = int(-(-left // later))  # spread what is left over the cycles left
+            self.forced.append(int(cycle))
+        jump = int(min(jump, left))
+        self.weights[steps] = jump
+        self.done += jump
+        return False
+
+    def cycle_end(self, k: int, pressure: np.ndarray) -> None:
+        """After increment ``k``: at a solved cycle's end, the next jump from its change."""
+        if not self._last(k):
+            return
+        jump = int(self.weights[k])
+        peak = max(float(pressure.max()), float(self.reference.max()), 1e-300)
+        change = float(np.abs(pressure - self.reference).max()) / peak
+        self.largest = max(self.largest, change)
+        rate = change / jump  # per cycle
+        grown = 2 * jump
+        self.jump = grown if rate * grown <= self.change else max(1, math.floor(self.change / rate))
+        self.reference = pressure
+
+    def note(self) -> str | None:
+        """A note when the solved-cycle budget pushed jumps past the bound."""
+        if not self.forced:
+            return None
+        return (
+            f"wear.cycle_jump = auto: in {len(self.forced)} solved cycles (from cycle "
+            f"{self.forced[0]}) the jumps grew past the pressure bound to cover their block "
+            "within wear.solved_cycles: raise wear.solved_cycles or wear.pressure_change"
+        )
+
+
+def _block_ids(case: Case) -> list[int]:
+    """The cycle block of every stage: 0, 1, ... in order (-1 outside blocks).
+
+    A block's solved cycles are numbered on from the previous block's, so a block ends when
+    the stages leave the blocks or its solved cycles (:meth:`Wear.solved`) are all seen.
+    """
+    ids, block, seen, previous = [], -1, set(), 0
+    for stage in case.stages:
+        if stage.cycle:
+            full = len(seen) == case.wear.solved(stage.block) and stage.cycle not in seen
+            if previous == 0 or full:
+                block, seen = block + 1, set()
+            seen.add(stage.cycle)
+        ids.append(block if stage.cycle else -1)
+        previous = stage.cycle
+    return ids

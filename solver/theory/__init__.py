@@ -6,6 +6,7 @@
 - :mod:`.sneddon`: frictionless axisymmetric profiles (Sneddon 1965);
 - :mod:`.half_space`: half-space stresses of surface loads: Love's rectangle, Boussinesq and
   Cerruti point forces, Hamilton's sliding Hertz contact;
+- :mod:`.wear`: the limit of fretting wear in partial slip (Ciavarella and Hills);
 - :mod:`.shakedown`: shakedown classification of cyclic results, Melan's bound, first yield in
   sliding.
 

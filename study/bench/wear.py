@@ -24,8 +24,12 @@ RADIUS, FORCE, STROKE = 1e-3, 100.0, 0.05
 K, CYCLES, JUMPS = 2e-13, 1000, (10, 20, 50, 100)
 
 
-def punch_table(k: float, cycles: int, jump: int = 1, n: int = 32) -> dict:
-    """The fretted flat punch over a wearing steel flat (module docstring), as a case table."""
+def punch_table(k: float, cycles: int, jump: int | str = 1, n: int = 32, **rule) -> dict:
+    """The fretted flat punch over a wearing steel flat (module docstring), as a case table.
+
+    ``jump``: ``wear.cycle_jump``; ``rule``: the automatic jump's keys (``pressure_change``,
+    ``solved_cycles``).
+    """
     stroke = STROKE * RADIUS
     swing = [{"slide": [s, 0.0], "steps": 2} for s in (-stroke / 2, stroke / 2)]
     punch = {"shape": "flat_punch", "radius": RADIUS, "edge_radius": RADIUS}
@@ -41,7 +45,7 @@ def punch_table(k: float, cycles: int, jump: int = 1, n: int = 32) -> dict:
         },
         "friction": {"coefficient": 0.5},
         "grid": {"n": n},
-        "wear": {"law": "archard", "body2": k, "cycle_jump": jump},
+        "wear": {"law": "archard", "body2": k, "cycle_jump": jump, **rule},
     }
 
 

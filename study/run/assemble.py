@@ -38,7 +38,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 import solver
-from solver.case.wear import cycle_jump
+from solver.case.wear import solved_cycles
 from solver.drive.record import axis_value
 from solver.result import (
     HISTORY_META,
@@ -154,7 +154,7 @@ _ATTRS = (
 
 
 def _case_steps(spec: dict) -> int:
-    return solver.case.path.path_steps(spec["load"]["path"], cycle_jump(spec))
+    return solver.case.path.path_steps(spec["load"]["path"], solved_cycles(spec))
 
 
 def _grid_cells(spec: dict) -> int:
@@ -344,7 +344,7 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
     scalars = {name: np.full(shape, np.nan) for name in SCALARS}
     histories: dict[str, np.ndarray] = {}
     cycle_count = max(
-        solver.case.path.path_cycles(case.spec["load"]["path"], cycle_jump(case.spec))
+        solver.case.path.path_cycles(case.spec["load"]["path"], solved_cycles(case.spec))
         for case in campaign.cases
     )
     per_cycle: dict[str, np.ndarray] = {}
