@@ -405,6 +405,12 @@ def cycle_summary(history: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     if "cycle_net_plastic_strain" in history:
         net = np.asarray(history["cycle_net_plastic_strain"], dtype=float)
         out["net_plastic_strain_increment"] = np.array([float(net[s[-1]]) for s in blocks])
+    if "wear_volume" in history:
+        volume = np.asarray(history["wear_volume"], dtype=float)
+        weight = np.asarray(history["cycle_weight"], dtype=float)
+        stood = np.array([float(weight[s[-1]]) for s in blocks])
+        out["load_cycles"] = np.cumsum(stood)
+        out["wear_rate"] = np.array([float(volume[s].sum()) for s in blocks]) / stood
     assert set(out) <= set(CYCLE_QUANTITIES)
     return out
 

@@ -255,6 +255,16 @@ CYCLE_QUANTITIES: dict[str, tuple[str, str]] = {
         "Pa",
         "largest von Mises residual stress of the plastic strain at the end of the cycle",
     ),
+    "load_cycles": (
+        "1",
+        "load cycles done at the end of the solved cycle, the cycles jumps stand for counted "
+        "([wear]; wear.cycle_jump)",
+    ),
+    "wear_rate": (
+        "m3",
+        "volume worn per load cycle over the solved cycle (its worn volume over the cycles it "
+        "stands for; [wear])",
+    ),
     "plastic_strain_increment": (
         "1",
         "equivalent plastic strain gained over the cycle, largest over the volume",
@@ -338,6 +348,12 @@ FIELDS: dict[str, Field] = {
         "m",
         "depth worn off both bodies together (the gap's growth) along x through the contact axis "
         "at the end of each solved load cycle ([wear]; in body 2's frame)",
+    ),
+    "cycle_pressure_profile": Field(
+        ("cycle", "x"),
+        "Pa",
+        "contact pressure along x through the contact axis at the end of each solved load "
+        "cycle ([wear]: the pressure as the surfaces wear; in body 2's frame)",
     ),
     "cycle_rut_profile": Field(
         ("cycle", "y"),

@@ -449,3 +449,103 @@ def test_partial_slip_wears_to_ciavarella_and_hills_limit():
     assert p64 < 0.5 * p48 and p64 < 0.005
     assert d64 < 0.5 * d48 and d64 < 0.002
     assert h64 < min(h48, 0.03)
+
+
+def test_a_periodic_rough_interface_wears_its_slipping_spots():
+    """grid.periodic: a rough steel flat fretted at +-0.9 mu W (partial slip of its spots)
+    for three cycles, the energy law on both bodies: the worn volume is alpha times the
+    friction work, the wear sits on the spots that touch, and the worn heights move the pressure
+    (the same path without wear ends elsewhere)."""
+    from test_periodic import ROUGH, periodic_case
+
+    q = 0.9 * MU * 5.0
+    swing = [{"tangential_force": [f, 0.0], "steps": 4} for f in (-q, q)]
+    table = periodic_case({**STEEL, "roughness": ROUGH}, body1={**STEEL})
+    table["body1"]["radius"] = "inf"
+    table["friction"] = {"coefficient": MU}
+    table["load"] = {
+        "path": [
+            {"normal_force": 5.0, "steps": 2},
+            {"tangential_force": [q, 0.0], "steps": 4},
+            {"cycles": 3, "stages": swing},
+        ]
+    }
+    alpha = 1e-10
+    table["wear"] = {"law": "energy", "body1": alpha, "body2": alpha}
+    worn = solver.solve(solver.Case.from_dict(table))
+    assert worn.status == "converged", worn.notes
+    history = worn.history
+    volume = history["wear_volume"].sum()
+    assert volume == pytest.approx(2 * alpha * history["friction_work"].sum(), rel=1e-6)
+    depth = worn.fields["wear_depth"] + worn.fields["wear_depth_body1"]
+    assert depth.sum() * worn.case.surface_grid.cell_area == pytest.approx(volume, rel=1e-9)
+    del table["wear"]
+    fresh = solver.solve(solver.Case.from_dict(table))
+    touched = (fresh.pressure > 0) | (worn.pressure > 0)  # the spots grow as they wear
+    assert depth[touched].sum() > 0.99 * depth.sum() and touched.mean() < 0.5
+    assert np.abs(worn.pressure - fresh.pressure).max() > 0.01 * fresh.pressure.max()
+
+
+FRETTING_CAMPAIGN = """
+[campaign]
+name = "worn"
+
+[base]
+body1 = { behaviour = "elastic", radius = 0.01, E = 210e9, nu = 0.3 }
+body2 = { behaviour = "elastic", E = 210e9, nu = 0.3 }
+friction = { coefficient = 0.5 }
+grid = { n = 24 }
+wear = { law = "archard", body2 = 5e-12, cycle_jump = "auto" }
+
+[[base.load.path]]
+normal_force = 100.0
+
+[[base.load.path]]
+tangential_force = 30.0
+steps = 4
+
+[[base.load.path]]
+cycles = 40
+
+[[base.load.path.stages]]
+tangential_force = -30.0
+steps = 4
+
+[[base.load.path.stages]]
+tangential_force = 30.0
+steps = 4
+
+[sweep]
+"friction.coefficient" = [0.5, 0.75]
+"""
+
+
+def test_the_report_tells_the_wear_and_draws_it(tmp_path):
+    """A campaign of two fretted spheres: the report's wear table sums the load cycles the
+    jumps stand for, its volume over energy is Archard's k / mu (the cells wear only in slip,
+    where q = mu p), and the three figures exist."""
+    from study_fixtures import write
+
+    from study.campaign import load_campaign
+    from study.report import build_report
+    from study.run.assemble import assemble_to_file
+    from study.run.driver import RunOptions, run_campaign
+
+    out = tmp_path / "out"
+    campaign = load_campaign(write(tmp_path, FRETTING_CAMPAIGN))
+    assert run_campaign(campaign, out, options=RunOptions()).exit_status == 0
+    assemble_to_file(out)
+    text = build_report(out).read_text()
+    section = text[text.index("## Wear") :].splitlines()
+    header = next(line for line in section if line.startswith("| "))
+    names = [cell.strip() for cell in header.strip("|").split("|")]
+    rows = [line for line in section if line.startswith("| 0.")]
+    assert len(rows) == 2
+    for row in rows:
+        value = dict(zip(names, (cell.strip() for cell in row.strip("|").split("|")), strict=True))
+        mu = float(value[names[0]])
+        assert int(value["cycles"]) == 40 and int(value["solved"]) < 40
+        assert float(value["volume_per_J"]) == pytest.approx(5e-12 / mu, rel=1e-3)
+        assert 0.0 < float(value["rate_last_m3"]) and 0.0 < float(value["rate_first_m3"])
+    for suffix in ("wear_energy", "wear_profiles", "wear_pressure"):
+        assert (out / f"worn_{suffix}.png").stat().st_size > 10_000

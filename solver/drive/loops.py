@@ -492,11 +492,13 @@ def _solve(case: Case) -> Result:
             history["max_wear_depth"][k] = max(float(d.max()) for d in worn.depth.values())
             history["cycle_weight"][k] = worn.weights[k]
             if cycles[k] and (k + 1 == total or cycles[k + 1] != cycles[k]):  # a cycle's end
-                ny = worn.gap.shape[1]
-                profile = worn.gap[:, (ny - 1) // 2 : ny // 2 + 1].mean(axis=1)
-                cycle_profiles.setdefault("cycle_wear_profile", []).append(profile)
-            if jumps is not None:
-                jumps.cycle_end(k, _on_track(follower, state.pressure))
+                pressure = _on_track(follower, state.pressure)
+                middle = slice((pressure.shape[1] - 1) // 2, pressure.shape[1] // 2 + 1)
+                for name, values in (("wear", worn.gap), ("pressure", pressure)):
+                    profile = values[:, middle].mean(axis=1)
+                    cycle_profiles.setdefault(f"cycle_{name}_profile", []).append(profile)
+                if jumps is not None:
+                    jumps.cycle_end(k, pressure)
         if outcome.creepage is not None:
             history["creepage_x"][k], history["creepage_y"][k], history["spin"][k] = (
                 outcome.creepage

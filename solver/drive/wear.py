@@ -120,15 +120,11 @@ class CycleJumps:
         self.forced: list[int] = []  # cycles whose jump the budget pushed past the bound
         self.reference = None  # the pressure at the last solved cycle's end (on the track)
         self.jump = 1  # the next solved cycle's jump
+        self.allowed = math.inf  # the jump the bound allows at the last rate (not doubled)
         self.done = 0  # cycles of the current block stood for so far
-        self.largest = 0.0  # the largest relative pressure change of a solved cycle
 
     def _first(self, k: int) -> bool:
         return bool(self.cycles[k]) and (k == 0 or self.cycles[k - 1] != self.cycles[k])
-
-    def _last(self, k: int) -> bool:
-        end = k + 1 == self.cycles.size or self.cycles[k + 1] != self.cycles[k]
-        return bool(self.cycles[k]) and end
 
     def skip(self, k: int, pressure) -> bool:
         """Whether increment ``k`` is skipped (its block's cycles all stood for already).
@@ -142,15 +138,16 @@ class CycleJumps:
         steps = self.cycles == cycle
         block = self.blocks[k]
         if k == 0 or self.blocks[k - 1] != block:  # a new block: its first cycle stands for
-            self.reference, self.jump, self.done = pressure(), 1, 0  # one, measured from here
+            self.reference, self.done = pressure(), 0  # one, its change measured from here
+            self.jump, self.allowed = 1, math.inf
         left = self.sizes[k] - self.done
         if left == 0:  # the block is covered: its remaining solved cycles are skipped
             self.skipped |= (self.blocks == block) & (self.cycles >= cycle)
             return True
         later = int(self.cycles[self.blocks == block].max()) - cycle + 1  # solved cycles left
         jump = self.jump
-        if self.done and jump * later < left:  # the rate held, the budget would run out:
-            jump = int(-(-left // later))  # spread what is left over the cycles left
+        if self.allowed * later < left:  # the rate held, the budget would run out:
+            jump = max(jump, int(-(-left // later)))  # spread what is left over the cycles left
             self.forced.append(int(cycle))
         jump = int(min(jump, left))
         self.weights[steps] = jump
@@ -158,16 +155,13 @@ class CycleJumps:
         return False
 
     def cycle_end(self, k: int, pressure: np.ndarray) -> None:
-        """After increment ``k``: at a solved cycle's end, the next jump from its change."""
-        if not self._last(k):
-            return
+        """After increment ``k``, a solved cycle's last: the next jump from its change."""
         jump = int(self.weights[k])
         peak = max(float(pressure.max()), float(self.reference.max()), 1e-300)
         change = float(np.abs(pressure - self.reference).max()) / peak
-        self.largest = max(self.largest, change)
         rate = change / jump  # per cycle
-        grown = 2 * jump
-        self.jump = grown if rate * grown <= self.change else max(1, math.floor(self.change / rate))
+        self.allowed = max(1, math.floor(self.change / rate)) if rate > 0 else math.inf
+        self.jump = int(min(2 * jump, self.allowed))
         self.reference = pressure
 
     def note(self) -> str | None:

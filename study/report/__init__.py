@@ -8,14 +8,16 @@ it is missing) and writes next to it:
   fitted orders;
 - ``OUT/<name>_speed_error.png``: wall time and peak memory against the error, Pareto front;
 - ``OUT/<name>_profiles.png``: pressure and shear along y = 0 against r / a;
-- ``OUT/<name>_stick_slip.png``: contact-state maps from the per-case files.
+- ``OUT/<name>_stick_slip.png``: contact-state maps from the per-case files;
+- ``OUT/<name>_wear_*.png``: worn volume against friction energy, worn profile and pressure at
+  checkpoints (cases that wear, :mod:`.wear`).
 
 Plots need matplotlib (the ``plot`` extra); it is imported lazily with the Agg backend, and the
 report is written without figures when it is missing.
 
 The package: :mod:`.figures` (panel grids, titles, notes, markdown) at the bottom; the
-sections :mod:`.elastic` (every campaign), :mod:`.plastic` and :mod:`.cycles` on it; the
-builder :mod:`.builder` on top.
+sections :mod:`.elastic` (every campaign), :mod:`.plastic`, :mod:`.cycles` and :mod:`.wear`
+on it; the builder :mod:`.builder` on top.
 """
 
 from solver.numerics.lazy import lazy_exports

@@ -7,7 +7,8 @@
   in the first and the last cycle;
 - ``<name>_fretting_loops.png``: the Q_x - Delta_x loop of every cycle, one panel per case;
 - ``<name>_cycles.png``: the energy dissipated, the plastic strain gained and the residual
-  stress per cycle against the cycle number (those the scene has).
+  stress per cycle against the cycle number (those the scene has);
+- the wear of cases that wear (:mod:`.wear`).
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from solver.result import STATUS_FLAGS
 from solver.variables import CYCLE_QUANTITIES
 
 from .. import analysis
-from . import figures
+from . import figures, wear
 
 #: Per-cycle quantities drawn against the cycle, in this order, when the campaign has them:
 #: name -> (scale, axis label, panel title, log axis).
@@ -208,4 +209,6 @@ def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
         if png:
             shown.append((title, png, "every finished case with cycles"))
             lines += [f"### {title}", "", f"![{title}]({png.name})", ""]
+    if wear.is_wear(dataset):  # the cycles' wear (its per-cycle quantities)
+        lines += wear.section(dataset, out, name, plt, shown)
     return lines

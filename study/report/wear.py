@@ -1,0 +1,189 @@
+"""The wear part of a campaign report: worn volume, friction energy, worn profiles, pressure.
+
+For a campaign whose cases wear (``[wear]``: the per-cycle ``wear_rate`` and ``load_cycles``
+of :data:`solver.variables.CYCLE_QUANTITIES`) :func:`section` writes
+
+- a table per case: load cycles and cycles solved, worn volume, friction energy dissipated,
+  their ratio, the wear rate of the first and the last solved cycle, the deepest wear;
+- ``<name>_wear_energy.png``: the worn volume against the friction energy dissipated, both
+  summed over the load cycles (a solved cycle counts the cycles it stands for), one line per
+  case on log-log axes: the energy law's ratio is alpha, Archard's k / mu where the cells wear
+  only in slip (q = mu p there);
+- ``<name>_wear_profiles.png`` and ``<name>_wear_pressure.png``: the worn depth and the
+  pressure along x through the contact axis at checkpoints (solved cycles spread over the
+  path, from the case files' ``cycle_wear_profile`` and ``cycle_pressure_profile``), a panel
+  per case.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .. import analysis
+from . import figures
+
+#: Most cases drawn with their profiles (a panel each), and checkpoints per panel.
+MAX_PANELS, CHECKPOINTS = 9, 5
+#: The checkpoint figures: case-file field -> (file suffix, scale, axis label, title).
+PROFILES = {
+    "cycle_wear_profile": ("wear_profiles", 1e6, "worn depth (um), both bodies", "Worn profile"),
+    "cycle_pressure_profile": ("wear_pressure", 1e-6, "pressure (MPa)", "Pressure"),
+}
+
+
+def is_wear(dataset) -> bool:
+    """Whether the campaign's cases wear (their per-cycle wear rate is stored)."""
+    return "wear_rate" in dataset
+
+
+def _cases(dataset) -> list[tuple[dict, dict, object]]:
+    return [
+        (labels, isel, case)
+        for labels, isel, case in analysis.finished_cases(dataset)
+        if np.isfinite(case["wear_rate"].values).any()
+    ]
+
+
+def totals(case) -> dict[str, np.ndarray]:
+    """Per solved cycle of one case: load cycles done, worn volume and friction energy so far.
+
+    Each solved cycle counts the load cycles it stands for (``load_cycles``' steps).
+    """
+    done = case["load_cycles"].values
+    kept = np.isfinite(done)
+    done = done[kept]
+    stood = np.diff(done, prepend=0.0)
+    volume = np.cumsum(case["wear_rate"].values[kept] * stood)
+    out = {"load_cycles": done, "volume": volume}
+    if "cycle_friction_work" in case:
+        out["energy"] = np.cumsum(case["cycle_friction_work"].values[kept] * stood)
+    return out
+
+
+def wear_table(dataset):
+    """One row per finished case that wears (module docstring).
+
+    Returns
+    -------
+    pandas.DataFrame
+    """
+    import pandas as pd
+
+    rows = []
+    for labels, _, case in _cases(dataset):
+        summed = totals(case)
+        rate = case["wear_rate"].values
+        rate = rate[np.isfinite(rate)]
+        energy = summed.get("energy", [np.nan])[-1]
+        row = {**labels, "cycles": int(summed["load_cycles"][-1]), "solved": rate.size}
+        row |= {"volume_m3": summed["volume"][-1], "energy_J": energy}
+        row |= {"volume_per_J": summed["volume"][-1] / energy if energy > 0 else np.nan}
+        row |= {"rate_first_m3": rate[0], "rate_last_m3": rate[-1]}
+        if "max_wear_depth_history" in case:
+            depth = case["max_wear_depth_history"].values
+            row["depth_m"] = float(np.nanmax(depth)) if np.isfinite(depth).any() else np.nan
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def plot_energy(dataset, path: str | Path) -> Path | None:
+    """The worn volume against the friction energy dissipated, one line per case."""
+    plt = figures.pyplot()
+    cases = [c for c in _cases(dataset) if "cycle_friction_work" in c[2]][: figures.MAX_LINES]
+    if plt is None or not cases:
+        return None
+    fig, ax = plt.subplots(figsize=(5.6, 4.2), layout="constrained")
+    statuses = []
+    for k, (labels, isel, case) in enumerate(cases):
+        summed = totals(case)
+        statuses.append(figures.status_of(dataset, isel))
+        style = figures.series_style(k, len(cases), summed["volume"].size, statuses[-1])
+        ax.loglog(summed["energy"], summed["volume"] * 1e18, **style,
+                  label=figures.labels_text(labels))  # fmt: skip
+    ax.set_xlabel("friction energy dissipated (J), summed over the load cycles")
+    ax.set_ylabel("worn volume (um^3)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, handles=ax.get_legend_handles_labels()[0] + figures.status_handle(
+        statuses))  # fmt: skip
+    figures.suptitle(
+        fig, f"{dataset.attrs.get('campaign', '')}: worn volume against friction energy",
+        figures.status_note(statuses),
+    )  # fmt: skip
+    figures.save(plt, fig, path)
+    return Path(path)
+
+
+def plot_checkpoints(dataset, out: str | Path, field: str, path: str | Path) -> Path | None:
+    """A case-file profile (:data:`PROFILES`) at checkpoints, a panel per case."""
+    from ..run import storage
+
+    plt = figures.pyplot()
+    if plt is None:
+        return None
+    stored = storage.case_index(out)
+    panels = []
+    for labels, isel, case in _cases(dataset):
+        case_id = str(case["case_id"].item())
+        if case_id not in stored.results:
+            continue
+        with storage.open_case(out, case_id, index=stored) as data:
+            if field not in data:
+                continue
+            rows = data[field].values
+            x = data["x"].values.astype(float)
+        done = case["load_cycles"].values
+        done = done[np.isfinite(done)][: rows.shape[0]]
+        picks = np.unique(np.linspace(0, rows.shape[0] - 1, CHECKPOINTS).round().astype(int))
+        panels.append((labels, isel, x, rows[picks], done[picks]))
+        if len(panels) == MAX_PANELS:
+            break
+    if not panels:
+        return None
+    _, scale, ylabel, title = PROFILES[field]
+    fig, axes, _ = figures.panel_grid(plt, len(panels), 4.2, 3.2)
+    statuses = []
+    for ax, (labels, isel, x, rows, done) in zip(axes, panels, strict=True):
+        statuses.append(figures.status_of(dataset, isel))
+        for j, (row, cycles) in enumerate(zip(rows, done, strict=True)):
+            style = figures.series_style(j, len(rows), x.size, statuses[-1])
+            done = f"after {int(cycles):,} cycle" + ("s" if cycles != 1 else "")
+            ax.plot(x * 1e3, row * scale, **style, label=done)
+        ax.set_xlabel("x (mm), through the contact axis")
+        ax.set_ylabel(ylabel)
+        ax.set_title(figures.title(labels, dataset=dataset), fontsize=8)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=6)
+        figures.mark_panel(ax, [statuses[-1]])
+    figures.suptitle(
+        fig, f"{dataset.attrs.get('campaign', '')}: {title.lower()} at checkpoints",
+        figures.status_note(statuses, "red dashed frame"),
+    )  # fmt: skip
+    figures.save(plt, fig, path)
+    return Path(path)
+
+
+def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
+    """Markdown lines of the wear part of the report (figures appended to ``shown``)."""
+    lines = ["## Wear", ""]
+    lines += [
+        "`cycles`: load cycles (jumps counted), `solved`: cycles solved; `volume_m3` and",
+        "`energy_J`: worn volume (both bodies) and friction energy dissipated over the load",
+        "cycles; `rate_*`: volume worn per load cycle in the first and the last solved cycle;",
+        "`depth_m`: the deepest wear.",
+        "",
+        figures.markdown_table(wear_table(dataset)),
+        "",
+    ]
+    if plt is None:
+        return lines
+    made = [("Worn volume against energy", plot_energy(dataset, out / f"{name}_wear_energy.png"))]
+    for field, (suffix, _, _, title) in PROFILES.items():
+        png = plot_checkpoints(dataset, out, field, out / f"{name}_{suffix}.png")
+        made.append((f"{title} at checkpoints", png))
+    for title, png in made:
+        if png:
+            shown.append((title, png, "every finished case that wears"))
+            lines += [f"### {title}", "", f"![{title}]({png.name})", ""]
+    return lines
