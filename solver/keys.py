@@ -60,6 +60,10 @@ MAX_STAGE_STEPS = 100_000
 #: Largest creepage of a rolling stage: a rigid slip of the whole distance rolled (steel
 #: slides fully from about 0.005, rubber from about 0.1).
 MAX_CREEPAGE = 1.0
+#: Largest prescribed tangential shift (``tangential_shift``) over the contact's smaller Hertz
+#: semi-axis: the shift is a rigid displacement of the bodies, whose shapes stay where they
+#: are (small displacement); a stroke that moves the contact farther is a slide.
+MAX_SHIFT = 0.1
 #: Largest roll per increment of a transient rolling stage with friction, in units of the
 #: contact's semi-axis along the roll, without a note: the tractions converge with the step
 #: (first order).  A 4 a roll at xi = 1e-3 (steel, 48 x 16 cells) put the creep force 115,
@@ -366,6 +370,14 @@ CASE_KEYS: tuple[Key, ...] = (
         "Sneddon's radius within the slope limit); 0 unloads", _LOADS, "Target normal force W."),
     Key("load", "tangential_force", "number or [Qx, Qy]", "N", "[0, 0] (then the previous)",
         "|Q| < mu W (no gross sliding)", "friction", "Target tangential force on body 2."),
+    Key("load", "tangential_shift", "number or [dx, dy]", "m", "none (the force is prescribed)",
+        f"finite; |shift| <= {MAX_SHIFT:g} a (Hertz); not with tangential_force, slide, roll, "
+        "creepage or steady; mu > 0; elastic bodies, not periodic", "displacement control",
+        "Target rigid tangential shift of body 1 relative to body 2 (the history "
+        "tangential_shift_x/y) at the end of the stage, ramped from the shift before it: the "
+        "tangential force is then a result (displacement-controlled fretting, partial to "
+        "gross slip).  A later stage without tangential_shift or tangential_force holds "
+        "the shift."),
     Key("load", "slide", "[dx, dy]", "m", "[0, 0] (no motion)",
         "finite; not with tangential_force; the window grows by the travel",
         "sliding contacts", "Travel of body 1's apex over body 2 during the stage, in gross "
@@ -410,6 +422,10 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("load.path[i]", "tangential_force", "number or [Qx, Qy]", "N",
         "the previous stage's", "|Q| < mu W", "load paths with friction",
         "As load.tangential_force."),
+    Key("load.path[i]", "tangential_shift", "number or [dx, dy]", "m",
+        "none (the force is prescribed; after a shift stage the shift held)",
+        f"|shift| <= {MAX_SHIFT:g} a; not with tangential_force", "displacement control",
+        "As load.tangential_shift."),
     Key("load.path[i]", "slide", "[dx, dy]", "m", "[0, 0] (no motion)",
         "finite; not with tangential_force", "sliding contacts", "As load.slide."),
     Key("load.path[i]", "roll", "[dx, dy]", "m", "[0, 0] (no motion)",

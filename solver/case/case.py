@@ -65,6 +65,7 @@ from .options import (
 )
 from .path import (
     LoadStage,
+    check_driven_stages,
     check_mean_pressure,
     parse_path,
     parse_stage,
@@ -348,14 +349,9 @@ class Case:
                 "give body 2 flat and body 1 the pair's radius (1/R = 1/R1 + 1/R2 along each "
                 "axis), which the half-space contact sees alike",
             )
-        for stage, path in zip(stages, paths, strict=True):
-            creeps = stage.creepage is not None and any(stage.creepage)
-            if mu == 0.0 and (creeps or stage.spin):
-                fail(
-                    f"{path}.{'creepage' if creeps else 'spin'}",
-                    "friction.coefficient is 0: a frictionless contact has no creep force; "
-                    "remove creepage and spin or give a friction coefficient",
-                )
+        scene = "with an elastic-plastic body" if has_plastic else ""
+        scene = "in periodic mode (grid.periodic)" if grid.periodic else scene
+        check_driven_stages(stages, paths, mu, pair, scene)
         check_periodic_scene(body1, body2, stages, mu, grid)
         check_line_scene(body1, body2, stages, paths, grid)
         check_plastic_scene(body1, body2, stages, grid)

@@ -20,6 +20,7 @@ from ..keys import (
     MAX_CREEPAGE,
     MAX_CYCLES,
     MAX_INCREMENTS,
+    MAX_SHIFT,
     MAX_STAGE_STEPS,
     PRESSURE_RATIO_RANGE,
     required_keys,
@@ -68,6 +69,10 @@ class LoadStage:
         scaled by them (under ``"auto"`` 1 here; the solve sets them).
     block : int
         Load cycles of the stage's cycle block (0 outside one).
+    shift : (float, float) or None
+        Target rigid tangential shift (m) of body 1 relative to body 2 at the end of the
+        stage (``tangential_shift``), ramped from the shift before it; the tangential force
+        is then a result.  None: not prescribed.
     """
 
     normal_force: float
@@ -80,6 +85,7 @@ class LoadStage:
     spin: float = 0.0
     weight: int = 1
     block: int = 0
+    shift: tuple[float, float] | None = None
 
 
 def parse_path(
@@ -148,7 +154,7 @@ def parse_path(
 
 def _after(stage: LoadStage) -> tuple:
     """What a stage leaves to the next: (W, Q, whether the force is free)."""
-    free = stage.creepage is not None and stage.normal_force > 0
+    free = (stage.creepage is not None or stage.shift is not None) and stage.normal_force > 0
     return stage.normal_force, stage.tangential_force, free
 
 
@@ -375,13 +381,35 @@ def parse_stage(table: Any, path: str, previous: tuple, pair: Pair, first: bool)
             )
         motion = "steady"
         given["steady"] = True
-    creepage, spin = _parse_creepage(table, path, previous, motion, given)
-    if creepage is not None:  # the force is a result
+    shift = _parse_shift(table, path, motion, given)
+    creepage, spin = (None, 0.0) if shift else _parse_creepage(table, path, previous, motion, given)
+    if creepage is not None or shift is not None:  # the force is a result
         q = (0.0, 0.0)
     steps = integer(table.get("steps", 1), f"{path}.steps", 1, MAX_STAGE_STEPS)
     given["steps"] = steps
     stage = LoadStage(force, q, steps, travel=travel, motion=motion, creepage=creepage, spin=spin)
-    return stage, given
+    return dataclasses.replace(stage, shift=shift), given
+
+
+def _parse_shift(table: Any, path: str, motion: str, given: dict) -> tuple | None:
+    """The prescribed tangential shift (m) of a stage, or None (module docstring)."""
+    if "tangential_shift" not in table:
+        return None
+    where = f"{path}.tangential_shift"
+    clash = [k for k in ("tangential_force", "creepage", "spin") if k in table] + [motion] * bool(
+        motion
+    )
+    if clash:
+        fail(
+            where,
+            f"a prescribed shift makes the tangential force a result; it does not go with "
+            f"{clash[0]}: remove one of the two (a stroke that moves the contact is a slide)",
+        )
+    value = entries(table["tangential_shift"], where, "dx or [dx, dy] (m)", (2,), scalar=True)
+    values = value if isinstance(value, list) else [value, 0.0]
+    shift = tuple(number(v, where) for v in values)
+    given["tangential_shift"] = list(shift)
+    return shift
 
 
 def _parse_creepage(table: Any, path: str, previous: tuple, motion: str, given: dict) -> tuple:
@@ -406,8 +434,9 @@ def _parse_creepage(table: Any, path: str, previous: tuple, motion: str, given: 
     if previous[2] and "tangential_force" in table:
         fail(
             f"{path}.tangential_force",
-            "the previous stage rolls at given creepages, so its creep force is a result, not "
-            "the start of a ramp: give creepage here too, or unload (normal_force = 0) first",
+            "the previous stage rolls at given creepages or prescribes tangential_shift, so "
+            "its tangential force is a result, not the start of a ramp: give creepage or "
+            "tangential_shift here too, or unload (normal_force = 0) first",
         )
     if not creep_keys:
         # after a creepage stage the force stays free: the rigid shift is held (no travel) or
@@ -442,9 +471,10 @@ def slides(stages) -> bool:
 
 
 def tangential_load(stages) -> bool:
-    """True when a stage prescribes a tangential force or rolls at given creepages or spin."""
+    """True when a stage prescribes a tangential force or shift, or creepages or spin."""
     return any(
-        any(stage.tangential_force) or stage.creepage is not None or stage.spin for stage in stages
+        any(stage.tangential_force) or stage.creepage is not None or stage.spin or stage.shift
+        for stage in stages
     )
 
 
@@ -484,3 +514,35 @@ def swap_rolling(table: dict, stages: list[dict]) -> None:
         if "creepage" in stage:
             xi, eta = stage["creepage"]
             stage["creepage"] = [-xi if xi else 0.0, eta]
+
+
+def check_driven_stages(stages, paths, mu: float, pair: Pair, scene: str) -> None:
+    """Refuse creepage, spin or tangential_shift without friction, and what shifts cannot do.
+
+    ``scene``: "" or why a prescribed shift is not built for the case (an elastic-plastic body,
+    the periodic mode).  A shift past :data:`MAX_SHIFT` of the smaller Hertz semi-axis would
+    move the contact, which the fixed shapes do not.
+    """
+    for stage, path in zip(stages, paths, strict=True):
+        creeps = stage.creepage is not None and any(stage.creepage)
+        if mu == 0.0 and (creeps or stage.spin or stage.shift):
+            key = "tangential_shift" if stage.shift else "creepage" if creeps else "spin"
+            fail(
+                f"{path}.{key}",
+                "friction.coefficient is 0: a frictionless contact carries no tangential force; "
+                f"remove {key} or give a friction coefficient",
+            )
+        if stage.shift is None:
+            continue
+        if scene:
+            fail(f"{path}.tangential_shift", f"a prescribed shift is not built yet {scene}")
+        if pair.geometry.hertzian and stage.normal_force > 0:
+            semi = hertz(stage.normal_force, pair.composite_modulus, pair.curvature)
+            largest = MAX_SHIFT * min(semi.semi_axis_x, semi.semi_axis_y)
+            if math.hypot(*stage.shift) > largest:
+                fail(
+                    f"{path}.tangential_shift",
+                    f"|shift| = {math.hypot(*stage.shift):.3g} m passes {MAX_SHIFT:g} of the "
+                    f"contact's semi-axis ({largest:.3g} m): the shapes would have to move; "
+                    "slide the stroke instead (load.path[i].slide with a rigid body 1)",
+                )

@@ -173,11 +173,12 @@ def check_wear_case(wear: Wear, stages, mu: float, plastic_body1: bool) -> None:
             "the moving body 1's worn surface travels with it, which is not built yet: "
             "let body 2 wear (wear.body2), or fret body 1 in place (tangential_force)",
         )
-    slips = moving or any(math.hypot(*s.tangential_force) > 0.0 for s in stages)
+    slips = moving or any(math.hypot(*s.tangential_force) > 0.0 or s.shift for s in stages)
     if not slips:
         fail(
             "wear",
-            "no stage of load.path slips (a tangential_force, a slide or a roll), so nothing "
+            "no stage of load.path slips (a tangential_force or tangential_shift, a slide or a "
+            "roll), so nothing "
             "wears: add such a stage or remove the table",
         )
     if wear.cycle_jump != 1 and not any(s.cycle for s in stages):

@@ -110,10 +110,13 @@ def scene(case: Case) -> tuple[tuple[str, ...], Callable[..., StepResult]]:
     return (*loops[:1], *motions, *loops[1:]), step
 
 
-def _increment_step(contact_step, stage, moving: bool, creep=None) -> Callable[..., StepResult]:
+def _increment_step(
+    contact_step, stage, moving: bool, creep=None, shift=None
+) -> Callable[..., StepResult]:
     """The contact step of one increment of ``stage``: sliding, rolling (creepage) or static.
 
-    ``creep``: the increment's (creepage, spin) of a steady stage (:meth:`Case.creep_ramp`).
+    ``creep``: the increment's (creepage, spin) of a steady stage (:meth:`Case.creep_ramp`);
+    ``shift``: its prescribed rigid shift (m) of a ``tangential_shift`` stage.
     """
     if stage.motion == "steady":
         return functools.partial(steady_step, creepage=creep[0], spin=creep[1])
@@ -121,6 +124,8 @@ def _increment_step(contact_step, stage, moving: bool, creep=None) -> Callable[.
         return sliding_step
     if (stage.creepage is not None or stage.spin) and contact_step is slip_stick_step:
         return functools.partial(slip_stick_step, creepage=stage.creepage, spin=stage.spin)
+    if shift is not None:  # displacement control
+        return functools.partial(slip_stick_step, shift=shift)
     return contact_step
 
 
@@ -383,6 +388,7 @@ def _solve(case: Case) -> Result:
     failures: list[tuple[int, str]] = []  # (step, what did not converge)
     outcome = None
     cycle_start = None
+    shifted = (None, None, 0)  # a shift stage, the shift at its start, its increments so far
     cycle_profiles: dict[str, list] = {}  # CYCLE_PROFILES at the end of every cycle
     loaded_positions: set[tuple[float, float, float, float]] = set()  # (p_x, p_y, sign_x, sign_y)
     before = None  # (state, load increment) of the step before the last (elastic predictor)
@@ -402,7 +408,15 @@ def _solve(case: Case) -> Result:
                 guess = previous = None
             direction = new_direction
         moving = position_of(target) != position_of(previous_target)
-        step_of = _increment_step(contact_step, stage, moving, creep)
+        if stage.shift is not None:  # the shift ramped from the stage's start
+            if stage is not shifted[0]:
+                shifted = (stage, np.asarray(state.shift, dtype=float), 0)
+            shifted = (*shifted[:2], shifted[2] + 1)
+            fraction = shifted[2] / stage.steps
+            shift = shifted[1] + fraction * (np.asarray(stage.shift) - shifted[1])
+        else:
+            shift = None
+        step_of = _increment_step(contact_step, stage, moving, creep, shift)
         # a load position of Melan's check: Hamilton's field is a slide's load, or a
         # frictionless roll's (a rolling contact's shear is not mu p)
         hamilton = stage.motion == "slide" or case.friction_coefficient == 0.0
@@ -410,7 +424,7 @@ def _solve(case: Case) -> Result:
             loaded_positions.add(
                 (*position_of(target), *np.sign(np.subtract(target, previous_target)[3:]))
             )
-        if coupled and not moving:  # no load sub-steps while the contact moves
+        if coupled and not moving and shift is None:  # no load sub-steps while it moves
             for sub in load_substeps(previous_target, target, case.solver.max_load_ratio, smallest):
                 placed, state, window_plastic, _ = _placed(
                     follower, operators, state, plastic_state, previous_target, sub

@@ -330,6 +330,7 @@ def slip_stick_step(
     *,
     creepage: tuple[float, float] | None = None,
     spin: float = 0.0,
+    shift: tuple[float, float] | None = None,
 ) -> StepResult:
     """Slip-stick loop for one increment (module docstring), static or rolling.
 
@@ -341,8 +342,9 @@ def slip_stick_step(
     x - x_c)`` over a travel d, about the contact's position (x_c, y_c) at the end of the
     increment (the march of one-cell steps then ends at the first-order steady state, spin
     included: :mod:`solver.surface.steady`); the tangential force is then a result and the
-    target's ignored.  ``creepage`` None: the force is prescribed and the rigid shift a
-    result (a ``spin`` still turns body 1).
+    target's ignored.  ``shift`` (m) prescribes the rigid shift at the end of the increment
+    alike (displacement control, no travel).  Else the force is prescribed and the rigid
+    shift a result (a ``spin`` still turns body 1).
     """
     case, surface = operators.case, operators.surface
     options = case.solver
@@ -363,10 +365,11 @@ def slip_stick_step(
         prev_ux, prev_uy = previous.shear_slip_x, previous.shear_slip_y
     known_x = -prev_ux + previous.shift[0] - previous.pressure_slip_x + res_x - previous.residual_x
     known_y = -prev_uy + previous.shift[1] - previous.pressure_slip_y + res_y - previous.residual_y
-    shift = None  # the rigid shift at the end of the increment when prescribed
     distance = float(np.hypot(*np.subtract(position, previous.position)))
-    if creepage is not None:  # the force is free: the rigid slip goes into the known part
+    if creepage is not None:  # the rigid shift at the end of the increment is prescribed
         shift = np.asarray(previous.shift, dtype=float) + distance * np.asarray(creepage)
+    if shift is not None:  # the force is free: the rigid slip goes into the known part
+        shift = np.asarray(shift, dtype=float)
         known_x, known_y = known_x - shift[0], known_y - shift[1]
     if spin and distance:  # the spin's rotation, also under a prescribed force
         # about the contact's centre at the end of the increment, where the tractions are
