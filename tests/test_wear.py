@@ -549,3 +549,47 @@ def test_the_report_tells_the_wear_and_draws_it(tmp_path):
         assert 0.0 < float(value["rate_last_m3"]) and 0.0 < float(value["rate_first_m3"])
     for suffix in ("wear_energy", "wear_profiles", "wear_pressure"):
         assert (out / f"worn_{suffix}.png").stat().st_size > 10_000
+
+
+def test_gross_slip_wear_of_a_sphere_matches_the_method_of_dimensionality_reduction():
+    """A rigid sphere slid to and fro by 0.02 a over an incompressible flat (beta = 0: the
+    pressure axisymmetric) for 400 cycles, wearing its centre until the pressure there falls to
+    0.64 p_H and the contact widens by a quarter: the worn profile and the pressure across the
+    stroke against MDR's (Popov and Hess; solver.theory.mdr, an independent 1-D computation
+    whose own discretisation error is about 0.2 % and 0.4 %)."""
+    from solver.theory.mdr import mdr_gross_slip_wear
+
+    nu, cycles, wear_per_pressure = 0.5, 400, 1e-18  # k s: depth per cycle per pressure (m/Pa)
+    modulus = E / (1.0 - nu**2)
+    a = (3.0 * W * RADIUS / (4.0 * modulus)) ** (1.0 / 3.0)
+    stroke = 0.02 * a
+    reference = mdr_gross_slip_wear(RADIUS, W, modulus, wear_per_pressure, cycles, 400, 800)
+    assert reference.pressure[0] < 0.7 * 3.0 * W / (2.0 * math.pi * a * a)  # a worn contact
+    errors = []
+    for n in (32, 64):
+        table = _sliding(n, k=wear_per_pressure / (2.0 * stroke))
+        table["body2"] = {**STEEL, "nu": nu}
+        swing = [{"slide": [d, 0.0], "steps": 2} for d in (-stroke, stroke)]
+        table["load"]["path"] = [
+            {"normal_force": W},
+            {"slide": [stroke / 2, 0.0]},
+            {"cycles": cycles, "stages": swing},
+        ]
+        table["wear"]["cycle_jump"] = "auto"
+        result = solver.solve(solver.Case.from_dict(table))
+        assert result.status == "converged"
+        x, y = result.case.surface_grid.mesh()
+        row = np.argmin(np.abs(x[:, 0]))  # the stroke's middle: across it the wear of y
+        end = np.argmin(np.abs(x[:, 0] - result.history["position_x"][-1]))
+        measured = []
+        for found, i, centre, of in (
+            (result.fields["wear_depth"], row, 0.0, reference.worn_depth),
+            (result.pressure, end, result.history["position_x"][-1], reference.pressure),
+        ):
+            r = np.hypot(x[i, 0] - centre, y[i])
+            expected = np.interp(r, reference.radius, of)
+            inside = r < 0.9 * reference.contact_radius
+            measured.append(np.abs(found[i] - expected)[inside].max() / expected.max())
+        errors.append(measured)
+    (depth32, p32), (depth64, p64) = errors
+    assert max(depth32, depth64) < 0.01 and max(p32, p64) < 0.015 and p64 < p32

@@ -7,6 +7,8 @@
 - :mod:`.half_space`: half-space stresses of surface loads: Love's rectangle, Boussinesq and
   Cerruti point forces, Hamilton's sliding Hertz contact;
 - :mod:`.wear`: the limit of fretting wear in partial slip (Ciavarella and Hills);
+- :mod:`.mdr`: gross-slip wear of an axisymmetric contact by the method of dimensionality
+  reduction (Popov and Heß);
 - :mod:`.shakedown`: shakedown classification of cyclic results, Melan's bound, first yield in
   sliding.
 

@@ -9,6 +9,10 @@ of :data:`solver.variables.CYCLE_QUANTITIES`) :func:`section` writes
   summed over the load cycles (a solved cycle counts the cycles it stands for), one line per
   case on log-log axes: the energy law's ratio is alpha, Archard's k / mu where the cells wear
   only in slip (q = mu p there);
+- ``<name>_fretting_map.png``, for a campaign of two axes (amplitude and load, say): the
+  worn volume per load cycle of the last solved cycle over the two axes, each case marked by
+  its regime in that cycle (partial slip: a stick zone left; gross slip: none), the
+  Vingsbo and Soderberg map with wear;
 - ``<name>_wear_profiles.png`` and ``<name>_wear_pressure.png``: the worn depth and the
   pressure along x through the contact axis at checkpoints (solved cycles spread over the
   path, from the case files' ``cycle_wear_profile`` and ``cycle_pressure_profile``), a panel
@@ -115,6 +119,65 @@ def plot_energy(dataset, path: str | Path) -> Path | None:
     return Path(path)
 
 
+def _axis_values(dataset, dim: str) -> tuple[str, np.ndarray]:
+    """The name and the values that label an axis (its own coordinate, else its first)."""
+    if dim in dataset.coords:
+        return dim, dataset[dim].values
+    name = next(c for c in dataset.coords if dataset[c].dims == (dim,))
+    return name, dataset[name].values
+
+
+def _axis_key(dataset, dim: str) -> str:
+    """The campaign key an axis sweeps ("" when not told)."""
+    return str(dataset[_axis_values(dataset, dim)[0]].attrs.get("campaign_key", ""))
+
+
+def plot_map(dataset, path: str | Path) -> Path | None:
+    """The fretting map with wear over a campaign's two axes (module docstring)."""
+    plt = figures.pyplot()
+    dims = analysis.axis_dims(dataset)
+    cases = _cases(dataset)
+    if plt is None or len(dims) != 2 or not cases or "min_stick_radius" not in dataset:
+        return None
+    from matplotlib.colors import LogNorm
+
+    shifted = [d for d in dims if "tangential" in _axis_key(dataset, d)]
+    dims = shifted + [d for d in dims if d not in shifted]  # the amplitude along x
+    (xname, xs), (yname, ys) = (_axis_values(dataset, d) for d in dims)
+    points = []  # (x, y, rate, gross slip, status)
+    for _, isel, case in cases:
+        rate = case["wear_rate"].values
+        last = np.flatnonzero(np.isfinite(rate))[-1]
+        stick = float(case["min_stick_radius"].values[last])
+        x, y = xs[isel[dims[0]]], ys[isel[dims[1]]]
+        points.append((x, y, rate[last] * 1e18, stick == 0.0, figures.status_of(dataset, isel)))
+    fig, ax = plt.subplots(figsize=(6.0, 4.4), layout="constrained")
+    rates = [p[2] for p in points]
+    norm = LogNorm(min(rates), max(rates)) if min(rates) > 0 else None
+    for gross, marker, label in ((False, "^", "partial slip"), (True, "o", "gross slip")):
+        chosen = [p for p in points if p[3] == gross]
+        if chosen:
+            drawn = ax.scatter([p[0] for p in chosen], [p[1] for p in chosen],
+                               c=[p[2] for p in chosen], norm=norm, cmap="viridis", s=90,
+                               marker=marker, edgecolors="k", label=label)  # fmt: skip
+    untrusted = [p for p in points if p[4] in figures.UNTRUSTED]
+    if untrusted:
+        ax.scatter([p[0] for p in untrusted], [p[1] for p in untrusted], s=260,
+                   facecolors="none", edgecolors="red", linestyles="--")  # fmt: skip
+    fig.colorbar(drawn, ax=ax, label="worn volume per load cycle (um^3), last solved cycle")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(f"{xname} ({figures.units_of(dataset, xname) or '-'})")
+    ax.set_ylabel(f"{yname} ({figures.units_of(dataset, yname) or '-'})")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8, loc="best")
+    statuses = [p[4] for p in points]
+    figures.suptitle(fig, f"{dataset.attrs.get('campaign', '')}: fretting map with wear",
+                     figures.status_note(statuses, "ringed in red"))  # fmt: skip
+    figures.save(plt, fig, path)
+    return Path(path)
+
+
 def plot_checkpoints(dataset, out: str | Path, field: str, path: str | Path) -> Path | None:
     """A case-file profile (:data:`PROFILES`) at checkpoints, a panel per case."""
     from ..run import storage
@@ -178,7 +241,10 @@ def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
     ]
     if plt is None:
         return lines
-    made = [("Worn volume against energy", plot_energy(dataset, out / f"{name}_wear_energy.png"))]
+    made = [
+        ("Fretting map", plot_map(dataset, out / f"{name}_fretting_map.png")),
+        ("Worn volume against energy", plot_energy(dataset, out / f"{name}_wear_energy.png")),
+    ]
     for field, (suffix, _, _, title) in PROFILES.items():
         png = plot_checkpoints(dataset, out, field, out / f"{name}_{suffix}.png")
         made.append((f"{title} at checkpoints", png))
