@@ -418,7 +418,7 @@ class Case:
                 "only an elastic-plastic body leaves a print to ignore: leave the key out",
             )
         if wear is not None:
-            check_wear_case(wear, stages, mu, body1.behaviour == "elastic-plastic")
+            check_wear_case(wear, stages, mu)
         fields, output_spec = parse("output", table.get("output", NO_TABLE), _output)
         if "stress" in fields and not grid.nz:
             fail("output.fields", "stress needs a volume grid: give grid.n = [nx, ny, nz]")
@@ -551,6 +551,9 @@ class Case:
                 stage["tangential_force"] = [-qx if qx else 0.0, qy]
         if any("roll" in stage for stage in stages):
             swap_rolling(table, stages)
+        if "wear" in table:  # each body keeps its coefficient
+            wear = table["wear"]
+            wear["body1"], wear["body2"] = wear["body2"], wear["body1"]
         return Case.from_dict(table)
 
     # -- derived quantities ------------------------------------------------------------------

@@ -148,18 +148,12 @@ def parse_wear(table: Any) -> Wear:
     return Wear(law, **coefficients, cycle_jump=jump, pressure_change=change, solved_cycles=solved)
 
 
-def check_wear_case(wear: Wear, stages, mu: float, plastic_body1: bool) -> None:
+def check_wear_case(wear: Wear, stages, mu: float) -> None:
     """Refuse a case whose wear the solver cannot honour (each with the key to change).
 
-    ``stages``: the load stages; ``mu``: Coulomb's coefficient; ``plastic_body1``: body 1 is
-    elastic-plastic.
+    ``stages``: the load stages; ``mu``: Coulomb's coefficient.  An elastic-plastic body 1
+    is solved as body 2 (:meth:`Case.swapped`), its wear with it.
     """
-    if plastic_body1:
-        fail(
-            "wear",
-            "wear with an elastic-plastic body 1 is not built yet: make body 2 the "
-            "elastic-plastic one (swap the bodies' tables)",
-        )
     if any(s.motion == "steady" for s in stages):
         fail(
             "wear",

@@ -273,6 +273,10 @@ def _on_track(follower: Follower | None, values: np.ndarray) -> np.ndarray:
     return values if follower is None else follower.on_track(values)
 
 
+#: The worn depth fields of the swapped bodies, relabelled.
+_WORN = {"wear_depth": "wear_depth_body1", "wear_depth_body1": "wear_depth"}
+
+
 def _relabelled(result: Result, case: Case) -> Result:
     """The result of ``case.swapped()`` told for ``case``, the bodies relabelled.
 
@@ -293,7 +297,7 @@ def _relabelled(result: Result, case: Case) -> Result:
         result.converged,
         ["solved with the bodies relabelled (the elastic-plastic body 1 as body 2)", *result.notes],
         result.wall_time,
-        {name: mirrored(name, values) for name, values in result.fields.items()},
+        {_WORN.get(name, name): mirrored(name, values) for name, values in result.fields.items()},
         result.depth,
         result.depth_body1,
         result.truncated,
