@@ -144,16 +144,22 @@ def test_bad_wear_tables_are_refused_in_one_line(table, where, what):
 
 
 def test_wear_the_solver_cannot_honour_is_refused():
-    """A moving body 1's wear, a path that never slips, the energy law without friction: each
+    """A rolling body 1's wear, a path that never slips, the energy law without friction: each
     refused with the key to change."""
-    moving = _sliding(32)
-    moving["wear"] = {"law": "archard", "body1": 1e-15}
+    moving = {
+        "body1": {**STEEL, "radius": RADIUS},
+        "body2": STEEL,
+        "load": {"path": [{"normal_force": W}, {"roll": [6e-4, 0.0], "creepage": 1e-3}]},
+        "friction": {"coefficient": 0.3},
+        "grid": {"n": [96, 32]},
+        "wear": {"law": "archard", "body1": 1e-15},
+    }
     pressed = _fretting(32, 0.5)
     pressed["load"] = {"normal_force": W, "steps": 2}
     frictionless = _sliding(32, "energy")
     frictionless["friction"] = {"coefficient": 0.0}
     for table, where, what in (
-        (moving, "wear.body1", "travels with it"),
+        (moving, "wear.body1", "a rolling body 1 brings new surface"),
         (pressed, "wear", "no stage of load.path slips"),
         (frictionless, "wear.law", "friction.coefficient is 0"),
     ):
@@ -609,3 +615,33 @@ def test_an_elastic_plastic_body_1_wears_as_body_2_relabelled():
     assert plastic.fields["wear_depth_body1"].sum() == pytest.approx(
         3.0 * plastic.fields["wear_depth"].sum(), rel=1e-9
     )
+
+
+@pytest.mark.parametrize("n", [24, 48])
+def test_a_sliding_pin_wears_its_own_pressure_times_the_distance(n):
+    """A rigid pin (sphere) slid 9 a over an incompressible flat (beta = 0: Hertz's pressure,
+    unchanged by a small wear), both wearing: every point of the pin's face stays under the
+    same pressure, so the pin wears k1 s p(r) (its frame travels with it, moved onto body 2's
+    by interpolation at sub-cell positions), while a point of the flat's track wears its line
+    load; both volumes are k W s."""
+    table = _sliding(n, k=1e-15)
+    table["body2"] = {**STEEL, "nu": 0.5}
+    a = (3.0 * W * RADIUS / (4.0 * E / (1.0 - 0.5**2))) ** (1.0 / 3.0)  # Hertz, rigid sphere
+    travel = 9.0 * a * (1.0 + 1.0 / (7.0 * n))  # the end not on a cell's centre
+    table["load"]["path"][1] = {"slide": [travel, 0.0], "steps": 4 * n}
+    table["grid"] = {"n": [4 * n, n]}  # n cells across the window (3 a), 9 a of track
+    table["wear"] = {"law": "archard", "body1": 2e-15, "body2": 1e-15}
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "converged"
+    area = result.case.surface_grid.cell_area
+    pin, flat = result.fields["wear_depth_body1"], result.fields["wear_depth"]
+    assert pin.sum() * area == pytest.approx(2e-15 * W * travel, rel=1e-2)
+    assert flat.sum() * area == pytest.approx(1e-15 * W * travel, rel=1e-2)
+    x, y = result.case.surface_grid.mesh()
+    r = np.hypot(x - result.history["position_x"][-1], y)
+    p0 = 3.0 * W / (2.0 * math.pi * a * a)
+    expected = 2e-15 * travel * p0 * np.sqrt(np.clip(1.0 - (r / a) ** 2, 0.0, None))
+    inner = r < 0.8 * a
+    error = np.abs(pin - expected)[inner].max() / expected.max()
+    assert error < (0.02 if n == 24 else 0.008)  # measured 1.1 % and 0.41 %
+    assert np.abs(pin[r > 1.5 * a]).max() < 1e-3 * expected.max()  # (cells and a step of smear)

@@ -161,11 +161,11 @@ def check_wear_case(wear: Wear, stages, mu: float) -> None:
             "roll the contact transiently (load.path[i].roll) instead",
         )
     moving = any(s.motion in ("slide", "roll") for s in stages)
-    if moving and wear.body1 > 0.0:
+    if wear.body1 > 0.0 and any(s.motion == "roll" for s in stages):
         fail(
             "wear.body1",
-            "the moving body 1's worn surface travels with it, which is not built yet: "
-            "let body 2 wear (wear.body2), or fret body 1 in place (tangential_force)",
+            "a rolling body 1 brings new surface into the contact as it turns (a wheel's "
+            "circumference), which is not built yet: let body 2 wear (wear.body2)",
         )
     slips = moving or any(math.hypot(*s.tangential_force) > 0.0 or s.shift for s in stages)
     if not slips:

@@ -459,7 +459,7 @@ def _solve(case: Case) -> Result:
             follower, operators, state, plastic_state, previous_target, target
         )
         if worn is not None:
-            worn.place(placed, follower)
+            worn.place(placed, follower, position_of(target))
         if plastic:
             load_step = np.subtract(target, previous_target)
             before_last = None
@@ -503,10 +503,12 @@ def _solve(case: Case) -> Result:
             if not step_ok and _past_model(placed, outcome.state, (), target):
                 ended = (k, "gross_sliding", _ending_note(k, "gross_sliding", 0.0, None, ""))
         state = outcome.state
+        halfway = np.add(position_of(previous_target), position_of(target)) / 2.0
         previous_target = target
         record(history, k, outcome, area, case.grid.periodic)
         if worn is not None:
-            history["wear_volume"][k] = worn_volume + worn.add(outcome, follower, area, k)
+            added = worn.add(outcome, follower, area, k, halfway)
+            history["wear_volume"][k] = worn_volume + added
             history["max_wear_depth"][k] = max(float(d.max()) for d in worn.depth.values())
             history["cycle_weight"][k] = worn.weights[k]
             if cycles[k] and (k + 1 == total or cycles[k + 1] != cycles[k]):  # a cycle's end
@@ -677,8 +679,8 @@ def _solve(case: Case) -> Result:
     if geometry.profiles or geometry.surfaces:  # a quadric's gap is told by its radii
         result.fields["initial_gap"] = operators.gap
     if worn is not None:
-        for body, depth in worn.depth.items():
-            result.fields["wear_depth" + ("_body1" if body == 1 else "")] = depth
+        for body in worn.depth:  # body 1's where its apex ends
+            result.fields["wear_depth" + ("_body1" if body == 1 else "")] = worn.on_body2(body)
     if case.grid.periodic:  # spots of each step, largest first, NaN past the step's count
         table = np.full((total, max([1, *map(len, step_spots)])), np.nan)
         for k, areas in enumerate(step_spots):

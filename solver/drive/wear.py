@@ -35,10 +35,15 @@ import numpy as np
 
 from ..case.case import Case
 from .steps import StepResult
+from .window import shifted
 
 
 class WornSurfaces:
     """The worn depths of the bodies (m) on the case's surface grid (module docstring).
+
+    A sliding body 1's depth lives in its own frame, which travels with its apex: the case's
+    grid with x - p for x (p the apex's position), moved onto body 2's frame by linear
+    interpolation (:func:`moved`) where its gap is needed and where its wear is added.
 
     Parameters
     ----------
@@ -56,15 +61,42 @@ class WornSurfaces:
         # the cycles each increment's cycle stands for (wear.cycle_jump): its wear scaled
         self.weights = np.repeat([s.weight for s in case.stages], [s.steps for s in case.stages])
         self.jumps = CycleJumps(case, self.weights) if self.wear.auto else None
+        self.spacing = (case.surface_grid.dx, case.surface_grid.dy)
+        self.travels = case.moving and 1 in self.depth  # body 1's frame moves with its apex
+        self.position = (0.0, 0.0)  # the apex's position the gap was last built at (m)
 
-    def place(self, operators, follower) -> None:
-        """Give the increment's operators (a window's, when it follows) the worn gap."""
+    def _cells(self, position, sign: float = 1.0) -> tuple[float, float]:
+        return tuple(sign * p / d for p, d in zip(position, self.spacing, strict=True))
+
+    def _rebuild(self, position) -> None:
+        """The gap's addition with body 1 at ``position`` (m): body 1's depth moved there."""
+        self.position = tuple(position)
+        self.gap = moved(self.depth[1], *self._cells(position))
+        self.gap += self.depth.get(2, 0.0)
+
+    def on_body2(self, body: int) -> np.ndarray:
+        """Body ``body``'s depth (m) in body 2's frame (body 1 where its apex was last)."""
+        if body == 1 and self.travels:
+            return moved(self.depth[1], *self._cells(self.position))
+        return self.depth[body]
+
+    def place(self, operators, follower, position=(0.0, 0.0)) -> None:
+        """Give the increment's operators (a window's, when it follows) the worn gap.
+
+        ``position``: body 1's apex at the end of the increment (m), where its gap is solved.
+        """
+        if self.travels and tuple(position) != self.position:
+            self._rebuild(position)
         operators.wear = self.gap if follower is None else follower.cut(self.gap)
 
-    def add(self, outcome: StepResult, follower, cell_area: float, step: int) -> float:
+    def add(
+        self, outcome: StepResult, follower, cell_area: float, step: int, position=(0.0, 0.0)
+    ) -> float:
         """Wear increment ``step``'s ``outcome`` into the surfaces; its worn volume (m^3).
 
         Scaled by the cycles the increment's cycle stands for (``wear.cycle_jump``).
+        ``position``: body 1's apex halfway through the increment (m): a travelling body 1's
+        wear goes into its frame from there.
         """
         driver = outcome.slid_pressure if self.wear.law == "archard" else outcome.dissipation
         if driver is None:  # nothing slipped (an unloaded or normal step)
@@ -73,9 +105,16 @@ class WornSurfaces:
         volume = 0.0
         for body, depth in self.depth.items():
             worn = (self.weights[step] * self.wear.coefficient(body)) * driver
-            (depth if follower is None else follower.cut(depth))[...] += worn
-            (self.gap if follower is None else follower.cut(self.gap))[...] += worn
             volume += float(worn.sum()) * cell_area
+            if body == 1 and self.travels:
+                whole = worn if follower is None else follower.on_track(worn)
+                depth += moved(whole, *self._cells(position, -1.0))
+                continue
+            (depth if follower is None else follower.cut(depth))[...] += worn
+            if not self.travels:
+                (self.gap if follower is None else follower.cut(self.gap))[...] += worn
+        if self.travels:
+            self._rebuild(self.position)
         self.volume += volume
         return volume
 
@@ -191,3 +230,23 @@ def _block_ids(case: Case) -> list[int]:
         ids.append(block if stage.cycle else -1)
         previous = stage.cycle
     return ids
+
+
+def moved(values: np.ndarray, cells_x: float, cells_y: float) -> np.ndarray:
+    """``values`` moved by fractions of cells along x and y (linear interpolation).
+
+    The value at cell (i, j) is the input's at (i - cells_x, j - cells_y); zero where cells
+    enter.
+    """
+    ix, iy = math.floor(cells_x), math.floor(cells_y)
+    fx, fy = cells_x - ix, cells_y - iy
+    out = np.zeros_like(values)
+    for (dx, dy), share in (
+        ((ix, iy), (1 - fx) * (1 - fy)),
+        ((ix + 1, iy), fx * (1 - fy)),
+        ((ix, iy + 1), (1 - fx) * fy),
+        ((ix + 1, iy + 1), fx * fy),
+    ):
+        if share:
+            out += share * shifted(values, (dx, dy), (0, 1))
+    return out
