@@ -15,6 +15,7 @@ The parts, from the bottom up; each imports only those listed before it (tested)
 - :mod:`solver.numerics`: grids, FFTW plans, threads, tensor convention, Anderson acceleration;
 - :mod:`solver.theory`: closed forms (Hertz, Mindlin, Sneddon, Hamilton, Kalker), shakedown rules;
 - :mod:`solver.plasticity`: hardening laws and the return mapping;
+- :mod:`solver.fatigue`: multiaxial fatigue criteria (Dang Van, Crossland) on stress paths;
 - :mod:`solver.bodies`: shapes, height maps and roughness, elastic constants, Dundurs' beta;
 - :mod:`solver.surface`: influence coefficients, DC-FFT, normal and tangential solvers;
 - :mod:`solver.volume`: subsurface stress, eigenstrain operator, cuboid kernels;
@@ -37,7 +38,7 @@ Where a new kind of physics goes:
 - a surface solver (a periodic operator, steady rolling): :mod:`solver.surface`;
 - a hardening law: :mod:`solver.plasticity.hardening` (and the return mapping if it needs one);
 - a closed form: :mod:`solver.theory`; a theorem solved as a program (a shakedown bound):
-  :mod:`solver.theorems`;
+  :mod:`solver.theorems`; a criterion on stress paths (fatigue): :mod:`solver.fatigue`;
 - a note or a refusal of a case: :mod:`solver.case.notes`.
 """
 
@@ -57,7 +58,8 @@ __getattr__, __dir__ = lazy_exports(__name__, _PUBLIC)
 #: The parts from the bottom up, as listed above: each imports only those before it (a
 #: sub-package's modules import each other without a cycle); ``tests/test_layout.py`` checks it.
 PARTS = (
-    "variables", "keys", "numerics", "theory", "plasticity", "bodies", "surface", "volume",
+    "variables", "keys", "numerics", "theory", "plasticity", "fatigue", "bodies", "surface",
+    "volume",
     "theorems", "case", "result", "drive",
 )  # fmt: skip
 __version__ = "0.1.0"
