@@ -2,36 +2,56 @@
 
 Dang Van's and Crossland's criteria measure a stress path by the smallest ball that encloses
 its deviatoric stresses (5-D): its radius is the shear amplitude, its centre the stabilised
-(mesoscopic) residual stress.  The ball of a set {x_i} is unique; its centre is
-c = sum_i lambda_i x_i for the weights lambda (lambda >= 0, sum 1) that maximise the dual
+(mesoscopic) residual stress.  The ball of a finite set is unique, and it is the ball of at
+most d + 1 of its points (its support), which lie on its surface with the centre in their
+convex hull.
 
-    f(lambda) = sum_i lambda_i ||x_i||^2 - ||sum_i lambda_i x_i||^2 = sum_i lambda_i ||x_i - c||^2,
-
-and f is the squared radius at the optimum.  Any weights bound the radius r*: f(lambda) <= r*^2
-<= max_i ||x_i - c||^2 (the ball about c that holds every point), so the relative gap of
-the two is a certificate.  The weights are found by Frank and Wolfe's method with away steps
-(Yildirim 2008, *SIAM J. Optim.* 19, "Two algorithms for the minimum enclosing ball
-problem", algorithm 2), which converges linearly: each iteration either moves weight toward
-the farthest point j (step (d_j - f) / (2 d_j), d_i = ||x_i - c||^2) or away from the nearest
-point k that has weight (step (f - d_k) / (2 d_k), at most lambda_k / (1 - lambda_k)), each an
-exact line search of f, whichever the larger of d_j - f and f - d_k asks.  All sets iterate
-together (numpy over the sets), each until its gap is below the tolerance; the radius returned
-is max_i ||x_i - c||, every point inside by construction.  Checked against brute force (every
-subset of up to d + 1 points, its circumscribed ball) on random paths (``tests/test_fatigue.py``).
+The algorithm inserts the farthest point (as Bădoiu and Clarkson's core sets, solved
+exactly): start from the ball on two far-apart points; while a point lies outside the current
+ball, add the farthest one to the support and solve the support's ball exactly.  A point
+outside the ball of a set lies on the surface of the ball of the set and the point, so only
+the support's subsets joined by the new point are tried: for each, the ball centred in their
+affine hull through all of them (a small Gram system), the smallest that holds the whole
+support taken.  The radius grows at every insertion, so the loop ends, in a few insertions
+for a stress path (its support is two or three points).  Every set is solved at once (numpy
+over the sets); the radius returned is max_i ||x_i - c||.  Checked against brute force (every
+subset of up to d + 1 points) on random sets (``tests/test_fatigue.py``).
 """
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
-#: Relative gap (r_upper^2 - r_lower^2) / r_upper^2 at which a set's ball is accepted.
-BALL_TOLERANCE = 1e-12
-#: Most iterations (a set not within the tolerance by then is reported).
-BALL_MAX_ITERATIONS = 20_000
+#: Relative slack of "inside the ball" (round-off of the distances).
+BALL_SLACK = 1e-10
+#: Most insertions (each adds a point to a set's support; a stress path needs a few).
+BALL_MAX_INSERTIONS = 200
+
+
+def _subsets(size: int) -> list[tuple[int, ...]]:
+    """The subsets of range(size), the empty one included."""
+    return [s for k in range(size + 1) for s in itertools.combinations(range(size), k)]
+
+
+def _centres(points: np.ndarray) -> np.ndarray:
+    """The centre, in their affine hull, of the ball through each row's points (n, k, d).
+
+    A least-squares solve (a pseudo-inverse): nearly dependent points of a smooth path give
+    a centre too, whose ball is then measured over every point (:func:`_insert`).
+    """
+    if points.shape[1] == 1:
+        return points[:, 0].copy()
+    edges = points[:, 1:] - points[:, :1]  # (n, k-1, d)
+    gram = np.einsum("nid,njd->nij", edges, edges)
+    right = 0.5 * np.einsum("nid,nid->ni", edges, edges)
+    weights = np.einsum("nij,nj->ni", np.linalg.pinv(gram, rcond=1e-12), right)
+    return points[:, 0] + np.einsum("ni,nid->nd", weights, edges)
 
 
 def smallest_balls(
-    points: np.ndarray, tolerance: float = BALL_TOLERANCE, max_iterations: int = BALL_MAX_ITERATIONS
+    points: np.ndarray, max_insertions: int = BALL_MAX_INSERTIONS
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The smallest enclosing ball of each point set (module docstring).
 
@@ -39,10 +59,8 @@ def smallest_balls(
     ----------
     points : numpy.ndarray
         Shape (sets, count, dim): ``count`` points in ``dim`` dimensions per set.
-    tolerance : float
-        Relative gap of the squared radius's bounds at which a set stops.
-    max_iterations : int
-        Iteration cap.
+    max_insertions : int
+        Most insertions per set.
 
     Returns
     -------
@@ -50,59 +68,69 @@ def smallest_balls(
         Shape (sets, dim).
     radii : numpy.ndarray
         Shape (sets,): the largest distance from each centre to its points.
-    gaps : numpy.ndarray
-        Shape (sets,): each set's relative gap at the end (<= ``tolerance`` when converged).
+    excess : numpy.ndarray
+        Shape (sets,): how far the farthest point lies outside the ball solved on the support,
+        relative to its radius (<= the slack when the set is solved; else the loop was cut).
     """
     points = np.asarray(points, dtype=float)
-    sets, count, _ = points.shape
-    # a common shift and scale per set keep the arithmetic well conditioned
+    sets, count, dim = points.shape
     middle = points.mean(axis=1, keepdims=True)
     scale = np.abs(points - middle).max(axis=(1, 2), keepdims=True)
     scale = np.where(scale > 0, scale, 1.0)
     x = (points - middle) / scale
-    squares = np.einsum("mid,mid->mi", x, x)
-    # start: all weight on the point farthest from the first (a diameter's end)
-    first = np.einsum("mid,mid->mi", x - x[:, :1], x - x[:, :1]).argmax(axis=1)
-    weights = np.zeros((sets, count))
-    weights[np.arange(sets), first] = 1.0
-    centre = x[np.arange(sets), first].copy()
-    gaps = np.ones(sets)
-    active = np.arange(sets)
-    for _ in range(max_iterations):
-        if active.size == 0:
-            break
-        w, c, pts = weights[active], centre[active], x[active]
-        distance = squares[active] - 2.0 * np.einsum("mid,md->mi", pts, c) + (c * c).sum(1)[:, None]
-        distance = np.maximum(distance, 0.0)
-        lower = (w * distance).sum(axis=1)  # f(lambda), the squared radius's lower bound
+    rows = np.arange(sets)
+    # the start: a far point from the first, and the far point from it
+    a = np.einsum("mid,mid->mi", x - x[:, :1], x - x[:, :1]).argmax(axis=1)
+    b = np.einsum("mid,mid->mi", x - x[rows, a][:, None], x - x[rows, a][:, None]).argmax(axis=1)
+    support = np.full((sets, dim + 1), -1)  # indices of each set's support (-1: none)
+    support[:, 0], support[:, 1] = a, b
+    centre = 0.5 * (x[rows, a] + x[rows, b])
+    radius2 = 0.25 * np.einsum("md,md->m", x[rows, a] - x[rows, b], x[rows, a] - x[rows, b])
+    excess = np.zeros(sets)
+    active = rows
+    for _ in range(max_insertions):
+        distance = np.einsum("mid,mid->mi", x[active] - centre[active][:, None],
+                             x[active] - centre[active][:, None])  # fmt: skip
         far = distance.argmax(axis=1)
-        upper = distance[np.arange(active.size), far]
-        gap = (upper - lower) / np.maximum(upper, 1e-300)
-        gaps[active] = gap
-        going = gap > tolerance
-        active, w, c, pts = active[going], w[going], c[going], pts[going]
-        distance, lower, far, upper = distance[going], lower[going], far[going], upper[going]
+        worst = distance[np.arange(active.size), far]
+        excess[active] = np.sqrt(worst / np.maximum(radius2[active], 1e-300)) - 1.0
+        outside = worst > radius2[active] * (1.0 + BALL_SLACK) ** 2
+        active, far = active[outside], far[outside]
         if active.size == 0:
             break
-        rows = np.arange(active.size)
-        near = np.where(w > 0, distance, np.inf).argmin(axis=1)
-        d_near = distance[rows, near]
-        toward = (upper - lower) >= (lower - d_near)
-        # toward the farthest point
-        alpha = np.where(toward, (upper - lower) / (2.0 * np.maximum(upper, 1e-300)), 0.0)
-        # away from the nearest weighted point, at most to its weight's end
-        share = w[rows, near]
-        cap = np.where(share < 1.0, share / np.maximum(1.0 - share, 1e-300), 0.0)
-        beta = np.where(
-            toward, 0.0, np.minimum((lower - d_near) / (2.0 * np.maximum(d_near, 1e-300)), cap)
+        centre[active], radius2[active], support[active] = _insert(
+            x[active], support[active], far, dim
         )
-        w *= (1.0 - alpha + beta)[:, None]
-        w[rows, far] += alpha
-        w[rows, near] -= beta
-        w[rows, near] = np.where(~toward & (beta >= cap), 0.0, w[rows, near])
-        c = (1.0 - alpha + beta)[:, None] * c + alpha[:, None] * pts[rows, far]
-        c -= beta[:, None] * pts[rows, near]
-        weights[active], centre[active] = w, c
     centres = middle[:, 0, :] + scale[:, 0, :] * centre
     radii = np.linalg.norm(points - centres[:, None, :], axis=2).max(axis=1)
-    return centres, radii, gaps
+    return centres, radii, np.maximum(excess, 0.0)
+
+
+def _insert(x: np.ndarray, support: np.ndarray, new: np.ndarray, dim: int):
+    """The ball of each set's support and its new point (module docstring)."""
+    n = x.shape[0]
+    rows = np.arange(n)
+    held = support >= 0  # (n, dim + 1)
+    members = np.where(held, support, 0)
+    best_radius = np.full(n, np.inf)
+    best_centre = np.zeros((n, dim))
+    best_support = np.full_like(support, -1)
+    candidates = np.concatenate([members, new[:, None]], axis=1)  # the support and the new point
+    every = np.concatenate([held, np.ones((n, 1), dtype=bool)], axis=1)
+    points = x[rows[:, None], candidates]  # (n, dim + 2, d): the support and the new point
+    for subset in _subsets(dim + 1):
+        if len(subset) > dim:  # with the new point: at most d + 1 points on the surface
+            continue
+        chosen = list(subset) + [dim + 1]  # the new point always on the surface
+        valid = held[:, list(subset)].all(axis=1) if subset else np.ones(n, dtype=bool)
+        centre = _centres(points[:, chosen])
+        # the ball about that centre that holds the support and the new point
+        gap = points - centre[:, None]
+        radius2 = np.where(every, np.einsum("nkd,nkd->nk", gap, gap), 0.0).max(axis=1)
+        better = valid & (radius2 < best_radius * (1.0 - 1e-12))
+        best_radius = np.where(better, radius2, best_radius)
+        best_centre[better] = centre[better]
+        picked = np.full((n, dim + 1), -1)
+        picked[:, : len(chosen)] = candidates[:, chosen]
+        best_support[better] = picked[better]
+    return best_centre, best_radius, best_support

@@ -90,8 +90,9 @@ class FatigueResult:
         The factors of safety b_DV / sigma_DV and beta_C / sigma_C (inf where sigma <= 0).
     shear_amplitude : numpy.ndarray
         sqrt(J2,a) (Pa): the ball's radius over sqrt 2.
-    gap : numpy.ndarray
-        The ball's certified relative gap (:func:`smallest_balls`).
+    excess : numpy.ndarray
+        How far a path's farthest point lies outside its ball, relative (:func:`smallest_balls`;
+        round-off when solved).
     """
 
     dang_van: np.ndarray
@@ -99,7 +100,7 @@ class FatigueResult:
     dang_van_factor: np.ndarray
     crossland_factor: np.ndarray
     shear_amplitude: np.ndarray
-    gap: np.ndarray
+    excess: np.ndarray
 
 
 def deviatoric_coordinates(stress: np.ndarray) -> np.ndarray:
@@ -140,7 +141,7 @@ def fatigue_criteria(paths: np.ndarray, limits: FatigueLimits) -> FatigueResult:
     paths = np.asarray(paths, dtype=float)
     pressure = trace(paths) / 3.0  # (points, samples)
     coordinates = np.moveaxis(deviatoric_coordinates(paths), 0, -1)  # (points, samples, 5)
-    centres, radii, gaps = smallest_balls(coordinates)
+    centres, radii, excess = smallest_balls(coordinates)
     amplitude = radii / math.sqrt(2.0)
     alpha, beta = limits.crossland
     crossland = amplitude + alpha * pressure.max(axis=1)
@@ -159,5 +160,41 @@ def fatigue_criteria(paths: np.ndarray, limits: FatigueLimits) -> FatigueResult:
             return np.where(value > 0, limit / np.maximum(value, 1e-300), np.inf)
 
     return FatigueResult(
-        dang_van, crossland, factor(b, dang_van), factor(beta, crossland), amplitude, gaps
+        dang_van, crossland, factor(b, dang_van), factor(beta, crossland), amplitude, excess
     )
+
+
+def steady_pass_criteria(
+    stress: np.ndarray, limits: FatigueLimits, residual: np.ndarray | None = None
+) -> tuple[FatigueResult, tuple[int, ...]]:
+    """The criteria of a steady pass along x, from one snapshot of the moving load's field.
+
+    A load that passes unchanged along x (a frictionless or sliding contact over an elastic,
+    or elastically shaken-down, half-space) gives every material point on a line along x the
+    same stress path, shifted in time: the snapshot's field along that line, sampled at its
+    cells (the pass's sampling is the grid's spacing along x).  The residual stress of a
+    steady track does not change along x; constant in time at a material point, it adds to
+    each sample of the line's path.
+
+    Parameters
+    ----------
+    stress : numpy.ndarray
+        Shape (6, nx, ...): the moving load's stress field (Pa) at one position, x second.
+    limits : FatigueLimits
+        The material's fatigue limits.
+    residual : numpy.ndarray, optional
+        Shape (6, ...): the track's residual stress (Pa) on each line along x.
+
+    Returns
+    -------
+    FatigueResult
+        One value per line along x (the remaining axes flattened in C order).
+    tuple of int
+        The lines' shape (the remaining axes).
+    """
+    lines = np.moveaxis(np.asarray(stress, dtype=float), 1, -1)  # (6, ..., nx)
+    shape = lines.shape[1:-1]
+    paths = lines.reshape(6, -1, lines.shape[-1])
+    if residual is not None:
+        paths = paths + np.asarray(residual, dtype=float).reshape(6, -1, 1)
+    return fatigue_criteria(paths, limits), shape
