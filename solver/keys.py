@@ -253,6 +253,8 @@ CASE_KEYS: tuple[Key, ...] = (
         "Optional field outputs."),
     Key("", "wear", "table", "", "optional", "a wear table", "cases that slip",
         "Wear: the worn surface fed back into the contact after every increment."),
+    Key("", "fatigue", "table", "", "optional", "a fatigue table", "passes over body 2",
+        "Multiaxial fatigue of body 2 under the pass: Dang Van's and Crossland's criteria."),
     Key("", "model", "integer", "", "the current model",
         "a version that solves the case as the current model does",
         "every case", "The model version a normalised case was written by (part of the case "
@@ -463,6 +465,13 @@ CASE_KEYS: tuple[Key, ...] = (
     Key("friction", "shear_factor", "number", "1", "1", f"[{MIN_SHEAR_FACTOR:g}, 1]",
         "friction.shear_limit",
         "Orowan's factor m: the cap is m tau_c (an interface weaker than the metal)."),
+    Key("fatigue", "bending_limit", "number", "Pa", "required",
+        "> 0; torsion_limit / bending_limit in (1/sqrt 3, 1)", "fatigue",
+        "Body 2's fully reversed bending (or tension) fatigue limit f_-1: a stress amplitude."),
+    Key("fatigue", "torsion_limit", "number", "Pa", "required", "> 0", "fatigue",
+        "Body 2's fully reversed torsion fatigue limit t_-1: a shear amplitude.  With "
+        "bending_limit it sets Crossland's alpha = 3 t/f - sqrt 3, beta = t and Dang Van's "
+        "a = 3 t/f - 3/2, b = t."),
     Key("wear", "law", "string", "", "required", ", ".join(WEAR_LAWS), "wear",
         "archard: the depth worn dh = k p |s| (p the pressure, s the local slip increment); "
         "energy: dh = alpha q . s, the friction energy dissipated per area (Fouvry)."),

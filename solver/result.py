@@ -119,6 +119,10 @@ class Result:
         Melan's static shakedown factor of the final residual stress under the sliding Hertz
         load (:func:`solver.theory.shakedown.melan_factor`): sliding cases along x with a circular
         Hertz contact on isotropic hardening; None otherwise.
+    fatigue : dict or None
+        ``[fatigue]``: the smallest factor of safety of each criterion under the pass and its
+        depth (``dang_van_factor``, ``dang_van_depth``, ``crossland_factor``,
+        ``crossland_depth``; :mod:`solver.drive.fatigue`).
     section : (ndarray, ndarray) or None
         y and z (m) of a sliding track's cross-section (``solver.method = "static_shakedown"``,
         dimensions ``y_section``, ``z_section``).
@@ -148,6 +152,7 @@ class Result:
     depth_body1: np.ndarray | None = None
     truncated: bool = False
     melan_factor: float | None = None
+    fatigue: dict[str, float] | None = None
     section: tuple[np.ndarray, np.ndarray] | None = None
     surface_flow: bool = False
     cpu_time: float = 0.0
@@ -283,6 +288,7 @@ class Result:
             "converged": int(self.converged),
             "status": self.status,
             **({"melan_factor": self.melan_factor} if self.melan_factor is not None else {}),
+            **(self.fatigue or {}),
             "notes": "; ".join(self.notes),
             "wall_time": self.wall_time,
             "cpu_time": self.cpu_time,

@@ -343,6 +343,18 @@ FIELDS: dict[str, Field] = {
         "1",
         "1 where the static limit's yield condition binds at some load position",
     ),
+    "dang_van_stress": Field(
+        ("y", "z"),
+        "Pa",
+        "Dang Van's equivalent stress max_t [tau(t) + a p_h(t)] of body 2's points under the "
+        "pass, on each line along x ([fatigue]; the factor of safety is torsion_limit over it)",
+    ),
+    "crossland_stress": Field(
+        ("y", "z"),
+        "Pa",
+        "Crossland's equivalent stress sqrt(J2,a) + alpha max p_h of body 2's points under the "
+        "pass, on each line along x ([fatigue])",
+    ),
     "cycle_wear_profile": Field(
         ("cycle", "x"),
         "m",

@@ -221,3 +221,86 @@ def test_the_critical_point_rises_to_the_surface_as_friction_grows():
         values.append(result.dang_van.max())
     assert 0.5 < depths[0] < 0.65 and depths[-2] == depths[-1] == z[0] / a
     assert np.all(np.diff(values) > 0)
+
+
+def _sliding_pass(mu: float, n: list) -> tuple:
+    """A rigid sphere slid over incompressible steel (beta = 0: Hertz's pressure) with the
+    [fatigue] table: the result, the contact radius, p0, the line nearest y = 0 and its y."""
+    import solver
+
+    table = {
+        "body1": {"behaviour": "rigid", "radius": 0.01},
+        "body2": {"behaviour": "elastic", "E": 210e9, "nu": 0.5},
+        "load": {"path": [{"normal_force": 100.0}, {"slide": [4e-4, 0.0], "steps": 8}]},
+        "friction": {"coefficient": mu},
+        "grid": {"n": n, "half_width": 4.0, "depth": 1.5},
+        "fatigue": {"bending_limit": BENDING, "torsion_limit": TORSION},
+    }
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "converged"
+    case = result.case
+    _, y = case.surface_grid.mesh()
+    j = int(np.argmin(np.abs(y[0])))
+    return result, case.reference.radius, case.reference.max_pressure, j, y[0, j]
+
+
+def test_a_sliding_case_tells_its_fatigue_under_the_pass():
+    """[fatigue] on a frictionless sliding sphere: the fields dang_van_stress and
+    crossland_stress over (y, z) against Hamilton's closed-form pass at the same points (within
+    2.5 %, the same critical depths), the smallest factors of safety the limits over their
+    maxima, at the depths told, and in the case's attributes."""
+    from solver.fatigue.hertz_pass import hertz_pass_criteria
+
+    result, a, p0, j, y0 = _sliding_pass(0.0, [96, 72, 24])
+    reference = hertz_pass_criteria(a, p0, 0.4999, LIMITS, result.depth, span=4.0, lateral=y0)
+    for name in ("dang_van", "crossland"):
+        field = result.fields[f"{name}_stress"]
+        assert field.shape == (72, 24)
+        got, want = field[j], getattr(reference, name)
+        assert got.argmax() == want.argmax()
+        assert got.max() == pytest.approx(want.max(), rel=0.025)
+        assert result.fatigue[f"{name}_factor"] == pytest.approx(TORSION / field.max(), rel=1e-12)
+        worst = np.unravel_index(field.argmax(), field.shape)
+        assert result.fatigue[f"{name}_depth"] == result.depth[worst[1]]
+    attrs = result.to_xarray().attrs
+    assert attrs["dang_van_factor"] == result.fatigue["dang_van_factor"]
+
+
+def test_with_friction_the_solved_pass_is_critical_at_the_surface():
+    """mu = 0.3: the solved pass's Dang Van maximum is in the top layer, as Hamilton's; below
+    three cells (dx = 0.11 a) its profile is within 3 % of the closed form, above them low (the
+    tractions constant on cells: the field at depths below a cell's width is their average)."""
+    from solver.fatigue.hertz_pass import hertz_pass_criteria
+
+    result, a, p0, j, y0 = _sliding_pass(0.3, [96, 72, 48])
+    reference = hertz_pass_criteria(a, p0, 0.4999, LIMITS, result.depth, 0.3, span=4.0, lateral=y0)
+    got, want = result.fields["dang_van_stress"][j], reference.dang_van
+    assert got.argmax() == want.argmax() == 0
+    deep = result.depth > 3 * result.case.surface_grid.dx
+    np.testing.assert_allclose(got[deep], want[deep], rtol=0.03)
+    assert got[0] < want[0]
+
+
+def test_fatigue_the_solver_cannot_read_is_refused():
+    import solver
+
+    steel = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
+    base = {
+        "body1": {**steel, "radius": 0.01},
+        "body2": steel,
+        "load": {"normal_force": 100.0},
+        "grid": {"n": [32, 32, 16]},
+        "fatigue": {"bending_limit": BENDING, "torsion_limit": TORSION},
+    }
+    for change, where, what in (
+        ({}, "fatigue", "give a stage that slides or rolls"),
+        ({"fatigue": {"bending_limit": BENDING}}, "fatigue", "torsion_limit"),
+        ({"fatigue": {"bending_limit": BENDING, "torsion_limit": 2 * BENDING}},
+         "fatigue.torsion_limit", "(1/sqrt 3, 1)"),
+        ({"fatigue": {"bending_limit": -BENDING, "torsion_limit": TORSION}},
+         "fatigue.bending_limit", "> 0"),
+    ):  # fmt: skip
+        with pytest.raises(solver.SpecError) as info:
+            solver.Case.from_dict(base | change)
+        message = str(info.value)
+        assert message.startswith(f"{where}") and what in message and "\n" not in message

@@ -38,6 +38,7 @@ from ..theory.hertz import HertzContact, hertz
 from ..theory.sneddon import SneddonContact
 from .batch import NO_TABLE, SharedTables, case_hash
 from .bodies import body_spec, check_surfaces, parse_body
+from .fatigue import FatigueLimits, check_fatigue_case, parse_fatigue
 from .friction import Friction, limit_reached_note, parse_friction, sizing_ratio
 from .grid import GridSpec, check_resolution, domain_half_widths, parse_grid
 from .notes import (
@@ -67,6 +68,7 @@ from .path import (
     LoadStage,
     check_driven_stages,
     check_mean_pressure,
+    creep_ramp,
     parse_path,
     parse_stage,
     slides,
@@ -190,6 +192,10 @@ class Case:
         contained regime, :func:`plastic_index`); the solve repeats them in its notes.
     friction : Friction
         The friction law: ``friction_coefficient`` and the shear limit that caps it.
+    wear : Wear or None
+        ``[wear]``: the wear laws of the bodies.
+    fatigue : FatigueLimits or None
+        ``[fatigue]``: body 2's fatigue limits, its criteria under the pass.
     """
 
     body1: Body
@@ -203,6 +209,7 @@ class Case:
     warnings: tuple[str, ...] = field(default=(), compare=False, hash=False, repr=False)
     friction: Friction = Friction()
     wear: Wear | None = None
+    fatigue: FatigueLimits | None = None
 
     # -- construction -----------------------------------------------------------------------
     @classmethod
@@ -290,6 +297,7 @@ class Case:
                 fail("body1.radius_x", "contact ellipse too slender (R_x/R_y beyond 1:100)")
 
         wear = parse_wear(table["wear"]) if "wear" in table else None
+        fatigue = parse_fatigue(table["fatigue"]) if "fatigue" in table else None
         load = table["load"]
         if not isinstance(load, dict):
             fail("load", "must be a table")
@@ -419,6 +427,8 @@ class Case:
             )
         if wear is not None:
             check_wear_case(wear, stages, mu)
+        if fatigue is not None:
+            check_fatigue_case(stages, bool(grid.nz), grid.periodic, has_plastic)
         fields, output_spec = parse("output", table.get("output", NO_TABLE), _output)
         if "stress" in fields and not grid.nz:
             fail("output.fields", "stress needs a volume grid: give grid.n = [nx, ny, nz]")
@@ -453,11 +463,10 @@ class Case:
             "solver": solver_spec,
             "output": output_spec,
             **({"wear": wear.spec()} if wear is not None else {}),
+            **({"fatigue": fatigue.spec()} if fatigue is not None else {}),
         }
-        case = cls(
-            body1, body2, tuple(stages), mu, grid, solver, fields, spec, tuple(warnings),
-            friction, wear,
-        )  # fmt: skip
+        case = cls(body1, body2, tuple(stages), mu, grid, solver, fields, spec, tuple(warnings),
+                   friction, wear, fatigue)  # fmt: skip
         case.__dict__["pair"] = pair  # the cached Case.pair: the same bodies, built once
         check_resolution(case)
         check_surfaces(case)
@@ -711,33 +720,8 @@ class Case:
             w0, qx0, qy0, px0, py0 = w1, qx1, qy1, px1, py1
 
     def creep_ramp(self) -> Iterator[tuple[tuple[float, float], float]]:
-        """((xi, eta), spin) of every increment of a steady stage, None for others, in order.
-
-        A steady stage ramps linearly from the previous steady stage's creepage and spin (from
-        zero after any other stage): its increments are the points of a creep curve.  A
-        steady stage at a prescribed force gives ``(None, spin)``, its spin ramped alike: the
-        creepage is a result, and the next stage's creepage ramps from zero.
-        """
-        start = ((0.0, 0.0), 0.0)
-        for stage in self.stages:
-            if stage.motion != "steady":
-                start = ((0.0, 0.0), 0.0)
-                yield from (None for _ in range(stage.steps))
-                continue
-            (xi0, eta0), spin0 = start
-            if stage.creepage is None:  # a prescribed force: the creepage is a result
-                for k in range(1, stage.steps + 1):
-                    yield None, spin0 + k / stage.steps * (stage.spin - spin0)
-                start = ((0.0, 0.0), stage.spin)
-                continue
-            xi1, eta1 = stage.creepage
-            for k in range(1, stage.steps + 1):
-                f = k / stage.steps
-                yield (
-                    (xi0 + f * (xi1 - xi0), eta0 + f * (eta1 - eta0)),
-                    spin0 + f * (stage.spin - spin0),
-                )
-            start = (stage.creepage, stage.spin)
+        """((xi, eta), spin) of every increment of a steady stage (:func:`creep_ramp`)."""
+        return creep_ramp(self.stages)
 
     def increment_stages(self) -> Iterator[LoadStage]:
         """The stage of every load increment, in order (as :meth:`step_targets`)."""

@@ -10,7 +10,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -546,3 +546,33 @@ def check_driven_stages(stages, paths, mu: float, pair: Pair, scene: str) -> Non
                     f"contact's semi-axis ({largest:.3g} m): the shapes would have to move; "
                     "slide the stroke instead (load.path[i].slide with a rigid body 1)",
                 )
+
+
+def creep_ramp(stages) -> Iterator[tuple[tuple[float, float], float]]:
+    """((xi, eta), spin) of every increment of a steady stage, None for others, in order.
+
+    A steady stage ramps linearly from the previous steady stage's creepage and spin (from
+    zero after any other stage): its increments are the points of a creep curve.  A
+    steady stage at a prescribed force gives ``(None, spin)``, its spin ramped alike: the
+    creepage is a result, and the next stage's creepage ramps from zero.
+    """
+    start = ((0.0, 0.0), 0.0)
+    for stage in stages:
+        if stage.motion != "steady":
+            start = ((0.0, 0.0), 0.0)
+            yield from (None for _ in range(stage.steps))
+            continue
+        (xi0, eta0), spin0 = start
+        if stage.creepage is None:  # a prescribed force: the creepage is a result
+            for k in range(1, stage.steps + 1):
+                yield None, spin0 + k / stage.steps * (stage.spin - spin0)
+            start = ((0.0, 0.0), stage.spin)
+            continue
+        xi1, eta1 = stage.creepage
+        for k in range(1, stage.steps + 1):
+            f = k / stage.steps
+            yield (
+                (xi0 + f * (xi1 - xi0), eta0 + f * (eta1 - eta0)),
+                spin0 + f * (stage.spin - spin0),
+            )
+        start = (stage.creepage, stage.spin)

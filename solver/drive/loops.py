@@ -38,6 +38,7 @@ from ..numerics.tensor import equivalent_strain, von_mises
 from ..result import SEPARATED, SLIP, STICK, SURFACE_FLOW_NOTE, TRUNCATED_NOTES, Result
 from ..surface.tangential import friction_bound, over_capacity
 from ..variables import BODY1_SUFFIX, CYCLE_PLASTIC_HISTORIES, HISTORIES, PLASTIC_BODY_HISTORIES
+from .fatigue import pass_fatigue
 from .operators import CaseOperators
 from .plastic_loop import (
     PlasticState,
@@ -659,16 +660,23 @@ def _solve(case: Case) -> Result:
         notes=notes,
         truncated=faces_noted or edge_noted,
     )
-    if plastic or "stress" in case.fields:
+    if plastic or "stress" in case.fields or case.fatigue is not None:
         result.depth = volume.z
         if 1 in case.plastic_bodies:
             result.depth_body1 = case.volume_grid_of(1).z
-    if "stress" in case.fields:
+    if "stress" in case.fields or case.fatigue is not None:
         sheared = state.shear_x.any() or state.shear_y.any()
         shears = (state.shear_x, state.shear_y) if sheared else (None, None)
         stress = operators.stress.stress(state.pressure, *shears)
-        result.fields["stress"] = stress
-        result.fields["von_mises"] = von_mises(stress)
+        if "stress" in case.fields:
+            result.fields["stress"] = stress
+            result.fields["von_mises"] = von_mises(stress)
+        if case.fatigue is not None:  # the criteria of body 2 under a steady pass
+            fields, result.fatigue, told = pass_fatigue(
+                case, stress, volume.z, position_of(previous_target)[0]
+            )
+            result.fields.update(fields)
+            result.notes.extend(told)
     result.surface_flow = ended is not None and ended[1] == "surface_flow"
     if plastic:
         plastic_fields(result, operators, plastic_state)

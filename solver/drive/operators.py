@@ -162,7 +162,7 @@ class CaseOperators:
         plastic_case = case.plastic_body is not None
         keys = []
         threads, box, precision = options.fft_threads, case.plastic_box, options.volume_precision
-        if plastic_case or "stress" in case.fields:
+        if plastic_case or "stress" in case.fields or case.fatigue is not None:
             volume = case.volume_grid
             keys.append((volume, case.body2, threads, planner, plastic_case, box, precision))
         if 1 in case.plastic_bodies:

@@ -38,15 +38,18 @@ def _subsets(size: int) -> list[tuple[int, ...]]:
 def _centres(points: np.ndarray) -> np.ndarray:
     """The centre, in their affine hull, of the ball through each row's points (n, k, d).
 
-    A least-squares solve (a pseudo-inverse): nearly dependent points of a smooth path give
-    a centre too, whose ball is then measured over every point (:func:`_insert`).
+    A solve of their Gram system with a tiny ridge: nearly dependent points of a smooth path
+    give a centre too, whose ball is then measured over every point (:func:`_insert`).
     """
     if points.shape[1] == 1:
         return points[:, 0].copy()
     edges = points[:, 1:] - points[:, :1]  # (n, k-1, d)
     gram = np.einsum("nid,njd->nij", edges, edges)
     right = 0.5 * np.einsum("nid,nid->ni", edges, edges)
-    weights = np.einsum("nij,nj->ni", np.linalg.pinv(gram, rcond=1e-12), right)
+    # a ridge of 1e-13 of the trace: the solve of a nearly singular Gram stays finite
+    ridge = 1e-13 * np.trace(gram, axis1=1, axis2=2) + 1e-300
+    gram = gram + ridge[:, None, None] * np.eye(gram.shape[1])
+    weights = np.linalg.solve(gram, right[..., None])[..., 0]
     return points[:, 0] + np.einsum("ni,nid->nd", weights, edges)
 
 

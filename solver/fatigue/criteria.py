@@ -67,6 +67,10 @@ class FatigueLimits:
                 "at or above 1, torsion is not the milder test"
             )
 
+    def spec(self) -> dict:
+        """The normalised ``[fatigue]`` table."""
+        return {"bending_limit": self.bending, "torsion_limit": self.torsion}
+
     @property
     def crossland(self) -> tuple[float, float]:
         """(alpha_C, beta_C (Pa))."""

@@ -118,6 +118,14 @@ SCALARS = {
         "Pa",
         "initial shear yield stress k = sigma_Y0 / sqrt(3) of the elastic-plastic body (von Mises)",
     ),
+    **{
+        f"{name}_{what}": (unit, f"{label}'s {text} of body 2 under the pass ([fatigue])")
+        for name, label in (("dang_van", "Dang Van"), ("crossland", "Crossland"))
+        for what, unit, text in (
+            ("factor", "1", "smallest factor of safety"),
+            ("depth", "m", "depth of the smallest factor of safety"),
+        )
+    },
 }
 #: Per-case bookkeeping variables of a campaign dataset (name: long_name).
 BOOKKEEPING = {
@@ -129,6 +137,11 @@ BOOKKEEPING = {
     "loops": "loops that ran (space-separated)",
     "shakedown_reason": "why the case has its shakedown regime (solver.theory.shakedown.classify)",
 }
+#: Scalars only some cases have (left out of a campaign's dataset when none has them).
+_OPTIONAL_SCALARS = (
+    "shear_yield_stress", "melan_factor", "dang_van_factor", "dang_van_depth",
+    "crossland_factor", "crossland_depth",
+)  # fmt: skip
 _ATTRS = (
     "hertz_radius",
     "hertz_semi_axis_x",
@@ -147,6 +160,10 @@ _ATTRS = (
     "friction_coefficient",
     "shear_yield_stress",
     "melan_factor",
+    "dang_van_factor",
+    "dang_van_depth",
+    "crossland_factor",
+    "crossland_depth",
     "wall_time",
     "cpu_time",
     "peak_rss",
@@ -456,8 +473,8 @@ def assemble(out: str | Path, campaign: Campaign | None = None) -> xr.Dataset:
             continue  # a closed-form reference no case of this campaign has
         if name in REDUCED and REDUCED[name][0] not in histories:
             continue  # a history no case of this campaign has (e.g. plastic ones)
-        if name in ("shear_yield_stress", "melan_factor") and np.isnan(values).all():
-            continue  # no case has it (no elastic-plastic case, no sliding one)
+        if name in _OPTIONAL_SCALARS and np.isnan(values).all():
+            continue  # no case has it (no elastic-plastic case, no sliding one, no fatigue)
         units, long_name = SCALARS[name]
         data_vars[name] = (dims, values, {"units": units, "long_name": long_name})
     for name in HISTORY_META:

@@ -1,0 +1,41 @@
+"""The ``[fatigue]`` table: Dang Van's and Crossland's criteria of body 2 under a pass.
+
+The criteria (:mod:`solver.fatigue.criteria`) read the stress path of every material point of
+body 2 as the contact passes; a steady pass gives it from one snapshot of the moving load's
+field (:func:`~solver.fatigue.criteria.steady_pass_criteria`), so a case with the table must
+move its contact (a ``slide`` or ``roll`` stage) over a volume grid.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ..fatigue.criteria import FatigueLimits
+from ..keys import required_keys, table_keys
+from .reading import check_keys, fail, number
+
+
+def parse_fatigue(table: Any) -> FatigueLimits:
+    """Body 2's fatigue limits of a ``[fatigue]`` table (module docstring)."""
+    table = check_keys(table, "fatigue", table_keys("fatigue"), required_keys("fatigue"))
+    bending = number(table["bending_limit"], "fatigue.bending_limit", positive=True)
+    torsion = number(table["torsion_limit"], "fatigue.torsion_limit", positive=True)
+    try:
+        return FatigueLimits(bending, torsion)
+    except ValueError as error:
+        fail("fatigue.torsion_limit", str(error))
+
+
+def check_fatigue_case(stages, volume: bool, periodic: bool, plastic: bool) -> None:
+    """Refuse a case whose pass the criteria cannot read (each with the key to change)."""
+    if not any(stage.motion in ("slide", "roll") for stage in stages):
+        fail(
+            "fatigue",
+            "the criteria read the stress path of a pass: give a stage that slides or rolls "
+            "(load.path[i].slide or roll), or remove the table",
+        )
+    if not volume:
+        fail("grid.n", "the fatigue criteria read body 2's volume: give grid.n = [nx, ny, nz]")
+    if periodic or plastic:
+        what = "in periodic mode" if periodic else "with an elastic-plastic body (residual stress)"
+        fail("fatigue", f"the fatigue criteria are not built yet {what}")
