@@ -56,7 +56,7 @@ _SUBTABLES = {
     "body1": "bodyN", "body2": "bodyN", "hardening": "bodyN.hardening",
     "profile": "bodyN.profile", "surface": "bodyN.surface", "roughness": "bodyN.roughness",
     "kinematic": "bodyN.hardening.kinematic", "load": "load", "friction": "friction",
-    "grid": "grid", "solver": "solver", "output": "output", "wear": "wear",
+    "grid": "grid", "solver": "solver", "output": "output", "wear": "wear", "fatigue": "fatigue",
 }  # fmt: skip
 
 
