@@ -223,15 +223,25 @@ def test_the_critical_point_rises_to_the_surface_as_friction_grows():
     assert np.all(np.diff(values) > 0)
 
 
-def _sliding_pass(mu: float, n: list) -> tuple:
-    """A rigid sphere slid over incompressible steel (beta = 0: Hertz's pressure) with the
-    [fatigue] table: the result, the contact radius, p0, the line nearest y = 0 and its y."""
+def test_a_frictionless_roll_tells_the_fatigue_of_the_same_slide():
+    """Rolling without friction moves the same Hertz pressure as sliding without friction:
+    the same fatigue fields (to the solves' tolerance), and the coarse pass told."""
+    results = [_sliding_pass(0.0, [96, 72, 24], motion)[0] for motion in ("slide", "roll")]
+    slid, rolled = (r.fields["dang_van_stress"] for r in results)
+    assert np.abs(slid - rolled).max() < 1e-6 * slid.max()
+    assert any(note.startswith("fatigue: the pass is sampled at 8.8") for note in results[1].notes)
+
+
+def _sliding_pass(mu: float, n: list, motion: str = "slide") -> tuple:
+    """A rigid sphere slid (or rolled) over incompressible steel (beta = 0: Hertz's pressure)
+    with the [fatigue] table: the result, the contact radius, p0, the line nearest y = 0 and
+    its y."""
     import solver
 
     table = {
         "body1": {"behaviour": "rigid", "radius": 0.01},
         "body2": {"behaviour": "elastic", "E": 210e9, "nu": 0.5},
-        "load": {"path": [{"normal_force": 100.0}, {"slide": [4e-4, 0.0], "steps": 8}]},
+        "load": {"path": [{"normal_force": 100.0}, {motion: [4e-4, 0.0], "steps": 8}]},
         "friction": {"coefficient": mu},
         "grid": {"n": n, "half_width": 4.0, "depth": 1.5},
         "fatigue": {"bending_limit": BENDING, "torsion_limit": TORSION},
