@@ -314,3 +314,57 @@ def test_fatigue_the_solver_cannot_read_is_refused():
             solver.Case.from_dict(base | change)
         message = str(info.value)
         assert message.startswith(f"{where}") and what in message and "\n" not in message
+
+
+def test_a_residual_stress_acts_through_its_hydrostatic_part_alone():
+    """A constant residual stress added to a path shifts its deviatoric part, which the ball's
+    centre takes up: Crossland's amplitude and Dang Van's mesoscopic shear are unchanged, and
+    the criteria move by alpha p_h^r and a p_h^r exactly."""
+    from solver.fatigue.criteria import steady_pass_criteria
+
+    rng = np.random.default_rng(5)
+    stress = rng.normal(size=(6, 40, 7, 3)) * 1e8  # (6, nx, ny, nz)
+    residual = rng.normal(size=(6, 7, 3)) * 1e8
+    bare, _ = steady_pass_criteria(stress, LIMITS)
+    loaded, _ = steady_pass_criteria(stress, LIMITS, residual)
+    hydrostatic = residual[:3].sum(axis=0).ravel() / 3.0
+    alpha, _ = LIMITS.crossland
+    a, _ = LIMITS.dang_van
+    np.testing.assert_allclose(loaded.shear_amplitude, bare.shear_amplitude, rtol=1e-9)
+    np.testing.assert_allclose(loaded.crossland - bare.crossland, alpha * hydrostatic, atol=1e-3)
+    np.testing.assert_allclose(loaded.dang_van - bare.dang_van, a * hydrostatic, atol=1e-3)
+
+
+def test_a_shaken_down_track_is_judged_with_its_residual_stress():
+    """A frictionless rigid sphere slid three times over elastic-perfectly plastic steel at
+    p0 = 4.4 k (above first yield, below the shakedown limit): the strain gained per pass
+    falls, and under the last pass the track's compressive residual stress raises both factors
+    of safety above the elastic body's under the same load."""
+    import solver
+    from solver.result import cycle_summary
+
+    k = 250e6
+
+    def table(body2: dict, cycles: int) -> dict:
+        again = {"hertz_pressure": 4.4 * k, "steps": 2}
+        stages = [{"slide": [2e-4, 0.0], "steps": 8}, {"hertz_pressure": 0.0},
+                  {"slide": [-2e-4, 0.0]}, again]  # fmt: skip
+        return {
+            "body1": {"behaviour": "rigid", "radius": 0.01},
+            "body2": {"E": 210e9, "nu": 0.3, **body2},
+            "load": {"path": [again, {"cycles": cycles, "stages": stages}]},
+            "friction": {"coefficient": 0.0},
+            "grid": {"n": [64, 32, 24]},
+            "solver": {"plastic_tolerance": 1e-4},
+            "fatigue": {"bending_limit": BENDING, "torsion_limit": TORSION},
+        }
+
+    perfect = {"law": "perfect", "yield_stress": math.sqrt(3.0) * k}
+    body = {"behaviour": "elastic-plastic", "hardening": perfect}
+    plastic = solver.solve(solver.Case.from_dict(table(body, 3)))
+    elastic = solver.solve(solver.Case.from_dict(table({"behaviour": "elastic"}, 1)))
+    assert plastic.status == elastic.status == "converged"
+    gained = cycle_summary(plastic.history)["plastic_strain_increment"]
+    assert gained[0] > 5 * gained[1] > 25 * gained[2] > 0
+    for name in ("dang_van_factor", "crossland_factor"):
+        assert plastic.fatigue[name] > 1.1 * elastic.fatigue[name]

@@ -428,7 +428,8 @@ class Case:
         if wear is not None:
             check_wear_case(wear, stages, mu)
         if fatigue is not None:
-            check_fatigue_case(stages, bool(grid.nz), grid.periodic, has_plastic)
+            plastic1 = body1.behaviour == "elastic-plastic"
+            check_fatigue_case(stages, bool(grid.nz), grid.periodic, plastic1)
         fields, output_spec = parse("output", table.get("output", NO_TABLE), _output)
         if "stress" in fields and not grid.nz:
             fail("output.fields", "stress needs a volume grid: give grid.n = [nx, ny, nz]")

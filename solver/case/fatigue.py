@@ -26,7 +26,7 @@ def parse_fatigue(table: Any) -> FatigueLimits:
         fail("fatigue.torsion_limit", str(error))
 
 
-def check_fatigue_case(stages, volume: bool, periodic: bool, plastic: bool) -> None:
+def check_fatigue_case(stages, volume: bool, periodic: bool, plastic_body1: bool) -> None:
     """Refuse a case whose pass the criteria cannot read (each with the key to change)."""
     if not any(stage.motion in ("slide", "roll") for stage in stages):
         fail(
@@ -36,6 +36,6 @@ def check_fatigue_case(stages, volume: bool, periodic: bool, plastic: bool) -> N
         )
     if not volume:
         fail("grid.n", "the fatigue criteria read body 2's volume: give grid.n = [nx, ny, nz]")
-    if periodic or plastic:
-        what = "in periodic mode" if periodic else "with an elastic-plastic body (residual stress)"
+    if periodic or plastic_body1:
+        what = "in periodic mode" if periodic else "with an elastic-plastic body 1"
         fail("fatigue", f"the fatigue criteria are not built yet {what}")

@@ -2,7 +2,10 @@
 
 The final increment's tractions, passing unchanged along x, give every material point on a
 line along x the same stress path (:func:`solver.fatigue.criteria.steady_pass_criteria`): the
-field along that line, sampled at the grid's cells.  Fields ``dang_van_stress`` and
+field along that line, sampled at the grid's cells.  An elastic-plastic body 2 adds its
+residual stress, constant in time at a point (:func:`track_residual`): only its hydrostatic
+part changes the criteria (the ball's centre takes up a constant deviator), by a p_h^r
+(Dang Van) and alpha p_h^r (Crossland).  Fields ``dang_van_stress`` and
 ``crossland_stress`` over (y, z); the result's attributes the smallest factor of safety of
 each criterion and its depth.  Notes when the pass is sampled coarsely (fewer than
 :data:`PASS_CELLS` cells per contact radius along x) or cut short ahead of the contact.
@@ -21,7 +24,28 @@ PASS_CELLS = 10
 PASS_AHEAD = 3.0
 
 
-def pass_fatigue(case, stress: np.ndarray, depth: np.ndarray, position: float) -> tuple:
+def track_residual(case, operators, plastic_state) -> tuple[np.ndarray, bool]:
+    """Body 2's residual stress (6, ny, nz) on the x-slice at the middle of the track (Pa).
+
+    The residual stress of a steady track does not change along it; away from its ends the
+    middle's stands for it.  Outside the plastic box it is not computed and taken as zero
+    (the second value is True where that happened to a line).
+    """
+    eigenstrain = operators.volume(2)[1]
+    strain = plastic_state[0].strain
+    residual = eigenstrain.evaluate(strain)[0] if strain.any() else np.zeros_like(strain)
+    residual = eigenstrain.on_window(residual, np.nan)
+    (x0, x1), _ = case.track
+    grid = case.surface_grid
+    i = int(np.argmin(np.abs(grid.x - 0.5 * (x0 + x1))))
+    line = residual[:, i]
+    missing = bool(np.isnan(line).any())
+    return np.nan_to_num(line, nan=0.0), missing
+
+
+def pass_fatigue(
+    case, stress: np.ndarray, depth: np.ndarray, position: float, residual=None
+) -> tuple:
     """The criteria of body 2 under the pass (module docstring).
 
     Parameters
@@ -34,6 +58,8 @@ def pass_fatigue(case, stress: np.ndarray, depth: np.ndarray, position: float) -
         The layers' depths (m).
     position : float
         x (m) of body 1's apex at the end of the path.
+    residual : (numpy.ndarray, bool), optional
+        :func:`track_residual` of an elastic-plastic body 2.
 
     Returns
     -------
@@ -44,7 +70,8 @@ def pass_fatigue(case, stress: np.ndarray, depth: np.ndarray, position: float) -
         ``dang_van_depth``, ``crossland_depth`` (m, where they are).
     notes : list of str
     """
-    result, shape = steady_pass_criteria(stress, case.fatigue)
+    lines = residual[0] if residual is not None else None
+    result, shape = steady_pass_criteria(stress, case.fatigue, lines)
     fields, attrs = {}, {}
     for name in ("dang_van", "crossland"):
         values = getattr(result, name).reshape(shape)
@@ -54,6 +81,11 @@ def pass_fatigue(case, stress: np.ndarray, depth: np.ndarray, position: float) -
         attrs[f"{name}_factor"] = float(factors[worst])
         attrs[f"{name}_depth"] = float(depth[worst[1]])
     notes = []
+    if residual is not None and residual[1]:
+        notes.append(
+            "fatigue: outside the plastic box the residual stress is not computed and is taken "
+            "as zero on those lines (grid.plastic_half_width widens the box)"
+        )
     grid = case.surface_grid
     radius = case.reference.radius if case.reference is not None else None
     if radius is not None and radius / grid.dx < PASS_CELLS:

@@ -38,7 +38,7 @@ from ..numerics.tensor import equivalent_strain, von_mises
 from ..result import SEPARATED, SLIP, STICK, SURFACE_FLOW_NOTE, TRUNCATED_NOTES, Result
 from ..surface.tangential import friction_bound, over_capacity
 from ..variables import BODY1_SUFFIX, CYCLE_PLASTIC_HISTORIES, HISTORIES, PLASTIC_BODY_HISTORIES
-from .fatigue import pass_fatigue
+from .fatigue import pass_fatigue, track_residual
 from .operators import CaseOperators
 from .plastic_loop import (
     PlasticState,
@@ -672,8 +672,9 @@ def _solve(case: Case) -> Result:
             result.fields["stress"] = stress
             result.fields["von_mises"] = von_mises(stress)
         if case.fatigue is not None:  # the criteria of body 2 under a steady pass
+            residual = track_residual(case, operators, plastic_state) if plastic else None
             fields, result.fatigue, told = pass_fatigue(
-                case, stress, volume.z, position_of(previous_target)[0]
+                case, stress, volume.z, position_of(previous_target)[0], residual
             )
             result.fields.update(fields)
             result.notes.extend(told)
