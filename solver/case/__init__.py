@@ -7,6 +7,7 @@ One module per table of a case file, each with the parser of that table:
 - :mod:`.path`: ``[load]``: the load path, its stages, cycles, motion and creepage;
 - :mod:`.friction`: ``[friction]``: Coulomb's coefficient and the shear limit that caps it;
 - :mod:`.wear`: ``[wear]``: the wear law and each body's coefficient, the cycle jump;
+- :mod:`.fatigue`: ``[fatigue]``: body 2's fatigue limits, and the passes the criteria read;
 - :mod:`.substeps`: the load sub-steps of coupled scenes, for the solve and its cost;
 - :mod:`.grid`: ``[grid]`` and the resolution checks;
 - :mod:`.options`: ``[solver]`` and ``[output]``;

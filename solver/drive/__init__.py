@@ -4,7 +4,9 @@
 - :mod:`.steps`: one load increment of the contact problem: normal, slip-stick or sliding;
 - :mod:`.plastic_loop`: the plasticity loop around any contact step;
 - :mod:`.window`: the window that follows a moving contact over body 2's track;
-- :mod:`.wear`: the worn surfaces of a case that wears, fed back into the gap;
+- :mod:`.wear`: the worn surfaces of a case that wears, fed back into the gap (and the
+  automatic cycle jump);
+- :mod:`.fatigue`: body 2's fatigue criteria under a steady pass, its track's residual stress;
 - :mod:`.record`: the histories, fields and notes a solve records;
 - :mod:`.loops`: :func:`~.loops.solve`, the load-path driver that runs the loops a scene needs;
 - :mod:`.theorem`: a case solved by Melan's theorem on its sliding track instead of its path
