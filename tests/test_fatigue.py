@@ -232,6 +232,12 @@ def test_a_frictionless_roll_tells_the_fatigue_of_the_same_slide():
     assert any(note.startswith("fatigue: the pass is sampled at 8.8") for note in results[1].notes)
 
 
+def _extent(result, a: float) -> tuple[float, float]:
+    """The track's cells along x about the contact's last position, in contact radii."""
+    x, end = result.case.surface_grid.x, result.history["position_x"][-1]
+    return (x[0] - end) / a, (x[-1] - end) / a
+
+
 def _sliding_pass(mu: float, n: list, motion: str = "slide") -> tuple:
     """A rigid sphere slid (or rolled) over incompressible steel (beta = 0: Hertz's pressure)
     with the [fatigue] table: the result, the contact radius, p0, the line nearest y = 0 and
@@ -262,7 +268,9 @@ def test_a_sliding_case_tells_its_fatigue_under_the_pass():
     from solver.fatigue.hertz_pass import hertz_pass_criteria
 
     result, a, p0, j, y0 = _sliding_pass(0.0, [96, 72, 24])
-    reference = hertz_pass_criteria(a, p0, 0.4999, LIMITS, result.depth, span=4.0, lateral=y0)
+    reference = hertz_pass_criteria(
+        a, p0, 0.4999, LIMITS, result.depth, span=_extent(result, a), lateral=y0
+    )
     for name in ("dang_van", "crossland"):
         field = result.fields[f"{name}_stress"]
         assert field.shape == (72, 24)
@@ -283,7 +291,9 @@ def test_with_friction_the_solved_pass_is_critical_at_the_surface():
     from solver.fatigue.hertz_pass import hertz_pass_criteria
 
     result, a, p0, j, y0 = _sliding_pass(0.3, [96, 72, 48])
-    reference = hertz_pass_criteria(a, p0, 0.4999, LIMITS, result.depth, 0.3, span=4.0, lateral=y0)
+    reference = hertz_pass_criteria(
+        a, p0, 0.4999, LIMITS, result.depth, 0.3, span=_extent(result, a), lateral=y0
+    )
     got, want = result.fields["dang_van_stress"][j], reference.dang_van
     assert got.argmax() == want.argmax() == 0
     deep = result.depth > 3 * result.case.surface_grid.dx

@@ -123,12 +123,20 @@ def deviatoric_coordinates(stress: np.ndarray) -> np.ndarray:
 
 
 def _tresca(s: np.ndarray) -> np.ndarray:
-    """Half the largest difference of principal values of deviators s (6, ...)."""
-    matrix = np.empty(s.shape[1:] + (3, 3))
-    for c, (i, j) in enumerate(((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))):
-        matrix[..., i, j] = matrix[..., j, i] = s[c]
-    values = np.linalg.eigvalsh(matrix)
-    return 0.5 * (values[..., -1] - values[..., 0])
+    """Half the largest difference of principal values of deviators s (6, ...).
+
+    In closed form: with J2 = s : s / 2, J3 = det s and the Lode angle
+    theta = arccos((3 sqrt 3 / 2) J3 / J2^(3/2)) / 3 in [0, pi/3], the principal values are
+    2 sqrt(J2/3) cos(theta - 2 pi k / 3), so (s1 - s3) / 2 = sqrt(J2) sin(theta + pi/3).
+    """
+    xx, yy, zz, yz, xz, xy = s
+    j2 = 0.5 * (xx * xx + yy * yy + zz * zz) + yz * yz + xz * xz + xy * xy
+    j3 = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz)
+    root = np.sqrt(j2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cosine = np.where(j2 > 0, 1.5 * math.sqrt(3.0) * j3 / (j2 * root), 1.0)
+    theta = np.arccos(np.clip(cosine, -1.0, 1.0)) / 3.0
+    return root * np.sin(theta + math.pi / 3.0)
 
 
 def fatigue_criteria(paths: np.ndarray, limits: FatigueLimits) -> FatigueResult:

@@ -5,7 +5,9 @@ point at depth z (and lateral offset y) as a Hertz contact (radius a, peak press
 sliding traction mu p along the motion) passes along x is the contact's stationary field
 at (x - X, y, z) for the contact's positions X: Hamilton's (1983) closed form for a circular
 contact, McEwen's (1949) for a line contact (plane strain).  The path is sampled at
-``samples`` positions over +-``span`` a, where the field has fallen off.
+``samples`` relative positions x - X over +-``span`` a, where the field has fallen off (or
+over a solved track's own extent about its contact, to compare with it: the ends of the
+path count, the field falling off as (a / r)^2 only).
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ def hertz_pass_criteria(
     depths: np.ndarray,
     friction_coefficient: float = 0.0,
     line: bool = False,
-    span: float = 6.0,
+    span: float | tuple[float, float] = 6.0,
     samples: int = 1201,
     lateral: float = 0.0,
 ) -> FatigueResult:
@@ -46,13 +48,15 @@ def hertz_pass_criteria(
         mu of the sliding traction q_x = mu p.
     line : bool
         A line contact (plane strain) instead of a circular one.
-    span, samples : float, int
-        The positions X of the contact: ``samples`` over +-``span`` a.
+    span, samples : float or (float, float), int
+        The points' positions x - X relative to the contact: ``samples`` over +-``span`` a, or
+        over ``span[0]`` a to ``span[1]`` a (a solved track's extent about its contact).
     lateral : float
         y (m) of the points off the path of the contact's centre (a circular contact).
     """
-    positions = np.linspace(-span * radius, span * radius, samples)
-    x, z = np.meshgrid(-positions, np.asarray(depths, dtype=float), indexing="ij")
+    low, high = (-span, span) if np.isscalar(span) else span
+    relative = np.linspace(low * radius, high * radius, samples)
+    x, z = np.meshgrid(relative, np.asarray(depths, dtype=float), indexing="ij")
     if line:
         stress = mcewen_stress(x, z, radius, max_pressure, nu, friction_coefficient)
     else:

@@ -22,6 +22,7 @@ SCENES = {
     "shakedown": ("shakedown", "run_shakedown", ("incremental",)),
     "hard": ("hard_cases", "run_hard", ()),
     "wear": ("wear", "run_wear", ()),
+    "fatigue": ("fatigue", "run_fatigue", ()),
 }
 
 
@@ -42,6 +43,7 @@ DEFAULT_SIZES = {
     "shakedown": [],  # the campaign fixes the cases
     "hard": [16, 24, 32],  # the limit's refinement (the scenes' meshes are fixed)
     "wear": [32],
+    "fatigue": [64, 96, 128],
 }
 
 
