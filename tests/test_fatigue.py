@@ -378,3 +378,38 @@ def test_a_shaken_down_track_is_judged_with_its_residual_stress():
     assert gained[0] > 5 * gained[1] > 25 * gained[2] > 0
     for name in ("dang_van_factor", "crossland_factor"):
         assert plastic.fatigue[name] > 1.1 * elastic.fatigue[name]
+
+
+def test_a_sampled_design_sweeps_the_fatigue_limits(tmp_path):
+    """[sample] over fatigue.torsion_limit: each case gets its own limit (the [fatigue]
+    table is a case table of the campaign files, declared once in solver.keys)."""
+    from study_fixtures import write
+
+    from study.campaign import load_campaign
+
+    text = """
+[campaign]
+name = "sampled"
+
+[base]
+body1 = { behaviour = "rigid", radius = 0.01 }
+body2 = { behaviour = "elastic", E = 210e9, nu = 0.5 }
+grid = { n = [64, 48, 16], half_width = 4.0, depth = 1.5 }
+fatigue = { bending_limit = 400e6, torsion_limit = 250e6 }
+
+[[base.load.path]]
+normal_force = 100.0
+
+[[base.load.path]]
+slide = [4e-4, 0.0]
+steps = 4
+
+[sample]
+method = "sobol"
+count = 8
+seed = 1
+"fatigue.torsion_limit" = { distribution = "uniform", range = [240e6, 300e6] }
+"""
+    campaign = load_campaign(write(tmp_path, text))
+    limits = [case.spec["fatigue"]["torsion_limit"] for case in campaign.cases]
+    assert len(set(limits)) == 8 and 240e6 <= min(limits) and max(limits) <= 300e6

@@ -6,7 +6,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import solver
-from solver.keys import Key
+from solver.keys import CASE_KEYS, Key
 
 from .cost import WORK_FIELDS, Work, count
 from .naming import CampaignError as CampaignError  # defined there, re-exported
@@ -16,10 +16,12 @@ from .surfaces import read_surface
 
 #: Top-level tables of a campaign file.
 TOP_LEVEL = ("campaign", "base", "sweep", "zip", "sample", "alias", "define")
-#: First segments of a swept key.
+#: First segments of a swept key: the case file's tables (declared in solver.keys) and the
+#: pseudo-table of Dundurs' beta.
 CASE_TABLES = (
-    "body1", "body2", "load", "friction", "grid", "solver", "output", "wear", "materials",
-)  # fmt: skip
+    *(key.name for key in CASE_KEYS if key.table == "" and key.kind == "table"),
+    "materials",
+)
 #: The pseudo-key that sweeps Dundurs' beta.
 BETA_KEY = "materials.dundurs_beta"
 #: 2-D surface fields a case file may keep (``[campaign] fields``).

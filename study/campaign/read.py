@@ -24,6 +24,7 @@ from .expand import (
 )
 from .model import (
     CAMPAIGN_KEYS,
+    CASE_TABLES,
     MAX_CASE_TIMEOUT,
     SURFACE_FIELDS,
     TOP_LEVEL,
@@ -118,7 +119,7 @@ def expand_campaign(
     unknown = sorted(set(table) - set(TOP_LEVEL))
     if unknown:
         hint = ""
-        if unknown[0] in ("body1", "body2", "load", "friction", "grid", "solver", "output", "wear"):
+        if unknown[0] in CASE_TABLES[:-1]:  # (not the pseudo-table "materials")
             hint = f"; case tables go under [base] (write [base.{unknown[0]}])"
         elif unknown[0] == "axes":
             hint = "; coordinate names go in [alias]"

@@ -38,8 +38,8 @@ def normalise_key(written: str, where: str = "[sweep]") -> str:
             )
     elif segments[0] not in CASE_TABLES:
         raise CampaignError(
-            f'{where} "{written}": unknown case table "{segments[0]}"; keys start with body1, '
-            f"body2, load, friction, grid, solver, output, wear (or {BETA_KEY})"
+            f'{where} "{written}": unknown case table "{segments[0]}"; keys start with '
+            f"{', '.join(CASE_TABLES[:-1])} (or {BETA_KEY})"
         )
     return key
 
