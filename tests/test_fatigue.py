@@ -413,3 +413,71 @@ seed = 1
     campaign = load_campaign(write(tmp_path, text))
     limits = [case.spec["fatigue"]["torsion_limit"] for case in campaign.cases]
     assert len(set(limits)) == 8 and 240e6 <= min(limits) and max(limits) <= 300e6
+
+
+FATIGUE_CAMPAIGN = """
+[campaign]
+name = "tired"
+
+[base]
+grid = { n = [40, 20, 16] }
+body1 = { behaviour = "rigid", radius = 0.01 }
+solver = { plastic_tolerance = 1e-4 }
+fatigue = { bending_limit = 400e6, torsion_limit = 250e6 }
+friction = { coefficient = 0.0 }
+
+[base.body2]
+behaviour = "elastic-plastic"
+E = 210e9
+nu = 0.3
+hardening = { law = "perfect", yield_stress = 433.0127e6 }
+
+[[base.load.path]]
+hertz_pressure = 0.85e9
+steps = 2
+
+[[base.load.path]]
+cycles = 2
+stages = [{ slide = [0.2e-3, 0.0], steps = 6 }, { hertz_pressure = 0.0 },
+          { slide = [-0.2e-3, 0.0] }, { hertz_pressure = 0.85e9, steps = 2 }]
+
+[[base.load.path]]
+slide = [0.05e-3, 0.0]
+steps = 2
+
+[sweep]
+"friction.coefficient" = [0.0, 0.2, 0.45]
+"""
+
+
+def test_the_report_maps_the_fatigue_beside_the_shakedown_regime(tmp_path):
+    """A small fatigue map (p0 = 3.4 k, mu = 0, 0.2 and 0.45, two passes and a last slide):
+    the report's table repeats each case's factors, the map is drawn, and the case past
+    mu p0 = k (surface flow in its first pass) has no pass and no factor, told in its notes."""
+    from study_fixtures import write
+
+    from study.campaign import load_campaign
+    from study.report import build_report
+    from study.run import storage
+    from study.run.assemble import assemble_to_file
+    from study.run.driver import RunOptions, run_campaign
+
+    out = tmp_path / "out"
+    campaign = load_campaign(write(tmp_path, FATIGUE_CAMPAIGN))
+    run_campaign(campaign, out, options=RunOptions())
+    assemble_to_file(out)
+    text = build_report(out).read_text()
+    section = text[text.index("## Fatigue under the pass") :]
+    section = section[: section.index("\n## ", 5)].splitlines()  # to the next section
+    rows = [line for line in section if line.startswith("| 0")]
+    assert len(rows) == 2  # the surface-flow case has no factor
+    import xarray as xr
+
+    with xr.open_dataset(storage.dataset_path(out, "tired")) as data:
+        factors = data["dang_van_factor"].values
+        notes = data["notes"].values
+    assert np.isfinite(factors[:2]).all() and np.isnan(factors[2])
+    assert "fatigue: not evaluated" in str(notes[2])
+    for row, factor in zip(rows, factors[:2], strict=True):
+        assert float(row.split("|")[2]) == pytest.approx(factor, rel=1e-4)
+    assert (out / "tired_fatigue_map.png").stat().st_size > 10_000

@@ -671,7 +671,11 @@ def _solve(case: Case) -> Result:
         if "stress" in case.fields:
             result.fields["stress"] = stress
             result.fields["von_mises"] = von_mises(stress)
-        if case.fatigue is not None:  # the criteria of body 2 under a steady pass
+        if case.fatigue is not None and ended is not None:
+            result.notes.append(
+                "fatigue: not evaluated, the path ended before its last increment (no pass)"
+            )
+        elif case.fatigue is not None:  # the criteria of body 2 under a steady pass
             residual = track_residual(case, operators, plastic_state) if plastic else None
             fields, result.fatigue, told = pass_fatigue(
                 case, stress, volume.z, position_of(previous_target)[0], residual

@@ -8,7 +8,7 @@
 - ``<name>_fretting_loops.png``: the Q_x - Delta_x loop of every cycle, one panel per case;
 - ``<name>_cycles.png``: the energy dissipated, the plastic strain gained and the residual
   stress per cycle against the cycle number (those the scene has);
-- the wear of cases that wear (:mod:`.wear`).
+- the wear of cases that wear (:mod:`.wear`), the fatigue of passes (:mod:`.fatigue`).
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from solver.result import STATUS_FLAGS
 from solver.variables import CYCLE_QUANTITIES
 
 from .. import analysis
-from . import figures, wear
+from . import fatigue, figures, wear
 
 #: Per-cycle quantities drawn against the cycle, in this order, when the campaign has them:
 #: name -> (scale, axis label, panel title, log axis).
@@ -211,4 +211,6 @@ def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
             lines += [f"### {title}", "", f"![{title}]({png.name})", ""]
     if wear.is_wear(dataset):  # the cycles' wear (its per-cycle quantities)
         lines += wear.section(dataset, out, name, plt, shown)
+    if fatigue.is_fatigue(dataset):  # the passes' fatigue, beside their shakedown regime
+        lines += fatigue.section(dataset, out, name, plt, shown)
     return lines
