@@ -645,3 +645,19 @@ def test_a_sliding_pin_wears_its_own_pressure_times_the_distance(n):
     error = np.abs(pin - expected)[inner].max() / expected.max()
     assert error < (0.02 if n == 24 else 0.008)  # measured 1.1 % and 0.41 %
     assert np.abs(pin[r > 1.5 * a]).max() < 1e-3 * expected.max()  # (cells and a step of smear)
+
+
+def test_a_field_moved_by_fractions_of_cells_is_linearly_interpolated():
+    """solver.drive.wear.moved: a linear field moved by (2.3, -1.6) cells is the same field at
+    x - 2.3, y + 1.6 where both are defined (linear interpolation is exact for it), and a
+    move and its inverse return the field away from the entering edges."""
+    from solver.drive.wear import moved
+
+    i, j = np.meshgrid(np.arange(20.0), np.arange(16.0), indexing="ij")
+    field = 3.0 * i - 2.0 * j + 5.0
+    out = moved(field, 2.3, -1.6)
+    inside = (slice(3, None), slice(None, -2))
+    expected = 3.0 * (i - 2.3) - 2.0 * (j + 1.6) + 5.0
+    np.testing.assert_allclose(out[inside], expected[inside], rtol=1e-12)
+    back = moved(moved(field, 1.0, 2.0), -1.0, -2.0)
+    np.testing.assert_allclose(back[:-1, :-2], field[:-1, :-2], rtol=1e-12)
