@@ -102,6 +102,8 @@ WEAR_COEFFICIENT_RANGE = (1e-24, 1e-10)
 #: is about half the bound, relative to the deepest wear.
 PRESSURE_CHANGE = 0.05
 PRESSURE_CHANGE_RANGE = (1e-4, 0.2)
+#: Fatigue limits accepted (Pa): from soft polymers' to above any steel's.
+FATIGUE_LIMIT_RANGE = (1e5, 1e10)
 #: Most cycles solved per cycle block under ``wear.cycle_jump = "auto"`` (the default).
 SOLVED_CYCLES = 100
 #: Smallest positive friction coefficient accepted: below it the tangential solve's scales
@@ -466,9 +468,11 @@ CASE_KEYS: tuple[Key, ...] = (
         "friction.shear_limit",
         "Orowan's factor m: the cap is m tau_c (an interface weaker than the metal)."),
     Key("fatigue", "bending_limit", "number", "Pa", "required",
-        "> 0; torsion_limit / bending_limit in (1/sqrt 3, 1)", "fatigue",
+        f"{_range(*FATIGUE_LIMIT_RANGE)}; torsion_limit / bending_limit in (1/sqrt 3, 1)",
+        "fatigue",
         "Body 2's fully reversed bending (or tension) fatigue limit f_-1: a stress amplitude."),
-    Key("fatigue", "torsion_limit", "number", "Pa", "required", "> 0", "fatigue",
+    Key("fatigue", "torsion_limit", "number", "Pa", "required", _range(*FATIGUE_LIMIT_RANGE),
+        "fatigue",
         "Body 2's fully reversed torsion fatigue limit t_-1: a shear amplitude.  With "
         "bending_limit it sets Crossland's alpha = 3 t/f - sqrt 3, beta = t and Dang Van's "
         "a = 3 t/f - 3/2, b = t."),

@@ -111,6 +111,8 @@ def test_a_stage_after_a_shift_holds_it():
         ({"tangential_shift": 1e-7, "slide": [1e-5, 0.0]}, {}, "does not go with slide"),
         ({"tangential_shift": math.nan}, {}, "finite"),
         ({"tangential_shift": [1e-7]}, {}, "dx or [dx, dy]"),
+        ({"tangential_shift": True}, {}, "must be a number"),
+        ({"tangential_shift": 1e300}, {}, "slide the stroke instead"),
         ({"tangential_shift": 1e-3}, {}, "slide the stroke instead"),
         ({"tangential_shift": 1e-7}, {"friction": {"coefficient": 0.0}}, "frictionless"),
         (

@@ -319,6 +319,10 @@ def test_fatigue_the_solver_cannot_read_is_refused():
          "fatigue.torsion_limit", "(1/sqrt 3, 1)"),
         ({"fatigue": {"bending_limit": -BENDING, "torsion_limit": TORSION}},
          "fatigue.bending_limit", "> 0"),
+        ({"fatigue": {"bending_limit": 1e300, "torsion_limit": 6e299}},
+         "fatigue.bending_limit", "must be in [100000, 1e+10] Pa"),
+        ({"fatigue": {"bending_limit": "400 MPa", "torsion_limit": TORSION}},
+         "fatigue.bending_limit", "must be a number"),
     ):  # fmt: skip
         with pytest.raises(solver.SpecError) as info:
             solver.Case.from_dict(base | change)

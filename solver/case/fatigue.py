@@ -11,15 +11,21 @@ from __future__ import annotations
 from typing import Any
 
 from ..fatigue.criteria import FatigueLimits
-from ..keys import required_keys, table_keys
+from ..keys import FATIGUE_LIMIT_RANGE, required_keys, table_keys
 from .reading import check_keys, fail, number
 
 
 def parse_fatigue(table: Any) -> FatigueLimits:
     """Body 2's fatigue limits of a ``[fatigue]`` table (module docstring)."""
     table = check_keys(table, "fatigue", table_keys("fatigue"), required_keys("fatigue"))
-    bending = number(table["bending_limit"], "fatigue.bending_limit", positive=True)
-    torsion = number(table["torsion_limit"], "fatigue.torsion_limit", positive=True)
+    low, high = FATIGUE_LIMIT_RANGE
+    limits = []
+    for key in ("bending_limit", "torsion_limit"):
+        value = number(table[key], f"fatigue.{key}", positive=True)
+        if not low <= value <= high:
+            fail(f"fatigue.{key}", f"must be in [{low:g}, {high:g}] Pa (a stress amplitude)")
+        limits.append(value)
+    bending, torsion = limits
     try:
         return FatigueLimits(bending, torsion)
     except ValueError as error:
