@@ -367,6 +367,12 @@ FIELDS: dict[str, Field] = {
         "contact pressure along x through the contact axis at the end of each solved load "
         "cycle ([wear]: the pressure as the surfaces wear; in body 2's frame)",
     ),
+    "cycle_stick_profile": Field(
+        ("cycle", "x"),
+        "1",
+        "contact state along x through the contact axis at the end of each solved load cycle "
+        "(0 separated, 1 stick, 2 slip; [wear]: the stick zone as the surfaces wear)",
+    ),
     "cycle_rut_profile": Field(
         ("cycle", "y"),
         "m",

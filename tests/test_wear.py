@@ -435,6 +435,12 @@ def test_partial_slip_wears_to_ciavarella_and_hills_limit():
         r = np.hypot(x, y)
         annulus_load = result.pressure[r > c + h].sum() * case.surface_grid.cell_area
         assert annulus_load < 1e-4 * W
+        # the stick zone at every checkpoint: the same cells, within c (it does not wear)
+        states = result.fields["cycle_stick_profile"]
+        sticking = np.abs(x[:, 0])[states[-1] == 1]
+        counts = (states == 1).sum(axis=1)
+        assert counts.min() == counts.max()
+        assert sticking.size > 0 and sticking.max() < c + h
         inner = r < 0.7 * c
         expected = limit.pressure(r[inner])
         worn = result.fields["wear_depth"] + result.fields["wear_depth_body1"]

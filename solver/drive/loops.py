@@ -518,6 +518,11 @@ def _solve(case: Case) -> Result:
                 for name, values in (("wear", worn.gap), ("pressure", pressure)):
                     profile = values[:, middle].mean(axis=1)
                     cycle_profiles.setdefault(f"cycle_{name}_profile", []).append(profile)
+                if outcome.stick is not None:  # the stick zone: stick, slip or separated
+                    row = middle.start  # the row at (or first beside) the axis
+                    stick = _on_track(follower, outcome.stick)[:, row]
+                    line = np.where(pressure[:, row] > 0, np.where(stick, STICK, SLIP), 0)
+                    cycle_profiles.setdefault("cycle_stick_profile", []).append(line)
                 if jumps is not None:
                     jumps.cycle_end(k, pressure)
         if outcome.creepage is not None:
