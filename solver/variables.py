@@ -276,6 +276,18 @@ CYCLE_QUANTITIES: dict[str, tuple[str, str]] = {
     ),
 }
 
+#: The result attributes of a case with a ``[fatigue]`` table (:mod:`solver.drive.fatigue`):
+#: each criterion's smallest factor of safety under the pass and its depth, name ->
+#: (units, long_name).
+FATIGUE_SCALARS: dict[str, tuple[str, str]] = {
+    f"{name}_{what}": (unit, f"{label}'s {text} of body 2 under the pass ([fatigue])")
+    for name, label in (("dang_van", "Dang Van"), ("crossland", "Crossland"))
+    for what, unit, text in (
+        ("factor", "1", "smallest factor of safety"),
+        ("depth", "m", "depth of the smallest factor of safety"),
+    )
+}
+
 FIELDS: dict[str, Field] = {
     "pressure": Field(("x", "y"), "Pa", "contact pressure"),
     "initial_gap": Field(

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..fatigue.criteria import steady_pass_criteria
+from ..fatigue.criteria import CRITERIA, steady_pass_criteria
 
 #: Cells per contact radius along x under which the pass's sampling is told (Crossland's
 #: maximum of a Hertz pass: 2.6 % low at 6, 0.63 % at 12, 2026-12-06).
@@ -73,7 +73,7 @@ def pass_fatigue(
     lines = residual[0] if residual is not None else None
     result, shape = steady_pass_criteria(stress, case.fatigue, lines)
     fields, attrs = {}, {}
-    for name in ("dang_van", "crossland"):
+    for name in CRITERIA:  # the attributes of solver.variables.FATIGUE_SCALARS
         values = getattr(result, name).reshape(shape)
         factors = getattr(result, f"{name}_factor").reshape(shape)
         fields[f"{name}_stress"] = values

@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from solver.variables import CYCLE_QUANTITIES, reduced_scalars
+from solver.variables import CYCLE_QUANTITIES, FATIGUE_SCALARS, reduced_scalars
 
 #: Names used by the assembled dataset for its structure and its per-case results; no axis may
 #: take them (nor names ending in ``_history`` or ``_profile``).  Axes may take the names of the
@@ -48,6 +48,7 @@ RESERVED_NAMES = frozenset(
     }
     | set(reduced_scalars())
     | set(CYCLE_QUANTITIES)
+    | set(FATIGUE_SCALARS)
 )
 
 

@@ -49,7 +49,7 @@ from solver.result import (
     stored_status,
 )
 from solver.theory.shakedown import SHAKEDOWN_FLAGS, shakedown_variable
-from solver.variables import CYCLE_QUANTITIES, HISTORIES, reduced_scalars
+from solver.variables import CYCLE_QUANTITIES, FATIGUE_SCALARS, HISTORIES, reduced_scalars
 
 from .. import bundle
 from ..bundle import CaseRecord
@@ -118,14 +118,7 @@ SCALARS = {
         "Pa",
         "initial shear yield stress k = sigma_Y0 / sqrt(3) of the elastic-plastic body (von Mises)",
     ),
-    **{
-        f"{name}_{what}": (unit, f"{label}'s {text} of body 2 under the pass ([fatigue])")
-        for name, label in (("dang_van", "Dang Van"), ("crossland", "Crossland"))
-        for what, unit, text in (
-            ("factor", "1", "smallest factor of safety"),
-            ("depth", "m", "depth of the smallest factor of safety"),
-        )
-    },
+    **FATIGUE_SCALARS,
 }
 #: Per-case bookkeeping variables of a campaign dataset (name: long_name).
 BOOKKEEPING = {
@@ -138,10 +131,7 @@ BOOKKEEPING = {
     "shakedown_reason": "why the case has its shakedown regime (solver.theory.shakedown.classify)",
 }
 #: Scalars only some cases have (left out of a campaign's dataset when none has them).
-_OPTIONAL_SCALARS = (
-    "shear_yield_stress", "melan_factor", "dang_van_factor", "dang_van_depth",
-    "crossland_factor", "crossland_depth",
-)  # fmt: skip
+_OPTIONAL_SCALARS = ("shear_yield_stress", "melan_factor", *FATIGUE_SCALARS)
 _ATTRS = (
     "hertz_radius",
     "hertz_semi_axis_x",
@@ -160,10 +150,7 @@ _ATTRS = (
     "friction_coefficient",
     "shear_yield_stress",
     "melan_factor",
-    "dang_van_factor",
-    "dang_van_depth",
-    "crossland_factor",
-    "crossland_depth",
+    *FATIGUE_SCALARS,
     "wall_time",
     "cpu_time",
     "peak_rss",
