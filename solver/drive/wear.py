@@ -57,7 +57,6 @@ class WornSurfaces:
         self.wear = case.wear
         self.depth = {body: np.zeros(shape) for body in self.wear.bodies}
         self.gap = np.zeros(shape)  # the sum over the bodies: the gap's addition
-        self.volume = 0.0  # worn so far (m^3), both bodies
         # the cycles each increment's cycle stands for (wear.cycle_jump): its wear scaled
         self.weights = np.repeat([s.weight for s in case.stages], [s.steps for s in case.stages])
         self.jumps = CycleJumps(case, self.weights) if self.wear.auto else None
@@ -115,7 +114,6 @@ class WornSurfaces:
                 (self.gap if follower is None else follower.cut(self.gap))[...] += worn
         if self.travels:
             self._rebuild(self.position)
-        self.volume += volume
         return volume
 
     def removed_layer_note(self, layer: float) -> str | None:
