@@ -85,6 +85,18 @@ def test_the_smallest_ball_of_dense_smooth_paths_matches_a_conic_solver():
     np.testing.assert_allclose(radii, expected, rtol=1e-7)
 
 
+def test_a_ball_cut_short_says_so():
+    """The insertion loop at its cap returns its ball with the farthest point's excess (the
+    status as data: every point is still inside the radius returned)."""
+    points = np.random.default_rng(2).normal(size=(30, 40, 5))
+    centres, radii, excess = smallest_balls(points, max_insertions=1)
+    assert excess.max() > 1e-3
+    distance = np.linalg.norm(points - centres[:, None, :], axis=2)
+    assert np.all(distance <= radii[:, None] * (1 + 1e-12))
+    _, exact, solved = smallest_balls(points)
+    assert solved.max() <= 1e-10 and np.all(radii >= exact * (1 - 1e-12))
+
+
 def test_the_deviatoric_coordinates_keep_the_norm():
     rng = np.random.default_rng(3)
     stress = rng.normal(size=(6, 50))

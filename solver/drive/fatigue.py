@@ -22,6 +22,9 @@ from ..fatigue.criteria import CRITERIA, steady_pass_criteria
 PASS_CELLS = 10
 #: Contact radii of the field ahead of the contact under which the pass is told cut short.
 PASS_AHEAD = 3.0
+#: A path's farthest point outside its ball, relative to the radius, above which the ball is
+#: told not found (:func:`solver.fatigue.ball.smallest_balls`; round-off is about 1e-15).
+BALL_EXCESS = 1e-8
 
 
 def track_residual(case, operators, plastic_state) -> tuple[np.ndarray, bool]:
@@ -81,6 +84,13 @@ def pass_fatigue(
         attrs[f"{name}_factor"] = float(factors[worst])
         attrs[f"{name}_depth"] = float(depth[worst[1]])
     notes = []
+    unsolved = int((result.excess > BALL_EXCESS).sum())
+    if unsolved:  # the insertion loop cut at its cap: a ball that may not be the smallest
+        notes.append(
+            f"fatigue: the smallest ball of {unsolved} paths was not found within its "
+            f"insertions (a point {result.excess.max():.2g} of the radius outside): their "
+            "criteria are approximate"
+        )
     if residual is not None and residual[1]:
         notes.append(
             "fatigue: outside the plastic box the residual stress is not computed and is taken "
