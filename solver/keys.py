@@ -376,7 +376,8 @@ CASE_KEYS: tuple[Key, ...] = (
         "|Q| < mu W (no gross sliding)", "friction", "Target tangential force on body 2."),
     Key("load", "tangential_shift", "number or [dx, dy]", "m", "none (the force is prescribed)",
         f"finite; |shift| <= {MAX_SHIFT:g} a (Hertz); not with tangential_force, slide, roll, "
-        "creepage or steady; mu > 0; elastic bodies, not periodic", "displacement control",
+        "creepage or steady; mu > 0; quadric elastic bodies, not periodic",
+        "displacement control",
         "Target rigid tangential shift of body 1 relative to body 2 (the history "
         "tangential_shift_x/y) at the end of the stage, ramped from the shift before it: the "
         "tangential force is then a result (displacement-controlled fretting, partial to "

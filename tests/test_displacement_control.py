@@ -113,6 +113,9 @@ def test_a_stage_after_a_shift_holds_it():
         ({"tangential_shift": [1e-7]}, {}, "dx or [dx, dy]"),
         ({"tangential_shift": True}, {}, "must be a number"),
         ({"tangential_shift": 1e300}, {}, "slide the stroke instead"),
+        ({"tangential_shift": 1e-7},
+         {"profile": {"shape": "flat_punch", "radius": 1e-3, "edge_radius": 1e-3}},
+         "built for quadric bodies"),
         ({"tangential_shift": 1e-3}, {}, "slide the stroke instead"),
         ({"tangential_shift": 1e-7}, {"friction": {"coefficient": 0.0}}, "frictionless"),
         (
@@ -124,7 +127,10 @@ def test_a_stage_after_a_shift_holds_it():
     ],
 )  # fmt: skip
 def test_shifts_the_solver_cannot_honour_are_refused_in_one_line(stage, extra, what):
+    extra = dict(extra)
     table = _table([stage])
+    if "profile" in extra:  # body 1 a flat punch: no Hertz contact to bound the shift
+        table["body1"] = {**STEEL, "profile": extra.pop("profile")}
     table |= extra
     if "body2" in extra:
         table["grid"] = {"n": [32, 32, 16]}

@@ -536,7 +536,14 @@ def check_driven_stages(stages, paths, mu: float, pair: Pair, scene: str) -> Non
             continue
         if scene:
             fail(f"{path}.tangential_shift", f"a prescribed shift is not built yet {scene}")
-        if pair.geometry.hertzian and stage.normal_force > 0:
+        if not pair.geometry.hertzian:  # no contact size to bound the shift by
+            fail(
+                f"{path}.tangential_shift",
+                "a prescribed shift is built for quadric bodies (a sphere, an ellipsoid, a "
+                "cylinder), whose contact size bounds it; with a profile or heights prescribe "
+                "tangential_force",
+            )
+        if stage.normal_force > 0:
             semi = hertz(stage.normal_force, pair.composite_modulus, pair.curvature)
             largest = MAX_SHIFT * min(semi.semi_axis_x, semi.semi_axis_y)
             if math.hypot(*stage.shift) > largest:
