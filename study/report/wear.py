@@ -35,6 +35,12 @@ PROFILES = {
     "cycle_wear_profile": ("wear_profiles", 1e6, "worn depth (um), both bodies", "Worn profile"),
     "cycle_pressure_profile": ("wear_pressure", 1e-6, "pressure (MPa)", "Pressure"),
 }
+#: Where each checkpoint figure's legends go: the middle of a worn profile is the unworn
+#: stick zone, the pressure's sides are empty.
+LEGENDS = {
+    "cycle_wear_profile": "center",
+    "cycle_pressure_profile": "best",
+}
 
 
 def is_wear(dataset) -> bool:
@@ -98,7 +104,8 @@ def plot_energy(dataset, path: str | Path) -> Path | None:
     cases = [c for c in _cases(dataset) if "cycle_friction_work" in c[2]][: figures.MAX_LINES]
     if plt is None or not cases:
         return None
-    fig, ax = plt.subplots(figsize=(5.6, 4.2), layout="constrained")
+    rows = -(-(len(cases) + 1) // 2)  # the legend's rows below the axes
+    fig, ax = plt.subplots(figsize=(6.4, 4.2 + 0.18 * rows), layout="constrained")
     statuses = []
     for k, (labels, isel, case) in enumerate(cases):
         summed = totals(case)
@@ -109,8 +116,8 @@ def plot_energy(dataset, path: str | Path) -> Path | None:
     ax.set_xlabel("friction energy dissipated (J), summed over the load cycles")
     ax.set_ylabel("worn volume (um^3)")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, handles=ax.get_legend_handles_labels()[0] + figures.status_handle(
-        statuses))  # fmt: skip
+    handles = ax.get_legend_handles_labels()[0] + figures.status_handle(statuses)
+    fig.legend(handles=handles, loc="outside lower center", ncols=2, fontsize=7)  # clear of lines
     figures.suptitle(
         fig, f"{dataset.attrs.get('campaign', '')}: worn volume against friction energy",
         figures.status_note(statuses),
@@ -217,7 +224,7 @@ def plot_checkpoints(dataset, out: str | Path, field: str, path: str | Path) -> 
         ax.set_ylabel(ylabel)
         ax.set_title(figures.title(labels, dataset=dataset), fontsize=8)
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=6)
+        ax.legend(fontsize=6, loc=LEGENDS[field])
         figures.mark_panel(ax, [statuses[-1]])
     figures.suptitle(
         fig, f"{dataset.attrs.get('campaign', '')}: {title.lower()} at checkpoints",
