@@ -177,7 +177,16 @@ def plot_map(dataset, path: str | Path) -> Path | None:
     ax.set_xlabel(f"{xname} ({figures.units_of(dataset, xname) or '-'})")
     ax.set_ylabel(f"{yname} ({figures.units_of(dataset, yname) or '-'})")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8, loc="best")
+    from matplotlib.lines import Line2D
+
+    ax.minorticks_off()  # ticks at the cases' values (log axes' minor labels overlap)
+    for values, axis in (([p[0] for p in points], ax.xaxis), ([p[1] for p in points], ax.yaxis)):
+        ticks = sorted(set(values))
+        axis.set_ticks(ticks, labels=[f"{v:.3g}" for v in ticks])
+    regimes = [(False, "^", "partial slip"), (True, "o", "gross slip")]
+    handles = [Line2D([], [], ls="", marker=m, color="0.5", markeredgecolor="k", label=t)
+               for gross, m, t in regimes if any(p[3] == gross for p in points)]  # fmt: skip
+    ax.legend(handles=handles, fontsize=8, loc="best")
     statuses = [p[4] for p in points]
     figures.suptitle(fig, f"{dataset.attrs.get('campaign', '')}: fretting map with wear",
                      figures.status_note(statuses, "ringed in red"))  # fmt: skip
