@@ -522,7 +522,8 @@ CASE_KEYS: tuple[Key, ...] = (
         "elastic yield region (the plastic box then fills it); given narrower than that, "
         "validate warns that the case will likely end truncated.  Sliding and rolling cases "
         "keep 1.5 around the contact."),
-    Key("grid", "depth", "number", "a_H (m with grid.periodic)", f"1.2 x the Hertz yield depth "
+    Key("grid", "depth", "number", "a_H (m with grid.periodic; b in a line contact)",
+        f"1.2 x the Hertz yield depth "
         f"(a profile, a periodic surface: of the computed elastic yield region; >= "
         f"{DEFAULT_DEPTH:g} a_H; 2 x under a sliding load; periodic with no elastic yield: "
         f"{DEFAULT_PERIODIC_DEPTH:g} of the period); {DEFAULT_DEPTH:g} for elastic bodies",
@@ -530,7 +531,8 @@ CASE_KEYS: tuple[Key, ...] = (
         f"period]; plastic bodies: cells <= {MAX_CELL_DEPTH:g} a_H, the box reaches where "
         f"yield starts, >= {MIN_YIELD_CELLS} cells across the yield region", "volume grids",
         "Depth of the volume grid (the plastic box); in metres for a periodic surface, which "
-        "has no Hertz radius."),
+        "has no Hertz radius; in units of Hertz's half-width b for a line contact "
+        '(grid.periodic = "y", elastic: its plane-strain stresses).'),
     Key("grid", "plastic_half_width", "number", "a_H",
         f"{PLASTIC_WIDTH_MARGIN:g} x the half width of the elastic yield region at the maximum "
         f"load (>= {MIN_PLASTIC_HALF_WIDTH:g}, <= half_width)",

@@ -23,7 +23,6 @@ import numpy as np
 from .case.case import Case
 from .numerics.grid import SurfaceGrid
 from .numerics.tensor import COMPONENTS
-from .theory.line import hertz_line
 from .theory.shakedown import Shakedown, classify, shakedown_variable
 from .variables import BODY1_SUFFIX, CYCLE_QUANTITIES, FIELDS, HISTORIES
 
@@ -302,15 +301,12 @@ def reference_attrs(case: Case) -> dict[str, float]:
     ``hertz_*`` (radius sqrt(a b), semi-axes, peak pressure, approach, force) for quadric
     bodies; ``sneddon_*`` (radius, mean pressure W/(pi a^2), approach, force) with a profile;
     of the smooth shape under point heights; ``line_*`` (half-width, peak pressure, force per
-    length: :func:`solver.theory.line.hertz_line`) for a line contact; ``domain_half_width`` (m)
+    length: :attr:`Case.line_contact`) for a line contact; ``domain_half_width`` (m)
     for heights only.
     """
     reference = case.reference
     if case.grid.periodic_y:  # a line contact: Hertz's strip
-        grid = case.surface_grid
-        per_length = case.max_normal_force / (grid.ny * grid.dy)
-        radius = 1.0 / case.pair.curvature[0]
-        half_width, pressure = hertz_line(per_length, case.pair.composite_modulus, radius)
+        half_width, pressure, per_length = case.line_contact
         return {
             "line_half_width": half_width,
             "line_pressure": pressure,

@@ -313,6 +313,94 @@ def test_with_friction_the_solved_pass_is_critical_at_the_surface():
     assert got[0] < want[0]
 
 
+def _rolled_line(cells: int, mu: float) -> tuple:
+    """A steel cylinder (R = 50 mm) rolled steadily over steel with [fatigue], b = 1 mm,
+    ``cells`` across the strip, the domain +-4 b: free rolling without friction, full slip
+    (traction mu p) with it.  The result and the closed-form pass at its layers, over the
+    same extent of the field."""
+    import solver
+    from solver.fatigue.hertz_pass import hertz_pass_criteria
+
+    e, nu, radius, b = 210e9, 0.3, 0.05, 1e-3
+    per_length = math.pi * e / (2 * (1 - nu * nu)) * b * b / (4 * radius)
+    dx, nx, ny = 2 * b / cells, 4 * cells, 4
+    roll = {"steady": True, "creepage": [1.0 if mu else 0.0, 0.0]}
+    table = {
+        "body1": {"behaviour": "elastic", "E": e, "nu": nu, "radius_x": radius},
+        "body2": {"behaviour": "elastic", "E": e, "nu": nu},
+        "friction": {"coefficient": mu},
+        "load": {"path": [{"normal_force": per_length * ny * dx}, roll]},
+        "grid": {"n": [nx, ny, cells], "size": [nx * dx, ny * dx], "periodic": "y", "depth": 2.0},
+        "fatigue": {"bending_limit": BENDING, "torsion_limit": TORSION},
+    }
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "converged"
+    half_width, p0, _ = result.case.line_contact
+    assert half_width == pytest.approx(b, rel=1e-12)
+    reach = 0.5 * nx * dx / b  # the field's extent about the contact, in half-widths
+    reference = hertz_pass_criteria(
+        b, p0, nu, LIMITS, result.depth, mu, line=True, span=reach, samples=4001
+    )
+    return result, reference
+
+
+def test_a_rolled_line_contact_matches_mcewens_pass_converging_with_the_cells():
+    """Frictionless rolling of a cylinder (grid.periodic = "y", plane-strain volume): Dang
+    Van's and Crossland's smallest factors against the criteria on McEwen's closed-form field
+    within 2 % at 32, 64 and 128 cells across, the same critical depth (within a layer or
+    0.04 b), Crossland's error shrinking with the cells."""
+    errors = {}
+    for cells in (32, 64, 128):
+        result, reference = _rolled_line(cells, 0.0)
+        for name in ("dang_van", "crossland"):
+            want = getattr(reference, f"{name}_factor")
+            worst = int(want.argmin())
+            got = result.fatigue[f"{name}_factor"]
+            errors[name, cells] = abs(got / want[worst] - 1.0)
+            depth = result.fatigue[f"{name}_depth"]
+            # the criteria are flat about their maxima: within a layer or 0.04 b
+            tolerance = max(1.01 * result.case.volume_grid.dz, 0.04e-3)
+            assert abs(depth - result.depth[worst]) <= tolerance
+            assert 0.4 < depth / 1e-3 < 0.7  # below the surface (McEwen: about 0.5 b)
+        assert result.fields["dang_van_stress"].shape == (4, cells)
+    assert max(errors.values()) < 0.02, errors
+    assert errors["crossland", 128] < errors["crossland", 64] < errors["crossland", 32], errors
+
+
+def test_a_line_contact_rolled_in_full_slip_is_critical_at_the_surface():
+    """mu = 0.3 in full slip: the critical point of both criteria is the top layer, as in
+    McEwen's sliding field; Dang Van's top-layer error falls with the cells (cell-constant
+    tractions under-resolve the surface's field)."""
+    errors = []
+    for cells in (32, 64):
+        result, reference = _rolled_line(cells, 0.3)
+        top = result.depth[0]
+        for name in ("dang_van", "crossland"):
+            assert result.fatigue[f"{name}_depth"] == top
+            assert getattr(reference, f"{name}_factor").argmin() == 0
+        errors.append(abs(result.fatigue["dang_van_factor"] / reference.dang_van_factor[0] - 1))
+    assert errors[1] < 0.7 * errors[0] and errors[1] < 0.05, errors
+
+
+def test_a_line_contact_without_rolling_has_no_pass():
+    import solver
+
+    table = {
+        "body1": {"behaviour": "elastic", "E": 210e9, "nu": 0.3, "radius_x": 0.05},
+        "body2": {"behaviour": "elastic", "E": 210e9, "nu": 0.3},
+        "load": {"normal_force": 100.0},
+        "grid": {"n": [64, 4, 16], "size": [4e-3, 2.5e-4], "periodic": "y"},
+        "fatigue": {"bending_limit": BENDING, "torsion_limit": TORSION},
+    }
+    with pytest.raises(solver.SpecError, match="^fatigue: .*steady = true"):
+        solver.Case.from_dict(table)
+    del table["fatigue"]
+    table["output"] = {"fields": ["stress"]}  # the plane-strain field, without the criteria
+    result = solver.solve(solver.Case.from_dict(table))
+    stress = result.fields["stress"]
+    assert stress.shape == (6, 64, 4, 16) and stress[2].min() < 0.0
+
+
 def test_fatigue_the_solver_cannot_read_is_refused():
     import solver
 

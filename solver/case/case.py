@@ -35,6 +35,7 @@ from ..keys import (
 )
 from ..numerics.grid import IndexBox, SurfaceGrid, VolumeGrid, fft_size
 from ..theory.hertz import HertzContact, hertz
+from ..theory.line import hertz_line
 from ..theory.sneddon import SneddonContact
 from .batch import NO_TABLE, SharedTables, case_hash
 from .bodies import body_spec, check_surfaces, parse_body
@@ -332,7 +333,7 @@ class Case:
                     "no body has a smooth shape (radius or profile) whose contact radius could "
                     "scale the domain: give the domain's sides in metres, grid.size = [Lx, Ly]",
                 )
-            if grid.nz and not grid.periodic:
+            if grid.nz and not (grid.periodic or grid.periodic_y):
                 fail(
                     "grid.n",
                     "a volume grid is scaled by the smooth shape's contact radius; with heights "
@@ -591,6 +592,14 @@ class Case:
         return pair.geometry.reference(self.max_normal_force, pair.composite_modulus)
 
     @property
+    def line_contact(self) -> tuple[float, float, float]:
+        """A line contact's Hertz strip: half-width b (m), peak pressure (Pa), force (N/m)."""
+        grid = self.surface_grid
+        per_length = self.max_normal_force / (grid.ny * grid.dy)
+        radius = 1.0 / self.pair.curvature[0]
+        return (*hertz_line(per_length, self.pair.composite_modulus, radius), per_length)
+
+    @property
     def hertz(self) -> HertzContact:
         """Hertz reference at the largest normal force of the path (quadric bodies only)."""
         if not self.pair.geometry.hertzian:
@@ -694,7 +703,7 @@ class Case:
         depth = self.grid.depth_body1 if body == 1 and self.grid.depth_body1 else self.grid.depth
         if self.grid.periodic:  # metres, laterally periodic
             return VolumeGrid(self.surface_grid, self.grid.nz, depth / self.grid.nz, True)
-        depth *= self.reference.max_semi_axis
+        depth *= self.line_contact[0] if self.grid.periodic_y else self.reference.max_semi_axis
         return VolumeGrid(self.surface_grid, self.grid.nz, depth / self.grid.nz)
 
     @property

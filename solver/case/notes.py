@@ -102,8 +102,9 @@ def check_line_scene(body1: Body, body2: Body, stages, paths, grid: GridSpec) ->
     Solved: elastic (or one rigid) bodies uniform along y, a cylinder along y (``radius_x``),
     under normal force, tangential forces and steady rolling at creepage.  Refused, naming the
     key: a radius along y or a profile (not uniform along y), height maps and roughness, an
-    elastic-plastic body, a volume grid, sliding or transient rolling stages, and spin (its
-    slip grows along y: not periodic).
+    elastic-plastic body, sliding or transient rolling stages, and spin (its slip grows along
+    y: not periodic).  A volume grid holds the plane-strain stresses
+    (:mod:`solver.volume.plane_strain`; depth in units of the strip's half-width).
     """
     if not grid.periodic_y:
         return
@@ -128,8 +129,6 @@ def check_line_scene(body1: Body, body2: Body, stages, paths, grid: GridSpec) ->
             )
     if not math.isfinite(body1.radius_x) and not math.isfinite(body2.radius_x):
         fail("body1.radius_x", "a line contact needs a cylinder: give body 1 radius_x (m)")
-    if grid.nz:
-        fail("grid.n", 'a line contact (grid.periodic = "y") has no volume grid: give [nx, ny]')
     for stage, path in zip(stages, paths, strict=True):
         if stage.motion in ("slide", "roll"):
             fail(

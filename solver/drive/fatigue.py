@@ -8,7 +8,8 @@ part changes the criteria (the ball's centre takes up a constant deviator), by a
 (Dang Van) and alpha p_h^r (Crossland).  Fields ``dang_van_stress`` and
 ``crossland_stress`` over (y, z); the result's attributes the smallest factor of safety of
 each criterion and its depth.  Notes when the pass is sampled coarsely (fewer than
-:data:`PASS_CELLS` cells per contact radius along x) or cut short ahead of the contact.
+:data:`PASS_CELLS` cells per contact radius, a line contact's half-width, along x) or cut
+short ahead of the contact.
 """
 
 from __future__ import annotations
@@ -98,6 +99,8 @@ def pass_fatigue(
         )
     grid = case.surface_grid
     radius = case.reference.radius if case.reference is not None else None
+    if case.grid.periodic_y:  # a line contact: Hertz's half-width
+        radius = case.line_contact[0]
     if radius is not None and radius / grid.dx < PASS_CELLS:
         notes.append(
             f"fatigue: the pass is sampled at {radius / grid.dx:.3g} cells per contact radius "

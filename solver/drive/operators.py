@@ -24,6 +24,7 @@ from ..surface.convolution import SurfaceOperator, surface_operator
 from ..surface.periodic import periodic_surface_operator, y_periodic_surface_operator
 from ..surface.steady import SteadyOperator
 from ..volume.eigenstrain import VOLUME_PRECISIONS, EigenstrainOperator
+from ..volume.plane_strain import PlaneStrainStressOperator
 from ..volume.stress import SubsurfaceStressOperator
 
 
@@ -79,8 +80,9 @@ class CaseOperators:
         Relative surface displacements of the pair from tractions.
     gap : ndarray
         Undeformed gap (m).
-    stress : SubsurfaceStressOperator or None
-        Stress in body 2 from surface tractions (with a volume grid).
+    stress : SubsurfaceStressOperator or PlaneStrainStressOperator or None
+        Stress in body 2 from surface tractions (with a volume grid; plane strain in a line
+        contact).
     eigenstrain : EigenstrainOperator or None
         Residual stress and surface displacement of plastic strain in body 2 (elastic-plastic
         cases only).
@@ -98,7 +100,7 @@ class CaseOperators:
     case: Case
     surface: SurfaceOperator
     gap: np.ndarray
-    stress: SubsurfaceStressOperator | None = None
+    stress: SubsurfaceStressOperator | PlaneStrainStressOperator | None = None
     eigenstrain: EigenstrainOperator | None = None
     stress1: SubsurfaceStressOperator | None = None
     eigenstrain1: EigenstrainOperator | None = None
@@ -162,7 +164,10 @@ class CaseOperators:
         plastic_case = case.plastic_body is not None
         keys = []
         threads, box, precision = options.fft_threads, case.plastic_box, options.volume_precision
-        if plastic_case or "stress" in case.fields or case.fatigue is not None:
+        line_stress = None  # a line contact's plane-strain stresses (elastic bodies only)
+        if case.grid.periodic_y and ("stress" in case.fields or case.fatigue is not None):
+            line_stress = PlaneStrainStressOperator(case.volume_grid, case.body2.nu)
+        elif plastic_case or "stress" in case.fields or case.fatigue is not None:
             volume = case.volume_grid
             keys.append((volume, case.body2, threads, planner, plastic_case, box, precision))
         if 1 in case.plastic_bodies:
@@ -184,6 +189,7 @@ class CaseOperators:
             local = cls(case, local_surface, gap, stress, plastic)
         volumes += [(None, None)] * (2 - len(volumes))
         (stress, plastic), (stress1, plastic1) = volumes
+        stress = stress if line_stress is None else line_stress
         return cls(case, surface, initial_gap(case), stress, plastic, stress1, plastic1, local)
 
     @staticmethod
@@ -232,9 +238,10 @@ class CaseOperators:
             pair = (case.body1, case.body2)
             kinematic = sum(b.hardening is not None and b.hardening.kinematic for b in pair)
             total += 2 * kinematic * cells  # back stress before and after the increment
-        elif "stress" in case.fields:
+        elif "stress" in case.fields or case.fatigue is not None:
             tractions = 3 if tangential else 1
-            total += SubsurfaceStressOperator.memory_bytes(volume, tractions)
+            kind = PlaneStrainStressOperator if case.grid.periodic_y else SubsurfaceStressOperator
+            total += kind.memory_bytes(volume, tractions)
             total += 2 * 8 * 7 * nx * ny * volume.nz
         return total
 

@@ -414,6 +414,75 @@ def mcewen_stress(
     return out * (max_pressure / a)
 
 
+def strip_stress(x, z, half: float, nu: float, traction: str = "pressure") -> np.ndarray:
+    r"""Plane-strain stress (per unit traction) of a uniform traction on a strip ``|x| < half``.
+
+    The line-load fields (Flamant; Johnson 1985, section 2.2), with ``r^2 = X^2 + z^2`` at
+    ``X`` from the load: a normal load P (+z, into the body) gives ``sigma_xx, sigma_zz,
+    sigma_xz = -(2P/pi) (X^2 z, z^3, X z^2) / r^4``, a tangential one Q (+x) ``-(2Q/pi)
+    (X^3, X z^2, X^2 z) / r^4``, and an antiplane one S (+y) ``sigma_xy, sigma_yz = -(S/pi)
+    (X, z) / r^2`` (``w = -(S/(pi G)) ln r``).  Each integrates over the strip in closed form,
+    ``G(x + half) - G(x - half)`` with ``theta = atan(X/z)`` and the antiderivatives
+    (derived here; checked in ``tests/test_plane_strain.py`` against Love's rectangle made
+    long along y)::
+
+        int z^3/r^4 = (theta + z X/r^2)/2      int X^2 z/r^4 = (theta - z X/r^2)/2
+        int X z^2/r^4 = -z^2/(2 r^2)          int X^3/r^4 = ln(r^2)/2 + z^2/(2 r^2)
+        int X/r^2 = ln(r^2)/2                 int z/r^2 = theta
+
+    and ``sigma_yy = nu (sigma_xx + sigma_zz)`` (plane strain) for the in-plane loads.  At the
+    surface the stress balances the load, as in the module's conventions.
+
+    Parameters
+    ----------
+    x, z : array_like
+        Field points (m) relative to the strip's centre line, ``z > 0``.
+    half : float
+        The strip's half-width (m).
+    nu : float
+        Poisson's ratio.
+    traction : str
+        One of :data:`TRACTIONS`.
+
+    Returns
+    -------
+    ndarray
+        Shape ``(6,) + broadcast shape``, per unit traction (Pa/Pa), components
+        :data:`solver.numerics.tensor.COMPONENTS`.
+    """
+    if traction not in TRACTIONS:
+        raise ValueError(f"unknown traction {traction!r}; use one of {TRACTIONS}")
+    x, z = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (x, z)))
+
+    def parts(big_x):
+        r2 = big_x * big_x + z * z
+        theta = np.arctan2(big_x, z)
+        ratio = z * big_x / r2
+        log = 0.5 * np.log(r2 / (half * half))
+        return {
+            "zzz": 0.5 * (theta + ratio),
+            "xxz": 0.5 * (theta - ratio),
+            "xzz": -0.5 * z * z / r2,
+            "xxx": log + 0.5 * z * z / r2,
+            "x": log,
+            "z": theta,
+        }
+
+    ahead, behind = parts(x + half), parts(x - half)
+    g = {key: ahead[key] - behind[key] for key in ahead}
+    out = np.zeros((6,) + x.shape)
+    scale = -2.0 / math.pi
+    if traction == "pressure":
+        out[0], out[2], out[4] = scale * g["xxz"], scale * g["zzz"], scale * g["xzz"]
+    elif traction == "shear_x":
+        out[0], out[2], out[4] = scale * g["xxx"], scale * g["xzz"], scale * g["xxz"]
+    else:
+        out[5], out[3] = -g["x"] / math.pi, -g["z"] / math.pi
+    if traction != "shear_y":
+        out[1] = nu * (out[0] + out[2])
+    return out
+
+
 def uniform_traction_stress(traction: str, nu: float) -> np.ndarray:
     """Stress (per unit traction) of a uniform traction on a laterally periodic half-space.
 
