@@ -277,15 +277,21 @@ CYCLE_QUANTITIES: dict[str, tuple[str, str]] = {
 }
 
 #: The result attributes of a case with a ``[fatigue]`` table (:mod:`solver.drive.fatigue`):
-#: each criterion's smallest factor of safety under the pass and its depth, name ->
-#: (units, long_name).
+#: each criterion's smallest factor of safety under the pass (or the last load cycle) and
+#: where it is, name -> (units, long_name).
 FATIGUE_SCALARS: dict[str, tuple[str, str]] = {
-    f"{name}_{what}": (unit, f"{label}'s {text} of body 2 under the pass ([fatigue])")
+    f"{name}_{what}": (unit, f"{label}'s {text} of body 2 under the pass or cycle ([fatigue])")
     for name, label in (("dang_van", "Dang Van"), ("crossland", "Crossland"))
     for what, unit, text in (
         ("factor", "1", "smallest factor of safety"),
         ("depth", "m", "depth of the smallest factor of safety"),
-    )
+        (
+            "x",
+            "m",
+            "x of the smallest factor of safety (a load cycle's; a pass has none: "
+            "every x on a line sees the same path)",
+        ),
+    )  # fmt: skip
 }
 
 FIELDS: dict[str, Field] = {
@@ -366,6 +372,18 @@ FIELDS: dict[str, Field] = {
         "Pa",
         "Crossland's equivalent stress sqrt(J2,a) + alpha max p_h of body 2's points under the "
         "pass, on each line along x ([fatigue])",
+    ),
+    "dang_van_cycle_stress": Field(
+        ("x", "y", "z"),
+        "Pa",
+        "Dang Van's equivalent stress max_t [tau(t) + a p_h(t)] of body 2's points over the "
+        "last load cycle's increments ([fatigue] with a cycle block, the contact not moving)",
+    ),
+    "crossland_cycle_stress": Field(
+        ("x", "y", "z"),
+        "Pa",
+        "Crossland's equivalent stress sqrt(J2,a) + alpha max p_h of body 2's points over the "
+        "last load cycle's increments ([fatigue] with a cycle block, the contact not moving)",
     ),
     "cycle_wear_profile": Field(
         ("cycle", "x"),

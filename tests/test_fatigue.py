@@ -401,6 +401,91 @@ def test_a_line_contact_without_rolling_has_no_pass():
     assert stress.shape == (6, 64, 4, 16) and stress[2].min() < 0.0
 
 
+def _fretted_sphere(n: int, steps: int, cycles: int = 2, **change) -> tuple:
+    """Steel spheres (nu = 0: beta = 0 and Mindlin's circular stick zone exact), W = 100 N,
+    mu = 0.3, the tangential force cycled between +-0.6 mu W with [fatigue]: the result and
+    the closed-form cycle's criteria at its cells."""
+    import solver
+    from solver.fatigue.hertz_pass import fretting_cycle_criteria
+
+    steel = {"behaviour": "elastic", "E": 210e9, "nu": 0.0}
+    mu, force = 0.3, 100.0
+    amplitude = 0.6 * mu * force
+    cycle = [{"tangential_force": [sign * amplitude, 0.0], "steps": steps} for sign in (-1, 1)]
+    table = {
+        "body1": {**steel, "radius": 0.01},
+        "body2": steel,
+        "friction": {"coefficient": mu},
+        "load": {"path": [{"normal_force": force},
+                          {"tangential_force": [amplitude, 0.0], "steps": max(1, steps // 2)},
+                          {"cycles": cycles, "stages": cycle}]},
+        "grid": {"n": [n, n, n // 3], "half_width": 1.5, "depth": 1.0},
+        "fatigue": {"bending_limit": BENDING, "torsion_limit": TORSION},
+    } | change  # fmt: skip
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "converged"
+    case = result.case
+    a, p0 = case.reference.radius, case.reference.max_pressure
+    x, y = case.surface_grid.mesh()
+    points = (x[:, :, None], y[:, :, None], result.depth[None, None, :])
+    reference = fretting_cycle_criteria(points, a, p0, 0.0, LIMITS, mu, force, amplitude, steps)
+    return result, reference, a
+
+
+def test_a_fretting_cycle_is_read_as_each_points_own_path():
+    """A sphere fretted between +-0.6 mu W (no motion: each cell's path is the last cycle's
+    increments): Dang Van's and Crossland's fields over (x, y, z) against the criteria on
+    Mindlin and Deresiewicz's closed-form tractions (Hamilton's fields) at the same cells and
+    force samples: below three cells' depth within 1 % at 32 cells and closer at 64; the
+    smallest factor at the contact's edge (|x| about a) in the top layer, as fretting fatigue
+    is known to start."""
+    errors = []
+    for n in (32, 64):
+        result, reference, a = _fretted_sphere(n, 16)
+        deep = result.depth > 3 * result.case.surface_grid.dx
+        worst = []
+        for name in ("dang_van", "crossland"):
+            got = result.fields[f"{name}_cycle_stress"]
+            want = getattr(reference, name).reshape(got.shape)
+            worst.append(np.abs(got - want)[..., deep].max() / want[..., deep].max())
+            assert result.fatigue[f"{name}_factor"] == pytest.approx(TORSION / got.max())
+            assert result.fatigue[f"{name}_depth"] == result.depth[0]
+            assert 0.85 < abs(result.fatigue[f"{name}_x"]) / a < 1.05
+        errors.append(max(worst))
+        assert not [note for note in result.notes if note.startswith("fatigue")]
+    assert errors[0] < 0.01 and errors[1] < errors[0], errors
+
+
+def test_a_coarsely_sampled_or_unsettled_cycle_is_told():
+    """A cycle of two increments is told coarse; a cycle that still gains plastic strain (a
+    linearly hardening body 2 fretted at p0 = 4.2 k, mu = 0.25, +-0.8 mu W) is told not
+    shaken down, with the strain it gained."""
+    import solver
+
+    result, _, _ = _fretted_sphere(24, 1, cycles=1)
+    assert any("the cycle is sampled at 2 increments" in note for note in result.notes)
+    hardening = {"law": "linear", "yield_stress": 900e6, "modulus": 10e9}
+    amplitude = 0.8 * 0.25 * 100.0
+    cycle = [{"tangential_force": [sign * amplitude, 0.0], "steps": 4} for sign in (-1, 1)]
+    table = {
+        "body1": {"behaviour": "elastic", "E": 210e9, "nu": 0.3, "radius": 0.005},
+        "body2": {"behaviour": "elastic-plastic", "E": 210e9, "nu": 0.3, "hardening": hardening},
+        "friction": {"coefficient": 0.25},
+        "load": {"path": [{"normal_force": 100.0},
+                          {"tangential_force": [amplitude, 0.0], "steps": 4},
+                          {"cycles": 2, "stages": cycle}]},
+        "grid": {"n": [24, 24, 16]},
+        "fatigue": {"bending_limit": BENDING, "torsion_limit": TORSION},
+    }  # fmt: skip
+    result = solver.solve(solver.Case.from_dict(table))
+    gained = result.history["cycle_plastic_strain"][-1]
+    assert result.status == "converged" and gained > 1e-6
+    assert f"fatigue: the last cycle gained {gained:.2g} equivalent plastic strain" in " ".join(
+        result.notes
+    )
+    assert result.fatigue["dang_van_factor"] > 0
+
+
 def test_fatigue_the_solver_cannot_read_is_refused():
     import solver
 
@@ -413,7 +498,8 @@ def test_fatigue_the_solver_cannot_read_is_refused():
         "fatigue": {"bending_limit": BENDING, "torsion_limit": TORSION},
     }
     for change, where, what in (
-        ({}, "fatigue", "give a stage that slides or rolls"),
+        ({}, "fatigue", "give a stage that slides or rolls (load.path[i].slide, roll, or "
+                        "steady = true) or a cycle block"),
         ({"fatigue": {"bending_limit": BENDING}}, "fatigue", "torsion_limit"),
         ({"fatigue": {"bending_limit": BENDING, "torsion_limit": 2 * BENDING}},
          "fatigue.torsion_limit", "(1/sqrt 3, 1)"),

@@ -3,8 +3,9 @@
 The criteria (:mod:`solver.fatigue.criteria`) read the stress path of every material point of
 body 2 as the contact passes; a steady pass gives it from one snapshot of the moving load's
 field (:func:`~solver.fatigue.criteria.steady_pass_criteria`), so a case with the table must
-move its contact (a ``slide`` or ``roll`` stage, or the steady state of rolling) over a volume
-grid (plane strain in a line contact, ``grid.periodic = "y"``).
+move its contact (a ``slide`` or ``roll`` stage, or the steady state of rolling) or cycle its
+load (a cycle block: the last cycle's increments are each point's path) over a volume grid
+(plane strain in a line contact, ``grid.periodic = "y"``).
 """
 
 from __future__ import annotations
@@ -35,11 +36,12 @@ def parse_fatigue(table: Any) -> FatigueLimits:
 
 def check_fatigue_case(stages, volume: bool, periodic: bool, plastic_body1: bool) -> None:
     """Refuse a case whose pass the criteria cannot read (each with the key to change)."""
-    if not any(stage.motion in ("slide", "roll", "steady") for stage in stages):
+    if not any(stage.motion in ("slide", "roll", "steady") or stage.cycle for stage in stages):
         fail(
             "fatigue",
-            "the criteria read the stress path of a pass: give a stage that slides or rolls "
-            "(load.path[i].slide, roll, or steady = true), or remove the table",
+            "the criteria read the stress path of a pass or a load cycle: give a stage that "
+            "slides or rolls (load.path[i].slide, roll, or steady = true) or a cycle block "
+            "(cycles = N), or remove the table",
         )
     if not volume:
         fail("grid.n", "the fatigue criteria read body 2's volume: give grid.n = [nx, ny, nz]")

@@ -38,7 +38,7 @@ from ..numerics.tensor import equivalent_strain, von_mises
 from ..result import SEPARATED, SLIP, STICK, SURFACE_FLOW_NOTE, TRUNCATED_NOTES, Result
 from ..surface.tangential import friction_bound, over_capacity
 from ..variables import BODY1_SUFFIX, CYCLE_PLASTIC_HISTORIES, HISTORIES, PLASTIC_BODY_HISTORIES
-from .fatigue import pass_fatigue, track_residual
+from .fatigue import cycle_fatigue, pass_fatigue, reads_cycle, residual_field, track_residual
 from .operators import CaseOperators
 from .plastic_loop import (
     PlasticState,
@@ -395,6 +395,8 @@ def _solve(case: Case) -> Result:
     cycle_start = None
     shifted = (None, None, 0)  # a shift stage, the shift at its start, its increments so far
     cycle_profiles: dict[str, list] = {}  # CYCLE_PROFILES at the end of every cycle
+    # the last cycle's tractions, each increment's, when the criteria read a cycle's paths
+    cycle_read = (0, []) if reads_cycle(case) else None
     loaded_positions: set[tuple[float, float, float, float]] = set()  # (p_x, p_y, sign_x, sign_y)
     before = None  # (state, load increment) of the step before the last (elastic predictor)
     creeps = case.creep_ramp()
@@ -507,6 +509,12 @@ def _solve(case: Case) -> Result:
         halfway = np.add(position_of(previous_target), position_of(target)) / 2.0
         previous_target = target
         record(history, k, outcome, area, case.grid.periodic)
+        if cycle_read is not None and cycles[k]:
+            if cycles[k] != cycle_read[0]:
+                cycle_read = (cycles[k], [])
+            cycle_read[1].append(
+                tuple(v.copy() for v in (state.pressure, state.shear_x, state.shear_y))
+            )
         if worn is not None:
             added = worn.add(outcome, follower, area, k, halfway)
             history["wear_volume"][k] = worn_volume + added
@@ -678,8 +686,18 @@ def _solve(case: Case) -> Result:
             result.fields["von_mises"] = von_mises(stress)
         if case.fatigue is not None and ended is not None:
             result.notes.append(
-                "fatigue: not evaluated, the path ended before its last increment (no pass)"
+                "fatigue: not evaluated, the path ended before its last increment (no pass or "
+                "cycle)"
             )
+        elif cycle_read is not None:  # the criteria of body 2 under its last load cycle
+            residual = residual_field(operators, plastic_state) if plastic else None
+            last = cycles == cycle_read[0]
+            gained = float(history["cycle_plastic_strain"][last].max()) if plastic else 0.0
+            fields, result.fatigue, told = cycle_fatigue(
+                case, operators.stress, cycle_read[1], residual, gained
+            )
+            result.fields.update(fields)
+            result.notes.extend(told)
         elif case.fatigue is not None:  # the criteria of body 2 under a steady pass
             residual = track_residual(case, operators, plastic_state) if plastic else None
             fields, result.fatigue, told = pass_fatigue(

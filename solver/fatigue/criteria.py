@@ -168,7 +168,7 @@ def fatigue_criteria(paths: np.ndarray, limits: FatigueLimits) -> FatigueResult:
     dang_van = (_tresca(meso) + a * pressure).max(axis=1)
 
     def factor(limit: float, value: np.ndarray) -> np.ndarray:
-        with np.errstate(divide="ignore"):
+        with np.errstate(divide="ignore", over="ignore"):
             return np.where(value > 0, limit / np.maximum(value, 1e-300), np.inf)
 
     return FatigueResult(

@@ -26,6 +26,31 @@ def cattaneo_shift(
     return compliance * (1.0 - (1.0 - ratio) ** (2.0 / 3.0))
 
 
+def mindlin_deresiewicz_terms(
+    tangential_force: float,
+    amplitude: float,
+    friction_coefficient: float,
+    normal_force: float,
+    unloading: bool,
+) -> list[tuple[float, float]]:
+    """The traction of a Mindlin-Deresiewicz cycle between -Q* and +Q* (beta = 0) at force Q.
+
+    A sum of Hertz-shaped terms ``q_x(r) = sum_i w_i (mu p0 / a) sqrt(c_i^2 - r^2)`` (zero past
+    c_i), returned as ``[(w_i, c_i / a)]``.  Loaded to Q* (Cattaneo): ``[(1, 1), (-1, c*/a)]``,
+    ``(c*/a)^3 = 1 - Q*/(mu W)``.  Unloading from Q* to Q slips back over an annulus
+    ``c' < r < a``, ``(c'/a)^3 = 1 - (Q* - Q)/(2 mu W)``: the increment is twice the Cattaneo
+    traction of radius c', negative, so ``[(-1, 1), (2, c'/a), (-1, c*/a)]``; reloading from
+    -Q* is its mirror, ``(c'/a)^3 = 1 - (Q* + Q)/(2 mu W)`` and the signs reversed (Johnson 1985,
+    section 7.4).
+    """
+    mu_w = friction_coefficient * normal_force
+    star = cattaneo_stick_ratio(amplitude, friction_coefficient, normal_force)
+    change = amplitude - tangential_force if unloading else amplitude + tangential_force
+    back = (1.0 - change / (2.0 * mu_w)) ** (1.0 / 3.0)
+    sign = 1.0 if unloading else -1.0
+    return [(-sign, 1.0), (2.0 * sign, back), (-sign, star)]
+
+
 def mindlin_deresiewicz_energy(
     amplitude: float, friction_coefficient: float, normal_force: float, compliance: float
 ) -> float:
