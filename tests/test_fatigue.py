@@ -671,3 +671,55 @@ def test_the_report_maps_the_fatigue_beside_the_shakedown_regime(tmp_path):
     for row, factor in zip(rows, factors[:2], strict=True):
         assert float(row.split("|")[2]) == pytest.approx(factor, rel=1e-4)
     assert (out / "tired_fatigue_map.png").stat().st_size > 10_000
+
+
+FRETTING_CAMPAIGN = """
+[campaign]
+name = "fretted"
+
+[base]
+grid = { n = [24, 24, 8] }
+body1 = { behaviour = "elastic", E = 210e9, nu = 0.0, radius = 0.01 }
+body2 = { behaviour = "elastic", E = 210e9, nu = 0.0 }
+friction = { coefficient = 0.3 }
+fatigue = { bending_limit = 400e6, torsion_limit = 250e6 }
+
+[[base.load.path]]
+normal_force = 100.0
+
+[[base.load.path]]
+tangential_force = 9.0
+steps = 4
+
+[[base.load.path]]
+cycles = 2
+stages = [{ tangential_force = -9.0, steps = 8 }, { tangential_force = 9.0, steps = 8 }]
+"""
+
+
+def test_a_fretting_campaign_reports_where_its_cycle_is_critical(tmp_path):
+    """Two fretted spheres (+-0.3 mu W), W = 100 and 200 N: the dataset holds the cycle's
+    fields over (x, y, z) and where along x each factor is; the report's fatigue table gives
+    it over the contact radius (within two cells of the contact's edge)."""
+    import xarray as xr
+    from study_fixtures import write
+
+    from study.campaign import load_campaign
+    from study.report import build_report
+    from study.run import storage
+    from study.run.assemble import assemble_to_file
+    from study.run.driver import RunOptions, run_campaign
+
+    out = tmp_path / "out"
+    text = FRETTING_CAMPAIGN + '\n[sweep]\n"load.path.0.normal_force" = [100.0, 200.0]\n'
+    run_campaign(load_campaign(write(tmp_path, text)), out, options=RunOptions())
+    assemble_to_file(out)
+    with xr.open_dataset(storage.dataset_path(out, "fretted")) as data:
+        where = data["dang_van_x"].values / data["hertz_radius"].values
+        first = str(data["case_id"].values.ravel()[0])
+    case = storage.open_case(out, first)
+    assert case["dang_van_cycle_stress"].dims == ("x", "y", "z")
+    assert np.all(np.abs(np.abs(where) - 1.0) < 0.25), where  # two cells (0.125 a) of the edge
+    report = build_report(out).read_text()
+    header = next(line for line in report.splitlines() if "dang_van_x/a" in line)
+    assert "crossland_x/a" in header

@@ -53,11 +53,11 @@ def test_a_steady_stage_on_a_periodic_grid_is_told_to_remove_steady():
     table["load"] = {"path": stages}
     table["friction"] = {"coefficient": 0.3}
     assert refusal(table) == (
-        "load.path: a periodic case is pressed (with friction and tangential forces), not slid "
-        'or rolled: remove steady (steady rolling of a line contact: grid.periodic = "y")'
+        "load.path: a periodic case is pressed (with friction and tangential forces) or slid, "
+        'not rolled: remove steady (steady rolling of a line contact: grid.periodic = "y")'
     )
-    stages[1] = {"slide": [1e-4, 0.0], "steps": 2}
-    assert refusal(table).endswith("not slid or rolled: remove slide")
+    stages[1] = {"roll": [1e-4, 0.0], "creepage": [1e-3, 0.0], "steps": 2}
+    assert refusal(table).endswith("not rolled: remove roll")
 
 
 SAMPLED = """

@@ -142,17 +142,24 @@ class Pair:
             1.0 / self.body1.radius_y + 1.0 / self.body2.radius_y,
         )
 
-    def gap(self, x: np.ndarray, y: np.ndarray, position: tuple[float, float]) -> np.ndarray:
+    def gap(
+        self,
+        x: np.ndarray,
+        y: np.ndarray,
+        position: tuple[float, float],
+        period: tuple[float, float] | None = None,
+    ) -> np.ndarray:
         """Initial gap (m) at ``x``, ``y`` (m) with body 1's apex at ``position`` (m) over body 2.
 
         At the origin this is :meth:`Geometry.gap` of :attr:`geometry` (bit for bit); elsewhere
-        body 1's shape is evaluated at (x - px, y - py), body 2's where it is.
+        body 1's shape is evaluated at (x - px, y - py), body 2's where it is.  ``period`` (m):
+        the heights are periodic (``grid.periodic``), body 1's shift wraps around.
         """
         px, py = position
         if px == 0.0 and py == 0.0:
-            return self.geometry.gap(x, y)
+            return self.geometry.gap(x, y, period)
         upper, lower = (_shape(body) for body in (self.body1, self.body2))
-        return upper.gap(x - px, y - py) + lower.gap(x, y)
+        return upper.gap(x - px, y - py, period) + lower.gap(x, y, period)
 
     @functools.cached_property
     def geometry(self) -> Geometry:

@@ -51,6 +51,7 @@ from .notes import (
     check_static_shakedown,
     check_steady_scene,
     layer_note,
+    periodic_slide_note,
     rolling_step_note,
     scale_note,
     surface_shear_note,
@@ -479,7 +480,8 @@ class Case:
             peak = case.reference.max_pressure if hertzian else math.nan  # a profile: none
             notes = (
                 layer_note(case), surface_shear_note(case), window_note(case),
-                rolling_step_note(case), scale_note(case), limit_reached_note(friction, mu * peak),
+                periodic_slide_note(case), rolling_step_note(case), scale_note(case),
+                limit_reached_note(friction, mu * peak),
             )  # fmt: skip
             notes = tuple(filter(None, notes))
         if notes:  # the case is not yet given out: its cached quantities stay
@@ -755,7 +757,12 @@ class Case:
 
     @property
     def window_centre(self) -> tuple[float, float]:
-        """Centre (m) of the surface window: the origin, or the middle of a sliding track."""
+        """Centre (m) of the surface window: the origin, or the middle of a sliding track.
+
+        A periodic case's is the origin: the period holds every position of the track.
+        """
+        if self.grid.periodic:
+            return 0.0, 0.0
         (x0, x1), (y0, y1) = self.track
         return 0.5 * (x0 + x1), 0.5 * (y0 + y1)
 

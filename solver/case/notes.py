@@ -56,9 +56,10 @@ def check_periodic_scene(
     Solved: flat bodies with periodic heights (a roughness, a height map used as one period),
     body 2 elastic or elastic-plastic (its volume grid the whole period, laterally periodic),
     body 1 rigid or elastic, under normal force, with friction and tangential forces (the
-    normal-tangential coupling of dissimilar bodies included).  Refused, naming the key: a
-    radius or profile (not periodic), an elastic-plastic body 1, a volume grid without a plastic
-    body, a plastic box narrower than the period, and sliding or rolling stages.
+    normal-tangential coupling of dissimilar bodies included), and slid (body 1's heights
+    shifted, wrapping around the period: :func:`periodic_slide_note`).  Refused, naming the
+    key: a radius or profile (not periodic), an elastic-plastic body 1, a volume grid without
+    a plastic body, a plastic box narrower than the period, and rolling stages.
     """
     if not grid.periodic:
         return
@@ -86,12 +87,12 @@ def check_periodic_scene(
         fail("grid.n", "an elastic-plastic body needs a volume grid: give grid.n = [nx, ny, nz]")
     if grid.plastic_half_width is not None:
         fail("grid.plastic_half_width", "a periodic case's plastic box is the whole period")
-    motions = sorted({stage.motion for stage in stages if stage.motion})
+    motions = sorted({stage.motion for stage in stages if stage.motion and stage.motion != "slide"})
     if motions:
         line = ' (steady rolling of a line contact: grid.periodic = "y")' * ("steady" in motions)
         fail(
             "load.path",
-            "a periodic case is pressed (with friction and tangential forces), not slid or "
+            "a periodic case is pressed (with friction and tangential forces) or slid, not "
             f"rolled: remove {' and '.join(motions)}{line}",
         )
 
@@ -447,10 +448,36 @@ def window_unbuilt(case) -> list[str]:
     ]
 
 
+def periodic_slide_note(case) -> str | None:
+    """A note on a periodic case's slides: a stroke past the period, or shorter than a cell.
+
+    Both are solved: a slide wraps around the period (the same heights come round again), and
+    a sub-cell slide moves body 1's heights interpolated between the cells (cubic B-spline).
+    """
+    if not case.grid.periodic or not case.moving:
+        return None
+    grid, period, told = case.surface_grid, case.grid.size, []
+    slides = [stage.travel for stage in case.stages if stage.motion == "slide"]
+    wraps = max(abs(t[axis]) / period[axis] for t in slides for axis in (0, 1))
+    if wraps > 1.0:
+        told.append(
+            f"a slide of {wraps:.3g} periods wraps around the period (solved: the same heights "
+            "come round again)"
+        )
+    shortest = min(math.hypot(*t) for t in slides)
+    if shortest < grid.dx:
+        told.append(
+            f"a slide of {shortest:.3g} m is shorter than a cell ({grid.dx:.3g} m): body 1's "
+            "heights are moved between the cells by cubic B-spline interpolation, the stroke "
+            "unresolved by the cells; refine grid.n to resolve it"
+        )
+    return "periodic sliding: " + "; ".join(told) if told else None
+
+
 def window_note(case) -> str | None:
     """A note when a moving case asks for the window but is solved on the whole track."""
-    if not case.moving or not case.grid.follow_contact:
-        return None
+    if not case.moving or not case.grid.follow_contact or case.grid.periodic:
+        return None  # a period holds every position: no window to follow with
     reasons = window_unbuilt(case)
     if not reasons:
         return None

@@ -36,7 +36,11 @@ PASS_AHEAD = 3.0
 #: between them a partial slip's path bends).
 CYCLE_SAMPLES = 8
 #: Bytes of the stress paths held at once while the criteria of a cycle are read.
-CYCLE_BLOCK_BYTES = 2**28
+CYCLE_BLOCK_BYTES = 2**26
+#: Arrays of a block's size the criteria hold at once (the paths, their deviatoric
+#: coordinates and its moved copy, the deviator, the mesoscopic deviator, Tresca's
+#: temporaries): the cycle's share of :meth:`CaseOperators.memory_bytes`.
+CYCLE_BLOCK_COPIES = 7
 #: Equivalent plastic strain gained over the last cycle above which it is told not shaken down.
 CYCLE_SHAKEN_DOWN = 1e-6
 #: A path's farthest point outside its ball, relative to the radius, above which the ball is
@@ -163,16 +167,14 @@ def cycle_fatigue(
     for k0 in range(0, shape[2], block):  # the paths of a block of layers at once
         layers = slice(k0, min(shape[2], k0 + block))
         box = IndexBox((0, shape[0]), (0, shape[1]), (layers.start, layers.stop))
-        paths = np.stack(
-            [
-                stress_operator.stress(p, *(q if q.any() else None for q in shears), box=box)
-                for p, *shears in tractions
-            ],
-            axis=-1,
-        )  # (6, nx, ny, layers, samples)
+        paths = np.empty((6, samples, *box.shape))  # each sample's field contiguous
+        for t, (p, *shears) in enumerate(tractions):
+            shears = (q if q.any() else None for q in shears)
+            paths[:, t] = stress_operator.stress(p, *shears, box=box)
         if residual is not None:
-            paths += residual[0][:, :, :, layers, None]
-        result = fatigue_criteria(paths.reshape(6, -1, samples), case.fatigue)
+            paths += residual[0][:, None, :, :, layers]
+        paths = np.moveaxis(paths.reshape(6, samples, -1), 1, 2)  # (6, points, samples)
+        result = fatigue_criteria(paths, case.fatigue)
         for name in names:
             values[name][:, :, layers] = getattr(result, name).reshape(box.shape)
     missing = residual is not None and residual[1]

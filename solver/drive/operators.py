@@ -26,6 +26,7 @@ from ..surface.steady import SteadyOperator
 from ..volume.eigenstrain import VOLUME_PRECISIONS, EigenstrainOperator
 from ..volume.plane_strain import PlaneStrainStressOperator
 from ..volume.stress import SubsurfaceStressOperator
+from .fatigue import CYCLE_BLOCK_BYTES, CYCLE_BLOCK_COPIES, reads_cycle
 
 
 def planner_flag(options: SolverOptions) -> str:
@@ -118,7 +119,8 @@ class CaseOperators:
             return self.gap
         key = (float(position[0]), float(position[1]))
         if self._moved is None or self._moved[0] != key:
-            self._moved = (key, self.case.pair.gap(*self.surface.grid.mesh(), key))
+            period = self.case.grid.size if self.case.grid.periodic else None
+            self._moved = (key, self.case.pair.gap(*self.surface.grid.mesh(), key, period))
         return self._moved[1]
 
     def at(self, grid: SurfaceGrid) -> CaseOperators:
@@ -238,7 +240,12 @@ class CaseOperators:
             pair = (case.body1, case.body2)
             kinematic = sum(b.hardening is not None and b.hardening.kinematic for b in pair)
             total += 2 * kinematic * cells  # back stress before and after the increment
-        elif "stress" in case.fields or case.fatigue is not None:
+        if reads_cycle(case):  # a cycle's paths, a block of layers at a time
+            samples = max(sum(s.steps for s in case.stages if s.cycle == case.cycles), 1)
+            per_layer = 48 * samples * nx * ny
+            total += CYCLE_BLOCK_COPIES * per_layer * max(1, CYCLE_BLOCK_BYTES // per_layer)
+            total += 3 * 8 * nx * ny * samples  # the cycle's tractions
+        if case.plastic_body is None and ("stress" in case.fields or case.fatigue is not None):
             tractions = 3 if tangential else 1
             kind = PlaneStrainStressOperator if case.grid.periodic_y else SubsurfaceStressOperator
             total += kind.memory_bytes(volume, tractions)

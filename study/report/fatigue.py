@@ -4,7 +4,8 @@ For a campaign whose cases have a ``[fatigue]`` table (the scalars ``dang_van_fa
 ``crossland_factor`` and their depths) :func:`section` writes
 
 - a table per case: each criterion's smallest factor of safety and its depth over the contact
-  radius, and the case's shakedown regime when the campaign has one;
+  radius (under a load cycle where along x too), and the case's shakedown regime when the
+  campaign has one;
 - ``<name>_fatigue_map.png``, for p_0/k against mu (a shakedown campaign: the same axes as its
   shakedown map) or any two axes: each criterion's factor per case in a panel of its own,
   coloured, the regime as the marker, the cases not trusted ringed in red.
@@ -49,6 +50,9 @@ def _cases(dataset) -> list[dict]:
         for name in CRITERIA:
             row[f"{name}_factor"] = float(case[f"{name}_factor"])
             row[f"{name}_depth/a"] = float(case[f"{name}_depth"]) / radius
+            where = float(case[f"{name}_x"]) if f"{name}_x" in case else np.nan
+            if np.isfinite(where):  # a load cycle's: where along x
+                row[f"{name}_x/a"] = where / radius
         out.append(row)
     return out
 
@@ -65,7 +69,7 @@ def fatigue_table(dataset):
     rows = []
     for case in _cases(dataset):
         row = {**case["labels"]}
-        row |= {k: v for k, v in case.items() if k.endswith(("_factor", "depth/a"))}
+        row |= {k: v for k, v in case.items() if k.endswith(("_factor", "depth/a", "_x/a"))}
         row |= {"regime": case["regime"]} if "regime" in case else {}
         rows.append(row | {"status": case["status"]})
     return pd.DataFrame(rows)

@@ -1,0 +1,93 @@
+"""Rough surfaces in motion (issue 61): slides in periodic mode, body 1's heights shifted.
+
+In periodic mode a rigid rough body 1 that slides is an exact periodic shift of its heights:
+its gap at position X is its heights at x - X, wrapping around the period.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from test_periodic import PERIOD, ROUGH, sinusoid_map, westergaard
+
+import solver
+from solver.bodies.materials import Body, Pair
+
+MU = 0.3
+
+
+def _sliding_sinusoid(n: int, travel: float, steps: int = 4, ratio: float = 0.3) -> tuple:
+    """Westergaard's sinusoid (rigid body 1) slid by ``travel`` over incompressible steel
+    (beta = 0) at p = ratio p*, mu = 0.3: the result and the closed form at its end."""
+    pair = Pair(Body("rigid"), Body("elastic", E=210e9, nu=0.5))
+    full = math.pi * pair.composite_modulus * 1e-6 / PERIOD
+    mean = ratio * full
+    dx = PERIOD / n
+    table = {
+        "body1": {"behaviour": "rigid", "radius": "inf", "surface": sinusoid_map(n)},
+        "body2": {"behaviour": "elastic", "E": 210e9, "nu": 0.5},
+        "friction": {"coefficient": MU},
+        "load": {"path": [{"normal_force": mean * PERIOD * 4 * dx},
+                          {"slide": [travel, 0.0], "steps": steps}]},
+        "grid": {"n": [n, 4], "size": [PERIOD, 4 * dx], "periodic": True},
+    }  # fmt: skip
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "converged", result.notes
+    x, _ = result.case.surface_grid.mesh()
+    end = result.history["position_x"][-1]
+    relative = (x - end + PERIOD / 2) % PERIOD - PERIOD / 2  # from the moved crest
+    return result, westergaard(relative, mean, full)[0]
+
+
+def test_a_sliding_sinusoid_is_westergaards_with_the_shear_of_gross_slip():
+    """beta = 0: the slid sinusoid's pressure is Westergaard's about the moved crest (its mean
+    error of p_max falling with the cells: 64, 128, 256 a period, a third of a period slid, a
+    position between cells), the shear mu p along the motion everywhere, Q = mu W."""
+    errors = []
+    for n in (64, 128, 256):
+        result, expected = _sliding_sinusoid(n, PERIOD / 3)
+        errors.append(np.abs(result.pressure - expected).mean() / expected.max())
+        touching = result.pressure > 0
+        np.testing.assert_allclose(result.shear_x[touching], MU * result.pressure[touching])
+        assert not result.shear_y.any()
+        force = result.history["tangential_force_x"][-1]
+        assert force == pytest.approx(MU * result.history["normal_force"][-1], rel=1e-9)
+        assert not result.notes
+    assert errors[0] < 2e-3 and errors[2] < 0.5 * errors[1] < 0.5 * errors[0], errors
+
+
+def test_a_slide_wraps_around_the_period():
+    """A slide of one period and a third ends where a third does (the heights come round
+    again), and the case says it wraps; a slide shorter than a cell is told."""
+    third, _ = _sliding_sinusoid(64, PERIOD / 3, steps=2)
+    further, _ = _sliding_sinusoid(64, 4 * PERIOD / 3, steps=8)
+    np.testing.assert_allclose(further.pressure, third.pressure, atol=1e-9 * third.pressure.max())
+    assert any("wraps around the period" in note for note in further.case.warnings)
+    small, expected = _sliding_sinusoid(64, 0.2 * PERIOD / 64, steps=1)
+    assert any("shorter than a cell" in note for note in small.case.warnings)
+    assert np.abs(small.pressure - expected).mean() < 2e-3 * expected.max()
+
+
+def test_a_rough_surface_slid_twice_over_elastic_plastic_steel_runs_in():
+    """A rigid rough surface slid twice over its period across perfectly plastic steel (shear
+    capped at k, the hard case): both passes converge, each pass gains less plastic strain
+    than the one before, the friction force is mu W or the capped force below it."""
+    table = {
+        "body1": {"behaviour": "rigid", "radius": "inf", "roughness": ROUGH},
+        "body2": {"behaviour": "elastic-plastic", "E": 210e9, "nu": 0.3,
+                  "hardening": {"law": "perfect", "yield_stress": 1e9}},
+        "friction": {"coefficient": MU, "shear_limit": "yield"},
+        "load": {"path": [{"normal_force": 40.0, "steps": 2},
+                          {"cycles": 2, "stages": [{"slide": [PERIOD, 0.0], "steps": 8}]}]},
+        "grid": {"n": [64, 64, 12], "size": [PERIOD, PERIOD], "periodic": True},
+    }  # fmt: skip
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "converged", result.notes
+    history = result.history
+    cycles = result.case.step_cycles()
+    gained = [history["cycle_plastic_strain"][cycles == c][-1] for c in (1, 2)]
+    assert gained[0] > 1e-3 and gained[1] < 0.5 * gained[0], gained
+    force = history["tangential_force_x"][cycles > 0]
+    assert np.all(force <= MU * 40.0 * (1 + 1e-9)) and np.all(force > 0.8 * MU * 40.0)
