@@ -407,6 +407,13 @@ def cycle_summary(history: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     if "cycle_net_plastic_strain" in history:
         net = np.asarray(history["cycle_net_plastic_strain"], dtype=float)
         out["net_plastic_strain_increment"] = np.array([float(net[s[-1]]) for s in blocks])
+    for name in ("contact_area", "contact_spots"):
+        if name in history:
+            values = np.asarray(history[name], dtype=float)
+            out[f"mean_{name}"] = np.array([float(values[s].mean()) for s in blocks])
+    if "cycle_topography_rms" in history:
+        rms = np.asarray(history["cycle_topography_rms"], dtype=float)
+        out["residual_topography_rms"] = np.array([float(rms[s[-1]]) for s in blocks])
     if "wear_volume" in history:
         volume = np.asarray(history["wear_volume"], dtype=float)
         weight = np.asarray(history["cycle_weight"], dtype=float)

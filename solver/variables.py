@@ -213,6 +213,12 @@ HISTORIES: dict[str, History] = {
         "over the volume",
         None,
     ),
+    "cycle_topography_rms": History(
+        "m",
+        "rms about its mean of body 2's surface at the end of the step's load cycle: its own "
+        "heights plus its residual displacement (a periodic elastic-plastic case's running-in)",
+        None,
+    ),
     "cycle_net_plastic_strain": History(
         "1",
         "equivalent strain of the plastic strain tensor's change since the start of the step's "
@@ -268,6 +274,13 @@ CYCLE_QUANTITIES: dict[str, tuple[str, str]] = {
     "plastic_strain_increment": (
         "1",
         "equivalent plastic strain gained over the cycle, largest over the volume",
+    ),
+    "mean_contact_area": ("m2", "real contact area averaged over the cycle's increments"),
+    "mean_contact_spots": ("1", "contact spots averaged over the cycle's increments"),
+    "residual_topography_rms": (
+        "m",
+        "rms about its mean of body 2's surface at the end of the cycle, its own heights plus "
+        "its residual displacement (periodic elastic-plastic cases: the running-in topography)",
     ),
     "net_plastic_strain_increment": (
         "1",

@@ -14,6 +14,7 @@ from test_periodic import PERIOD, ROUGH, sinusoid_map, westergaard
 
 import solver
 from solver.bodies.materials import Body, Pair
+from solver.result import cycle_summary
 
 MU = 0.3
 
@@ -73,7 +74,8 @@ def test_a_slide_wraps_around_the_period():
 def test_a_rough_surface_slid_twice_over_elastic_plastic_steel_runs_in():
     """A rigid rough surface slid twice over its period across perfectly plastic steel (shear
     capped at k, the hard case): both passes converge, each pass gains less plastic strain
-    than the one before, the friction force is mu W or the capped force below it."""
+    than the one before, the friction force is mu W or the capped force below it; per pass
+    the mean real area and spots, and the rms of body 2's run-in surface (its dent)."""
     table = {
         "body1": {"behaviour": "rigid", "radius": "inf", "roughness": ROUGH},
         "body2": {"behaviour": "elastic-plastic", "E": 210e9, "nu": 0.3,
@@ -91,3 +93,12 @@ def test_a_rough_surface_slid_twice_over_elastic_plastic_steel_runs_in():
     assert gained[0] > 1e-3 and gained[1] < 0.5 * gained[0], gained
     force = history["tangential_force_x"][cycles > 0]
     assert np.all(force <= MU * 40.0 * (1 + 1e-9)) and np.all(force > 0.8 * MU * 40.0)
+    # per pass: the real area and the spots averaged over it, body 2's run-in topography
+    per_pass = cycle_summary(history)
+    for name in ("contact_area", "contact_spots"):
+        expected = [history[name][cycles == c].mean() for c in (1, 2)]
+        np.testing.assert_allclose(per_pass[f"mean_{name}"], expected)
+    dent = result.fields["residual_displacement_z"]
+    rms = np.sqrt(np.mean((dent - dent.mean()) ** 2))  # body 2 is flat: its dent alone
+    assert per_pass["residual_topography_rms"][-1] == pytest.approx(rms, rel=1e-12)
+    assert 0 < per_pass["residual_topography_rms"][0] <= per_pass["residual_topography_rms"][1]

@@ -161,6 +161,10 @@ class Pair:
         upper, lower = (_shape(body) for body in (self.body1, self.body2))
         return upper.gap(x - px, y - py, period) + lower.gap(x, y, period)
 
+    def heights(self, body: int, x, y, period: tuple[float, float] | None = None) -> np.ndarray:
+        """Body ``body``'s (1 or 2) own share of the initial gap (m) at ``x``, ``y`` (m)."""
+        return _shape(self.body1 if body == 1 else self.body2).gap(x, y, period)
+
     @functools.cached_property
     def geometry(self) -> Geometry:
         """The initial gap of the pair: quadric part and both bodies' profiles."""

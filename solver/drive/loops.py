@@ -364,6 +364,7 @@ def _solve(case: Case) -> Result:
     if case.cycles:
         names += ("step_cycle",)
         names += CYCLE_PLASTIC_HISTORIES if plastic else ()
+        names += ("cycle_topography_rms",) if plastic and case.grid.periodic else ()
     total = case.total_steps
     history = {name: np.zeros(total) for name in names}
     step_spots: list[np.ndarray] = []  # periodic: the spot areas of each step
@@ -556,6 +557,11 @@ def _solve(case: Case) -> Result:
             if k + 1 == total or cycles[k + 1] != cycles[k]:  # the cycle's last step
                 largest, profiles = cycle_end(operators, plastic_state)
                 history["cycle_residual_stress"][cycles == cycles[k]] = largest
+                if "cycle_topography_rms" in history:  # body 2's surface, run in
+                    own = case.pair.heights(2, *grid.mesh(), case.grid.size)
+                    surface = own + plastic_state[0].displacement[2]
+                    rms = float(np.sqrt(np.mean((surface - surface.mean()) ** 2)))
+                    history["cycle_topography_rms"][cycles == cycles[k]] = rms
                 for name, values in profiles.items():
                     cycle_profiles.setdefault(name, []).append(values)
         history["residual"][k] = residual
