@@ -6,8 +6,9 @@
   and the last cycle, slip and force amplitudes, smallest stick radius, plastic strain gained
   in the first and the last cycle;
 - ``<name>_fretting_loops.png``: the Q_x - Delta_x loop of every cycle, one panel per case;
-- ``<name>_cycles.png``: the energy dissipated, the plastic strain gained and the residual
-  stress per cycle against the cycle number (those the scene has);
+- ``<name>_cycles.png``: the energy dissipated (or the friction work of a sliding pass), the
+  plastic strain gained, the residual stress, the mean real contact area and a periodic
+  case's run-in surface rms per cycle against the cycle number (those the scene has);
 - the wear of cases that wear (:mod:`.wear`), the fatigue of passes (:mod:`.fatigue`).
 """
 
@@ -28,8 +29,11 @@ from . import fatigue, figures, wear
 #: name -> (scale, axis label, panel title, log axis).
 PANELS = {
     "loop_energy": (1e3, "energy per cycle (mJ)", "dissipated", False),
+    "cycle_friction_work": (1e3, "friction work (mJ)", "per cycle", False),
     "plastic_strain_increment": (1.0, "plastic strain gained (1)", "largest over the volume", True),
     "max_residual_stress": (1e-6, "residual stress (MPa)", "largest von Mises, cycle end", False),
+    "mean_contact_area": (1e12, "real contact area (um^2)", "mean over the cycle", False),
+    "residual_topography_rms": (1e9, "body 2's rms (nm)", "run-in surface, cycle end", False),
 }
 
 
@@ -146,6 +150,8 @@ def plot_cycles(dataset, path: str | Path) -> Path | None:
     plt = figures.pyplot()
     cases = _cases(dataset)[: figures.MAX_LINES]
     names = [name for name in PANELS if name in dataset]
+    if "loop_energy" in names and "cycle_friction_work" in names:  # drawn over the loop's
+        names.remove("cycle_friction_work")
     if plt is None or not cases or not names:
         return None
     from matplotlib.ticker import MaxNLocator
