@@ -87,6 +87,7 @@ def test_a_rough_surface_slid_twice_over_elastic_plastic_steel_runs_in():
     }  # fmt: skip
     result = solver.solve(solver.Case.from_dict(table))
     assert result.status == "converged", result.notes
+    assert any("an increment slides 8 cells" in note for note in result.notes)  # told
     history = result.history
     cycles = result.case.step_cycles()
     gained = [history["cycle_plastic_strain"][cycles == c][-1] for c in (1, 2)]
@@ -220,3 +221,40 @@ def test_coupled_sliding_in_periodic_mode_is_the_open_sliding_of_a_sparse_asperi
         ]
     assert abs(leans[0.0][0]) < 1e-9 and abs(leans[0.0][1]) < 1e-9
     assert leans[MU][0] < -0.03 and leans[MU][1] == pytest.approx(leans[MU][0], rel=0.02)
+
+
+def test_the_running_in_campaign_reports_per_pass(tmp_path):
+    """campaigns/running_in.toml cut to one case of two passes (8 increments each): it runs,
+    assembles the per-pass running-in quantities, and its report draws them per cycle with
+    the regime table, but no Hertz shakedown map (a rough interface has no p0/k)."""
+    from pathlib import Path
+
+    import xarray as xr
+
+    from study.campaign import load_campaign
+    from study.report import build_report
+    from study.run import storage
+    from study.run.assemble import assemble_to_file
+    from study.run.driver import RunOptions, run_campaign
+
+    text = (Path(__file__).parent.parent / "campaigns" / "running_in.toml").read_text()
+    for old, new in (('"body1.roughness.rms" = [2.5e-7, 5e-7]', '"body1.roughness.rms" = [5e-7]'),
+                     ('"friction.coefficient" = [0.2, 0.5]', '"friction.coefficient" = [0.2]'),
+                     ("cycles = 4", "cycles = 2"), ("steps = 64 }", "steps = 8 }")):  # fmt: skip
+        assert old in text
+        text = text.replace(old, new)
+    (tmp_path / "running_in.toml").write_text(text)
+    campaign = load_campaign(tmp_path / "running_in.toml")
+    assert len(campaign.cases) == 1
+    out = tmp_path / "out"
+    assert run_campaign(campaign, out, options=RunOptions()).exit_status == 0
+    assemble_to_file(out)
+    with xr.open_dataset(storage.dataset_path(out, "running_in")) as data:
+        rms = data["residual_topography_rms"].values.ravel()
+        area = data["mean_contact_area"].values.ravel()
+        gained = data["plastic_strain_increment"].values.ravel()
+    assert rms.size == area.size == gained.size == 2 and np.all(rms > 0) and np.all(area > 0)
+    assert gained[1] < gained[0]
+    report = build_report(out).read_text()
+    assert "running_in_cycles.png" in report and "## Shakedown" in report
+    assert not (out / "running_in_shakedown_map.png").exists()

@@ -449,10 +449,12 @@ def window_unbuilt(case) -> list[str]:
 
 
 def periodic_slide_note(case) -> str | None:
-    """A note on a periodic case's slides: a stroke past the period, or shorter than a cell.
+    """A note on a periodic case's slides: past the period, too fast, or shorter than a cell.
 
-    Both are solved: a slide wraps around the period (the same heights come round again), and
-    a sub-cell slide moves body 1's heights interpolated between the cells (cubic B-spline).
+    All are solved: a slide wraps around the period (the same heights come round again); an
+    increment of more than a cell leaves a plastic body's strain (or the wear) at the
+    increments' positions (measured: a groove of dots one increment apart); a sub-cell slide
+    moves body 1's heights interpolated between the cells (cubic B-spline).
     """
     if not case.grid.periodic or not case.moving:
         return None
@@ -463,6 +465,14 @@ def periodic_slide_note(case) -> str | None:
         told.append(
             f"a slide of {wraps:.3g} periods wraps around the period (solved: the same heights "
             "come round again)"
+        )
+    steps = [stage for stage in case.stages if stage.motion == "slide"]
+    jump = max(math.hypot(*stage.travel) / stage.steps for stage in steps) / grid.dx
+    if jump > 1.0 + 1e-9 and (case.plastic_body is not None or case.wear is not None):
+        told.append(
+            f"an increment slides {jump:.3g} cells: a contact spot a few cells across leaves "
+            "its plastic strain (or wear) at each increment's position, a row of dents rather "
+            "than a groove; give a slide at least as many steps as the cells it travels"
         )
     shortest = min(math.hypot(*t) for t in slides)
     if shortest < grid.dx:

@@ -50,17 +50,18 @@ def _cases(dataset) -> list[dict]:
     out = []
     for labels, _, case in analysis.finished_cases(dataset):
         gain = case["plastic_strain_increment"].values
+        # a Hertz contact's peak pressure; none on a rough interface (periodic mode)
+        p0 = float(case["hertz_pressure"]) if "hertz_pressure" in case else np.nan
         done = gain[np.isfinite(gain)]
         net = case["net_plastic_strain_increment"].values[: done.size]
         out.append(
             {
                 "labels": labels,
-                "p0/k": float(case["hertz_pressure"]) / float(case["shear_yield_stress"]),
+                "p0/k": p0 / float(case["shear_yield_stress"]),
                 "mu": float(case["friction_coefficient"]),
                 "regime": regimes.get(int(case["shakedown"]), "?"),
                 "melan p0/k": (
-                    float(case["hertz_pressure"] * case["melan_factor"])
-                    / float(case["shear_yield_stress"])
+                    p0 * float(case["melan_factor"]) / float(case["shear_yield_stress"])
                     if "melan_factor" in case
                     else np.nan
                 ),
@@ -144,8 +145,8 @@ def plot_map(dataset, path: str | Path, nu: float | None) -> Path | None:
 
     Cases not converged, truncated or in surface flow are ringed in red.
     """
-    cases = _cases(dataset)
-    if not cases:
+    cases = [case for case in _cases(dataset) if np.isfinite(case["p0/k"])]
+    if not cases:  # no Hertz contact (a rough interface): the map's axes are not theirs
         return None
     plt = figures.pyplot()
     fig, ax = plt.subplots(figsize=(6.0, 5.4), layout="constrained")
