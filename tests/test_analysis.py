@@ -524,3 +524,25 @@ def test_speed_error_table_finds_the_limit_and_the_cpu_for_one_percent(capsys):
     cpu = math.exp(f * math.log(1.5**3))
     assert f"slipstick, residual dent: {cpu:.3g} s (between n = 16 and 24)" in out
     assert f"tamaas, residual dent: {10 * cpu:.3g} s (between n = 16 and 24)" in out
+
+
+def test_speed_error_table_takes_the_quantities_and_the_columns_it_is_given(capsys):
+    """The periodic rough scene's table: its own quantities (an area with order-1 error), and
+    the resolution columns carried over from the rows (None where a code has none)."""
+    from study.bench.plastic import error_table
+    from study.bench.rough_periodic import ERROR_QUANTITIES
+
+    rows = [
+        {"code": code, "n": n, "cpu_s": 1.0, "spot_cells": n / 4 if code == "slipstick" else None}
+        | {column: 30.0 + 40.0 / n for column in ERROR_QUANTITIES}
+        for code in ("slipstick", "tamaas")
+        for n in (32, 64, 128)
+    ]
+    error_table(rows, quantities=ERROR_QUANTITIES, carry=("spot_cells",))
+    out = capsys.readouterr().out
+    assert "real area at 0.5 GPa: converged value 30 (area_0.5GPa_%), observed order 1.00" in out
+    header = next(line for line in out.splitlines() if line.startswith("| code"))
+    assert header.split("|")[3].strip() == "spot_cells" and "area2_err_%" in header
+    # slipstick at n = 32: 8 cells across, error (40/32)/30 in percent
+    assert f"| slipstick | 32 | 8 | 1 | {100 * 40 / 32 / 30:.4g} |" in out
+    assert "| tamaas | 32 | - | 1 |" in out

@@ -13,6 +13,7 @@ from study.bench import shakedown as bench_shakedown
     [
         ("hertz", {"incremental": True}), ("hertz", {"periodic": True}),
         ("rolling", {"error": True}), ("rolling", {"repeat": 0}), ("hertz", {"repeat": -1}),
+        ("rough", {"error": True}),
     ],
 )  # fmt: skip
 def test_an_option_a_scene_does_not_take_is_refused_by_name(scene, option):

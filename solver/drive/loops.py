@@ -630,6 +630,16 @@ def _solve(case: Case) -> Result:
                 f"the contact spans {across:.3g} cells across at its largest ({measure}), "
                 f"fewer than {MIN_CELLS_ACROSS}: refine the grid or shrink grid.size"
             )
+    if case.grid.periodic and step_spots:  # the largest spot at the largest load
+        spots = step_spots[int(np.argmax(history["normal_force"]))]
+        across = 2.0 * math.sqrt(spots[0] / math.pi) / grid.dx if spots.size else 0.0
+        if 0.0 < across < MIN_CELLS_ACROSS:
+            notes.append(
+                f"the largest contact spot at the largest load spans {across:.3g} cells across "
+                f"(equivalent diameter), fewer than {MIN_CELLS_ACROSS} (a single contact's "
+                "rule): its peak pressure and plastic strain are under-resolved; refine grid.n "
+                "(python -m study bench rough --periodic --error measures how far off)"
+            )
     if not case.moving and any(stage.cycle and stage.steps == 1 for stage in case.stages):
         notes.append(
             "a cycle stage in one step: its loop has two points and no area (loop_energy, "

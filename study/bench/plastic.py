@@ -218,7 +218,12 @@ def run_plastic(sizes: list[int], peers: bool = False, error: bool = False) -> i
 ERROR_QUANTITIES = {"ep_max_%": ("ep", "e_p,max"), "dent_um": ("dent", "residual dent")}
 
 
-def error_table(rows: list[dict], target: float = 0.01) -> None:
+def error_table(
+    rows: list[dict],
+    target: float = 0.01,
+    quantities: dict[str, tuple[str, str]] | None = None,
+    carry: tuple[str, ...] = (),
+) -> None:
     """Print each row's error against the converged value and the CPU each code needs for it.
 
     The converged value of each quantity is the limit of ``v = v* + C h^p`` fitted over our
@@ -226,17 +231,20 @@ def error_table(rows: list[dict], target: float = 0.01) -> None:
     three or more).  Every code's error is taken against that one limit (Tamaas solves the same
     scene in a periodic cell, so its own limit may differ: its finest value is printed beside
     ours).  The CPU for ``target`` relative error is interpolated in log-log between the two
-    meshes that bracket it, or said not reached.
+    meshes that bracket it, or said not reached.  ``quantities``: table column -> (short
+    name, what it is); :data:`ERROR_QUANTITIES` by default.  ``carry``: row columns copied
+    into the table (a mesh's resolution, say).
     """
     from ..analysis.convergence import fit_convergence
     from .timing import format_table
 
+    quantities = quantities or ERROR_QUANTITIES
     ours = [row for row in rows if row["code"] == "slipstick"]
     if len(ours) < 3:
         print("speed-error table: needs our results on 3 or more sizes")
         return
     limits = {}
-    for column, (_, label) in ERROR_QUANTITIES.items():
+    for column, (_, label) in quantities.items():
         fit = fit_convergence([1 / row["n"] for row in ours], [row[column] for row in ours])
         limits[column] = fit.limit
         print(
@@ -248,13 +256,15 @@ def error_table(rows: list[dict], target: float = 0.01) -> None:
         mine = sorted((row for row in rows if row["code"] == code), key=lambda row: row["n"])
         for row in mine:
             table.append(
-                {"code": code, "n": row["n"], "cpu_s": row["cpu_s"]}
+                {"code": code, "n": row["n"]}
+                | {column: row.get(column) for column in carry}
+                | {"cpu_s": row["cpu_s"]}
                 | {
                     f"{short}_err_%": 100 * abs(row[column] / limits[column] - 1)
-                    for column, (short, _) in ERROR_QUANTITIES.items()
+                    for column, (short, _) in quantities.items()
                 }
             )
-        for column, (_, label) in ERROR_QUANTITIES.items():
+        for column, (_, label) in quantities.items():
             errors = [abs(row[column] / limits[column] - 1) for row in mine]
             needs.append(f"{code}, {label}: {_cpu_for(target, mine, errors)}")
     print(format_table(table))

@@ -16,7 +16,7 @@ SCENES = {
     "plastic": ("plastic", "run_plastic", ("peers", "error")),
     "slipstick": ("slipstick", "run_slipstick", ()),
     "cycles": ("cycles", "run_cycles", ()),
-    "rough": ("rough", "run_rough", ("peers", "periodic")),
+    "rough": ("rough", "run_rough", ("peers", "periodic", "error")),
     "moving": ("moving", "run_moving", ()),
     "rolling": ("rolling", "run_rolling", ("peers", "steady", "shapes", "repeat")),
     "shakedown": ("shakedown", "run_shakedown", ("incremental",)),
@@ -63,7 +63,9 @@ def run_benchmark(
     if repeat < 1:
         raise BenchOptionError(f"--repeat: give 1 or more timing repetitions, got {repeat}")
     if error and "error" not in takes:
-        raise BenchOptionError(f"--error: scene {scene!r} has no error table (only plastic)")
+        raise BenchOptionError(
+            f"--error: scene {scene!r} has no error table (only plastic and rough --periodic)"
+        )
     if periodic and "periodic" not in takes:
         raise BenchOptionError(f"--periodic: scene {scene!r} has no periodic form (only rough)")
     run = getattr(importlib.import_module(f"{__package__}.{module}"), runner)

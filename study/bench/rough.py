@@ -122,16 +122,22 @@ def _tamaas(inputs: dict) -> dict:
     }
 
 
-def run_rough(sizes: list[int], peers: bool = False, periodic: bool = False) -> int:
+def run_rough(
+    sizes: list[int], peers: bool = False, periodic: bool = False, error: bool = False
+) -> int:
     """Run the rough-sphere scene over ``sizes``, print its table, return an exit status.
 
     ``periodic``: the periodic rough interface with plasticity instead
-    (:func:`.rough_periodic.run_rough_periodic`).
+    (:func:`.rough_periodic.run_rough_periodic`), ``error`` its speed-error table.
     """
     if periodic:
         from .rough_periodic import run_rough_periodic
 
-        return run_rough_periodic(sizes, peers)
+        return run_rough_periodic(sizes, peers, error)
+    if error:
+        from .registry import BenchOptionError
+
+        raise BenchOptionError("--error: the rough sphere has no error table (add --periodic)")
     have_tamaas = False
     if peers:
         from .peers import available_peers

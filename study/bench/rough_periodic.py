@@ -1,6 +1,6 @@
 """Benchmark: a periodic rough interface with plasticity, ours and Tamaas' on the same heights.
 
-``python -m study bench rough --periodic [--peers] [--sizes 32 64 128]``: one period (L =
+``python -m study bench rough --periodic [--peers] [--error] [--sizes 32 64 128]``: one period (L =
 100 um) of a self-affine surface (Hurst 0.8, rolloff at L/4, wavelengths down to L/16, rms
 50 nm) on a steel half-space (E = 210 GPa, nu = 0.3, von Mises with linear hardening
 sigma_Y = 1 GPa + 10 GPa e_p) pressed by a rigid flat to the mean pressures 0.25 and 0.5 GPa,
@@ -12,8 +12,12 @@ spacing).
 
 Two tables.  Side by side: per code and mesh, the real contact area (fraction of the period)
 at both loads, e_p,max, the rms of the residual topography after unloading (the gap of the
-unloaded bodies about its mean), CPU, wall, resident-memory growth, iterations.  Speed
-against error: each code's results against ours on the finest mesh of the run.
+unloaded bodies about its mean), CPU, wall, resident-memory growth, iterations, and the
+resolution of the mesh (cells across the largest contact spot at the largest load, by its
+equivalent diameter; cells on the shortest wavelength).  Speed against error: each code's
+results against ours on the finest mesh of the run, or with ``--error`` against the limit
+fitted over our meshes (:func:`.plastic.error_table`; three sizes or more), the peer then
+only up to :data:`PEER_ERROR_LARGEST`.
 Each code in a child process (:func:`.timing.isolated`), one thread.
 """
 
@@ -44,6 +48,8 @@ DEPTH = 0.125
 #: Largest mesh Tamaas runs on (cells a period): at 256 it would take about ten hours here
 #: (267 s at 64, 8 to 16 times more for each doubling); ours runs on every size asked for.
 PEER_LARGEST = 128
+#: Largest mesh Tamaas runs on for ``--error`` (its trend, at a few minutes a run).
+PEER_ERROR_LARGEST = 64
 #: Longest a peer's run may take (s): Tamaas at 128 cells takes more than the default half hour.
 PEER_TIMEOUT = 4 * 3600.0
 #: Layers per cell width: layers half a cell thick (on cubic cells weak hardening lets the
@@ -104,7 +110,12 @@ def _ours(n: int) -> dict:
     h = result.history
     loads = len(SCENE["mean_pressures"])
     residual = result.fields["residual_gap"]
+    largest = result.fields["spot_areas"][loads - 1]  # the spots at the largest load
+    largest = largest[np.isfinite(largest)]
     return {
+        "spot_cells": 2 * np.sqrt(largest[0] / np.pi) / case.surface_grid.dx
+        if largest.size
+        else 0.0,
         "area": [float(v) for v in h["contact_fraction"][:loads]],
         "ep_max": [float(v) for v in h["max_plastic_strain"][:loads]],
         "residual_rms": float(np.std(residual)),
@@ -169,6 +180,8 @@ def _row(code: str, n: int, out: dict, reference: dict | None) -> dict:
         row[f"area_{p / 1e9:g}GPa_%"] = 100 * out["area"][i]
     row["ep_max"] = out["ep_max"][-1]
     row["residual_rms_nm"] = out["residual_rms"] * 1e9
+    row["spot_cells"] = out.get("spot_cells")  # ours only: the peer's spots are not read
+    row["wave_cells"] = n * ROUGHNESS["short_cutoff"] / SCENE["period"]
     if reference is not None:
         row["area_err_%"] = 100 * max(
             abs(a / b - 1) for a, b in zip(out["area"], reference["area"], strict=True)
@@ -182,8 +195,11 @@ def _row(code: str, n: int, out: dict, reference: dict | None) -> dict:
     return row
 
 
-def run_rough_periodic(sizes: list[int], peers: bool = False) -> int:
-    """Run the periodic rough scene over ``sizes``, print both tables, return an exit status."""
+def run_rough_periodic(sizes: list[int], peers: bool = False, error: bool = False) -> int:
+    """Run the periodic rough scene over ``sizes``, print both tables, return an exit status.
+
+    ``error``: the speed-error table against the limit fitted over our meshes.
+    """
     have_tamaas = False
     if peers:
         from .peers import available_peers
@@ -191,12 +207,13 @@ def run_rough_periodic(sizes: list[int], peers: bool = False) -> int:
         found = available_peers()
         have_tamaas = "tamaas" in found
         print("peers:", f"tamaas {found['tamaas']}" if have_tamaas else "tamaas not installed")
-        if have_tamaas and max(sizes) > PEER_LARGEST:
-            print(f"tamaas runs up to n = {PEER_LARGEST} (it would take hours above)")
+    peer_largest = PEER_ERROR_LARGEST if error else PEER_LARGEST
+    if have_tamaas and max(sizes) > peer_largest:
+        print(f"tamaas runs up to n = {peer_largest} (it would take hours above)")
     results, failures = {}, 0
     for n in sorted(sizes):
         runs = {("slipstick", n): isolated(_ours, n)}
-        if have_tamaas and n <= PEER_LARGEST:
+        if have_tamaas and n <= peer_largest:
             runs["tamaas", n] = isolated(_tamaas, _inputs(n), timeout=PEER_TIMEOUT)
         for key, (status, out) in runs.items():
             if status == "ok":
@@ -206,13 +223,13 @@ def run_rough_periodic(sizes: list[int], peers: bool = False) -> int:
                 print(f"{key[0]} n={key[1]}: {out}")
     finest = max((n for code, n in results if code == "slipstick"), default=None)
     reference = results.get(("slipstick", finest))
-    side, error = [], []
+    side, against = [], []
     for (code, n), out in sorted(results.items(), key=lambda item: (item[0][1], item[0][0])):
         other = results.get(("tamaas" if code == "slipstick" else "slipstick", n))
         row = _row(code, n, out, other)
         side.append(row)
         if reference is not None and (code, n) != ("slipstick", finest):
-            error.append(_row(code, n, out, reference))
+            against.append(_row(code, n, out, reference))
     s = SCENE
     print(
         f"Periodic rough interface: L = {s['period'] * 1e6:g} um, self-affine H 0.8 (L/4 to "
@@ -223,6 +240,22 @@ def run_rough_periodic(sizes: list[int], peers: bool = False) -> int:
     )
     print(format_table(side))
     if error:
+        from .plastic import error_table
+
+        print("Speed against error: each code against the limit fitted over our meshes")
+        error_table(side, quantities=ERROR_QUANTITIES, carry=("spot_cells", "wave_cells"))
+    elif against:
         print(f"Speed against error: each code against slipstick at n = {finest}")
-        print(format_table(error))
+        print(format_table(against))
     return 1 if failures else 0
+
+
+#: Quantities of the ``--error`` table: table column -> (short name, what it is).
+ERROR_QUANTITIES = {
+    **{
+        f"area_{p / 1e9:g}GPa_%": (f"area{i + 1}", f"real area at {p / 1e9:g} GPa")
+        for i, p in enumerate(SCENE["mean_pressures"])
+    },
+    "ep_max": ("ep", "e_p,max"),
+    "residual_rms_nm": ("rms", "residual topography rms"),
+}
