@@ -258,3 +258,83 @@ def test_the_running_in_campaign_reports_per_pass(tmp_path):
     report = build_report(out).read_text()
     assert "running_in_cycles.png" in report and "## Shakedown" in report
     assert not (out / "running_in_shakedown_map.png").exists()
+
+
+def test_a_fretting_stroke_in_periodic_mode_reverses_the_shear_with_the_motion():
+    """Strokes of a third of a period back and forth (two cycles of +S, -S, then +S) of the
+    sinusoid over incompressible steel (beta = 0) in gross slip: every step's friction force
+    is mu W along the motion of its stroke; at the end of the back stroke and of the out
+    stroke the pressure is Westergaard's about the crest where it stopped, the shear mu p along
+    that stroke's motion."""
+    n = 128
+    pair = Pair(Body("rigid"), Body("elastic", E=210e9, nu=0.5))
+    full = math.pi * pair.composite_modulus * 1e-6 / PERIOD
+    mean, dx, stroke = 0.3 * full, PERIOD / n, PERIOD / 3
+    for extra, sign in (([], -1), ([{"slide": [stroke, 0.0], "steps": 4}], 1)):
+        strokes = [{"slide": [stroke, 0.0], "steps": 4}, {"slide": [-stroke, 0.0], "steps": 4}]
+        table = {
+            "body1": {"behaviour": "rigid", "radius": "inf", "surface": sinusoid_map(n)},
+            "body2": {"behaviour": "elastic", "E": 210e9, "nu": 0.5},
+            "friction": {"coefficient": MU},
+            "load": {"path": [{"normal_force": mean * PERIOD * 4 * dx},
+                              {"cycles": 2, "stages": strokes}, *extra]},
+            "grid": {"n": [n, 4], "size": [PERIOD, 4 * dx], "periodic": True},
+        }  # fmt: skip
+        result = solver.solve(solver.Case.from_dict(table))
+        assert result.status == "converged", result.notes
+        h = result.history
+        motion = np.sign(np.diff(h["position_x"]))
+        assert list(motion) == [1] * 4 + [-1] * 4 + [1] * 4 + [-1] * 4 + [1] * len(extra) * 4
+        force = h["tangential_force_x"][1:]
+        np.testing.assert_allclose(force, motion * MU * h["normal_force"][1:], rtol=1e-9)
+        x, _ = result.case.surface_grid.mesh()
+        relative = (x - h["position_x"][-1] + PERIOD / 2) % PERIOD - PERIOD / 2
+        expected = westergaard(relative, mean, full)[0]
+        assert np.abs(result.pressure - expected).mean() < 2e-3 * expected.max()
+        touching = result.pressure > 0
+        np.testing.assert_allclose(
+            result.shear_x[touching], sign * MU * result.pressure[touching], rtol=1e-9
+        )
+    assert h["position_x"][-1] == pytest.approx(h["position_x"][0] + stroke)
+
+
+@pytest.mark.parametrize("back", [0.0, -1.0])
+def test_a_tangential_force_cycle_in_periodic_mode_is_mindlin_deresiewicz(back):
+    """Two steels (beta = 0), Westergaard's strip at p = 0.3 p*, Q to Q* = mu W / 2, then back
+    to ``back`` Q*: on the way back the shear is the loading's Ciavarella-Jaeger field less
+    twice the one of the change, q = mu (p - p_c(Q*)) - 2 mu (p - p_c((Q* - Q) / 2)), p_c(Q)
+    Westergaard's pressure at the mean pressure p (1 - Q / (mu W)); at Q = -Q* the loading's
+    shear reversed.  Within 1 % (L2) at 128 cells a period."""
+    from test_periodic import periodic_case
+
+    n = 128
+    steel = {"behaviour": "elastic", "E": 210e9, "nu": 0.3}
+    full = math.pi * Pair(Body(**steel), Body(**steel)).composite_modulus * 1e-6 / PERIOD
+    dx, mean = PERIOD / n, 0.3 * full
+    force = mean * PERIOD * 4 * dx
+    peak = 0.5 * MU * force
+    table = periodic_case(
+        {**steel, "surface": sinusoid_map(n)}, (n, 4), (PERIOD, 4 * dx),
+        body1={**steel, "radius": "inf"}, friction={"coefficient": MU},
+    )  # fmt: skip
+    table["load"] = {
+        "path": [
+            {"normal_force": force, "steps": 1},
+            {"tangential_force": [peak, 0.0], "steps": 10},
+            {"tangential_force": [back * peak, 0.0], "steps": 20},
+        ]
+    }
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "converged", result.notes
+    x = result.case.surface_grid.mesh()[0]
+
+    def p_c(q: float) -> np.ndarray:
+        return westergaard(x, mean * (1 - q / (MU * force)), full)[0]
+
+    pressure = westergaard(x, mean, full)[0]
+    change = peak * (1 - back)
+    expected = MU * (pressure - p_c(peak)) - 2 * MU * (pressure - p_c(change / 2))
+    if back == -1.0:
+        np.testing.assert_allclose(expected, -MU * (pressure - p_c(peak)), atol=1e-9 * full)
+    error = np.linalg.norm(result.shear_x - expected) / np.linalg.norm(MU * pressure)
+    assert error < 0.01, error
