@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .bodies.heights import ring_wavenumbers
 from .case.case import Case
 from .numerics.grid import SurfaceGrid
 from .numerics.tensor import COMPONENTS
@@ -251,6 +252,12 @@ class Result:
                     values,
                     {"units": "m", "long_name": f"track cross-section: {along[axis]}"},
                 )
+        if "cycle_topography_spectrum" in self.fields:
+            coords["wavenumber"] = (
+                "wavenumber",
+                ring_wavenumbers(self.grid.shape, case.grid.size),
+                {"units": "1/m", "long_name": "wavenumber of a ring of wavevectors"},
+            )
         for name, values in self.fields.items():
             declared = FIELDS[name]
             if "component" in declared.dims:

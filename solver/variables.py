@@ -416,6 +416,13 @@ FIELDS: dict[str, Field] = {
         "contact state along x through the contact axis at the end of each solved load cycle "
         "(0 separated, 1 stick, 2 slip; [wear]: the stick zone as the surfaces wear)",
     ),
+    "cycle_topography_spectrum": Field(
+        ("cycle", "wavenumber"),
+        "m4",
+        "isotropic power spectral density C(q) of body 2's surface at the end of each load "
+        "cycle, its own heights plus its residual displacement, averaged over rings of "
+        "wavevectors (a periodic elastic-plastic case's running-in topography)",
+    ),
     "cycle_rut_profile": Field(
         ("cycle", "y"),
         "m",

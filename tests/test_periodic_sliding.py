@@ -13,6 +13,7 @@ import pytest
 from test_periodic import PERIOD, ROUGH, sinusoid_map, westergaard
 
 import solver
+from solver.bodies.heights import isotropic_spectrum
 from solver.bodies.materials import Body, Pair
 from solver.result import cycle_summary
 
@@ -75,7 +76,8 @@ def test_a_rough_surface_slid_twice_over_elastic_plastic_steel_runs_in():
     """A rigid rough surface slid twice over its period across perfectly plastic steel (shear
     capped at k, the hard case): both passes converge, each pass gains less plastic strain
     than the one before, the friction force is mu W or the capped force below it; per pass
-    the mean real area and spots, and the rms of body 2's run-in surface (its dent)."""
+    the mean real area and spots, the rms of body 2's run-in surface (its dent) and its
+    spectrum."""
     table = {
         "body1": {"behaviour": "rigid", "radius": "inf", "roughness": ROUGH},
         "body2": {"behaviour": "elastic-plastic", "E": 210e9, "nu": 0.3,
@@ -103,6 +105,14 @@ def test_a_rough_surface_slid_twice_over_elastic_plastic_steel_runs_in():
     rms = np.sqrt(np.mean((dent - dent.mean()) ** 2))  # body 2 is flat: its dent alone
     assert per_pass["residual_topography_rms"][-1] == pytest.approx(rms, rel=1e-12)
     assert 0 < per_pass["residual_topography_rms"][0] <= per_pass["residual_topography_rms"][1]
+    # and its spectrum, pass by pass: the last pass's is the run-in surface's
+    spectra = result.fields["cycle_topography_spectrum"]
+    assert spectra.shape == (2, 32)
+    np.testing.assert_allclose(spectra[-1], isotropic_spectrum(dent, (PERIOD, PERIOD)), rtol=1e-5)
+    q = result.to_xarray()["wavenumber"].values
+    for pass_rms, spectrum in zip(per_pass["residual_topography_rms"], spectra, strict=True):
+        # the mean square, less the wavevectors past the Nyquist ring (the corners)
+        assert np.sum(q * spectrum) * q[0] / (2 * np.pi) == pytest.approx(pass_rms**2, rel=0.06)
 
 
 def _sparse_pair(cells: int, period_radii: float, layers: int, mu: float = 0.3) -> tuple:
@@ -226,7 +236,8 @@ def test_coupled_sliding_in_periodic_mode_is_the_open_sliding_of_a_sparse_asperi
 def test_the_running_in_campaign_reports_per_pass(tmp_path):
     """campaigns/running_in.toml cut to one case of two passes (8 increments each): it runs,
     assembles the per-pass running-in quantities, and its report draws them per cycle with
-    the regime table, but no Hertz shakedown map (a rough interface has no p0/k)."""
+    the regime table and the run-in surface's spectrum per pass, but no Hertz shakedown map
+    (a rough interface has no p0/k)."""
     from pathlib import Path
 
     import xarray as xr
@@ -257,6 +268,7 @@ def test_the_running_in_campaign_reports_per_pass(tmp_path):
     assert gained[1] < gained[0]
     report = build_report(out).read_text()
     assert "running_in_cycles.png" in report and "## Shakedown" in report
+    assert "running_in_topography_spectra.png" in report  # the print's spectrum per pass
     assert not (out / "running_in_shakedown_map.png").exists()
 
 

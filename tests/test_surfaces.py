@@ -166,6 +166,39 @@ def test_roughness_is_reproducible_exact_in_rms_and_self_affine():
     assert measured == pytest.approx(0.05, rel=1e-9)
 
 
+def test_the_isotropic_spectrum_keeps_the_mean_square_and_the_self_affine_slope():
+    """A cosine of ring m on a rectangular period: its ring alone holds power, the ring's
+    wavevectors (counted here one by one) times C over the area its mean square a^2/2.  The
+    roughness lattice: the slope -2(1 + H) between the cutoffs, and the mean square about
+    (2 pi)^-1 sum q C dq."""
+    from solver.bodies.heights import _roughness_lattice, isotropic_spectrum, ring_wavenumbers
+
+    period, shape, a, m = (2e-4, 1e-4), (64, 32), 3e-8, 5
+    x = (np.arange(shape[0]) + 0.5) * period[0] / shape[0]
+    heights = a * np.cos(2 * np.pi * m * x / period[0])[:, None] * np.ones(shape[1])
+    q = ring_wavenumbers(shape, period)
+    assert q[0] == pytest.approx(2 * np.pi / period[0]) and q.size == 32  # up to pi / dx
+    spectrum = isotropic_spectrum(heights, period)
+    dq = 2 * np.pi / period[0]
+    count = sum(
+        round(math.hypot(2 * np.pi * i / period[0], 2 * np.pi * j / period[1]) / dq) == m
+        for i in np.fft.fftfreq(shape[0], 1 / shape[0])
+        for j in np.fft.fftfreq(shape[1], 1 / shape[1])
+    )
+    area = period[0] * period[1]
+    assert count * spectrum[m - 1] / area == pytest.approx(a**2 / 2, rel=1e-12)
+    assert np.delete(spectrum, m - 1).max() < 1e-12 * spectrum[m - 1]
+    rough = Roughness(0.8, 2e-4, 2e-5, rms=2e-7, seed=7)
+    points, spacing = rough.lattice(3.2e-3)  # 640 points: 16 long cutoffs
+    lattice = _roughness_lattice(rough, points, spacing)
+    side = (points * spacing, points * spacing)
+    q, spectrum = ring_wavenumbers(lattice.shape, side), isotropic_spectrum(lattice, side)
+    within = (q > 2 * 2 * np.pi / 2e-4) & (q < 0.8 * 2 * np.pi / 2e-5)
+    slope = np.polyfit(np.log(q[within]), np.log(spectrum[within]), 1)[0]
+    assert slope == pytest.approx(-2 * (1 + 0.8), abs=0.1)
+    assert np.sum(q * spectrum) * q[0] / (2 * np.pi) == pytest.approx((2e-7) ** 2, rel=0.02)
+
+
 def test_roughness_does_not_change_with_the_mesh():
     """The realisation lives on its own lattice: two grids sample the same surface."""
     coarse = Case.from_dict({**SPHERE, "body2": {**STEEL, "roughness": ROUGH}})

@@ -14,6 +14,8 @@ the body's quadric and profile (:class:`solver.bodies.geometry.Geometry`).
   covers the domain.  Its power spectrum is ``C(q) ~ q^(-2(1+H))`` between the wavenumbers of
   ``long_cutoff`` and ``short_cutoff``, flat below (a roll-off), zero above; the realisation is
   scaled to the given rms height (or rms slope, taken spectrally on the lattice) exactly.
+* :func:`isotropic_spectrum`: the ring-averaged power spectral density of one period of
+  heights (a run-in topography's, pass by pass).
 """
 
 from __future__ import annotations
@@ -360,3 +362,49 @@ def _roughness_lattice(roughness: Roughness, points: int, spacing: float) -> np.
     out = heights * scale
     out.setflags(write=False)
     return out
+
+
+def ring_wavenumbers(shape: tuple[int, int], period: tuple[float, float]) -> np.ndarray:
+    """The wavenumbers (1/m) of :func:`isotropic_spectrum`'s rings on a period of ``shape`` cells.
+
+    ``k dq`` for k = 1, 2, ... up to the Nyquist wavenumber ``pi / dx`` of the coarser axis,
+    ``dq = 2 pi / max(period)``.
+    """
+    step = 2.0 * math.pi / max(period)
+    spacing = max(length / cells for length, cells in zip(period, shape, strict=True))
+    return step * np.arange(1, int(math.floor(math.pi / spacing / step + 1e-9)) + 1)
+
+
+def isotropic_spectrum(heights: np.ndarray, period: tuple[float, float]) -> np.ndarray:
+    """The isotropic power spectral density of one period of heights, averaged over rings.
+
+    ``C(q)`` is the mean of ``|H(q)|^2 A / N^2`` over the wavevectors of a ring, ``H`` the
+    heights' discrete Fourier transform, ``A`` the period's area, ``N`` its cells: the
+    convention under which the mean square height about the mean is ``(2 pi)^-2 sum_q C(q)
+    dq_x dq_y`` over the wavevectors (Parseval), about ``(2 pi)^-1 integral q C(q) dq``
+    (Jacobs, Junge and Pastewka, Surf. Topogr. Metrol. Prop. 5 (2017) 013001).  Ring ``k``
+    holds the wavevectors of length within half a step of ``k dq`` (:func:`ring_wavenumbers`).
+
+    Parameters
+    ----------
+    heights : numpy.ndarray
+        Heights (m) at the cell centres of one period, shape (nx, ny).
+    period : tuple of float
+        The period (m) along x and y.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``C(q)`` (m^4) on the rings of :func:`ring_wavenumbers`.
+    """
+    heights = np.asarray(heights, dtype=float)
+    (nx, ny), (lx, ly) = heights.shape, period
+    rings = ring_wavenumbers(heights.shape, period)
+    qx = 2.0 * math.pi * np.fft.fftfreq(nx, lx / nx)
+    qy = 2.0 * math.pi * np.fft.fftfreq(ny, ly / ny)
+    ring = np.rint(np.hypot(qx[:, None], qy[None, :]) / rings[0]).astype(int)
+    power = np.abs(np.fft.fft2(heights)) ** 2 * (lx * ly) / heights.size**2
+    inside = (ring >= 1) & (ring <= rings.size)
+    total = np.bincount(ring[inside], power[inside], rings.size + 1)[1:]
+    count = np.bincount(ring[inside], minlength=rings.size + 1)[1:]
+    return total / np.maximum(count, 1)

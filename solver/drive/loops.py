@@ -29,6 +29,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ..bodies.heights import isotropic_spectrum
 from ..case.case import Case
 from ..case.notes import SMALL_STRAIN_LIMIT
 from ..case.substeps import load_substeps, substep_floor
@@ -562,6 +563,9 @@ def _solve(case: Case) -> Result:
                     surface = own + plastic_state[0].displacement[2]
                     rms = float(np.sqrt(np.mean((surface - surface.mean()) ** 2)))
                     history["cycle_topography_rms"][cycles == cycles[k]] = rms
+                    cycle_profiles.setdefault("cycle_topography_spectrum", []).append(
+                        isotropic_spectrum(surface, case.grid.size)
+                    )
                 for name, values in profiles.items():
                     cycle_profiles.setdefault(name, []).append(values)
         history["residual"][k] = residual

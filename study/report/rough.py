@@ -16,7 +16,10 @@
   against the area (log-log), every case (each step's spots are in the case files,
   ``spot_areas``);
 - ``<name>_residual_topography.png`` (elastic-plastic): the first case's initial gap, its gap
-  after the path (on one colour scale) and the difference (the plastic print).
+  after the path (on one colour scale) and the difference (the plastic print);
+- ``<name>_topography_spectra.png`` (passes over an elastic-plastic body 2): per case, the
+  power spectral density of body 2's surface at the end of each pass (its run-in print,
+  ``cycle_topography_spectrum``) beside that of the initial gap.
 """
 
 from __future__ import annotations
@@ -106,7 +109,8 @@ def _read(out: str | Path, case_id: str, index) -> dict:
                      "max_plastic_strain", "plastic_volume"):  # fmt: skip
             if name in case:
                 data[name] = case[name].values.astype(float)
-        for name in ("pressure", "initial_gap", "residual_gap", "spot_areas"):
+        for name in ("pressure", "initial_gap", "residual_gap", "spot_areas",
+                     "cycle_topography_spectrum", "wavenumber"):  # fmt: skip
             if name in case:
                 data[name] = case[name].values.astype(float)
         data["extent"] = (x[0], x[-1], y[0], y[-1])
@@ -312,6 +316,54 @@ def plot_residual_topography(dataset, out: str | Path, path: Path) -> Path | Non
     return Path(path)
 
 
+def plot_topography_spectra(dataset, out: str | Path, path: Path) -> Path | None:
+    """Per case with passes, the spectrum of body 2's surface after each pass.
+
+    One panel per case (at most :data:`figures.MAX_LINES`): ``C(q)`` of each pass's run-in
+    surface, light to dark with the pass, and dashed the initial gap's (the heights being
+    printed), both by :func:`solver.bodies.heights.isotropic_spectrum`.
+
+    Returns
+    -------
+    Path or None
+        The PNG, or None without a stored finished case with per-pass spectra.
+    """
+    from solver.bodies.heights import isotropic_spectrum
+
+    from ..run import storage
+
+    index = storage.case_index(out)
+    found = [
+        (labels, data)
+        for labels, case_id in _cases(dataset, index)
+        if "cycle_topography_spectrum" in (data := _read(out, case_id, index))
+    ][: figures.MAX_LINES]
+    if not found:
+        return None
+    plt = figures.pyplot()
+    fig, axes, _ = figures.panel_grid(plt, len(found), 3.8, 3.2, below=0.4)
+    for ax, (labels, data) in zip(axes, found, strict=True):
+        q, spectra = data["wavenumber"], data["cycle_topography_spectrum"]
+        colours = plt.get_cmap("viridis")(np.linspace(0.85, 0.0, len(spectra)))
+        for k, (spectrum, colour) in enumerate(zip(spectra, colours, strict=True)):
+            ax.loglog(q, spectrum, color=colour, label=f"after pass {k + 1}")
+        x0, x1, y0, y1 = data["extent"]
+        shape = data["initial_gap"].shape
+        period = ((x1 - x0) * shape[0] / (shape[0] - 1), (y1 - y0) * shape[1] / (shape[1] - 1))
+        initial = isotropic_spectrum(data["initial_gap"], period)
+        ax.loglog(q, initial, "k--", label="initial gap")
+        top = max(float(initial.max()), float(spectra.max()))
+        floor = max(1e-8 * top, float(spectra[spectra > 0].min(initial=top)))
+        ax.set_ylim(0.5 * floor, 2 * top)  # not the round-off past the heights' cutoff
+        ax.set(xlabel="wavenumber q (1/m)", ylabel="C(q) (m^4)")
+        ax.set_title(figures.labels_text(labels), fontsize=8)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=6)
+    figures.suptitle(fig, "Run-in surface of body 2: power spectral density per pass", "")
+    figures.save(plt, fig, path)
+    return Path(path)
+
+
 def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
     """Markdown lines of the rough-interface part of the report (figures added to ``shown``)."""
     lines = ["## Rough interface", ""]
@@ -335,6 +387,8 @@ def section(dataset, out: Path, name: str, plt, shown: list) -> list[str]:
         ("Contact spot sizes", plot_spot_sizes, "spot_sizes", "every case, at its largest load"),
         ("Residual topography", plot_residual_topography, "residual_topography",
          "the first elastic-plastic case"),
+        ("Run-in spectra", plot_topography_spectra, "topography_spectra",
+         "every case with passes"),
     )  # fmt: skip
     for title, plot, stem, which in drawn:
         png = plot(dataset, out, out / f"{name}_{stem}.png")
