@@ -116,43 +116,12 @@ def test_a_rough_surface_slid_twice_over_elastic_plastic_steel_runs_in():
 
 
 def _sparse_pair(cells: int, period_radii: float, layers: int, mu: float = 0.3) -> tuple:
-    """A rigid sphere (R = 10 mm, W = 100 N) slid 4 a over linearly hardening steel: the
-    open case (a window over the track) and the periodic one, the sphere a spherical cap
-    (radius 2.5 a) on a flat period of ``period_radii`` a; ``cells`` a contact radius, the
-    same cells, layers and depth (1.5 a) in both.  Their e_p,max and deepest dents."""
-    from solver.bodies.heights import HeightMap
+    """The sparse asperity slid open and in periodic mode (the bench's two cases,
+    :func:`study.bench.sliding_periodic.sparse_pair_tables`): their e_p,max and deepest dents."""
+    from study.bench.sliding_periodic import sparse_pair_tables
 
-    hardening = {"law": "linear", "yield_stress": 0.9e9, "modulus": 210e9 / 20}
-    steel = {"behaviour": "elastic-plastic", "E": 210e9, "nu": 0.3, "hardening": hardening}
-    rigid = {"behaviour": "rigid", "radius": 0.01}
-    a = solver.Case.from_dict(
-        {
-            "body1": rigid,
-            "body2": {"behaviour": "elastic", "E": 210e9, "nu": 0.3},
-            "load": {"normal_force": 100.0},
-            "grid": {"n": 16},
-        }  # fmt: skip
-    ).reference.radius
-    dx, travel = a / cells, 4 * a
-    path = [{"normal_force": 100.0, "steps": 4}, {"slide": [travel, 0.0], "steps": 2 * cells}]
-    along, across = round((3 * a + travel) / dx), round(3 * a / dx)
-    grid = {"n": [along, across, layers], "depth": 1.5}
-    open_case = {"body1": rigid, "body2": steel, "friction": {"coefficient": mu},
-                 "load": {"path": path}, "grid": grid}  # fmt: skip
-    n = round(period_radii * a / dx)
-    x = (np.arange(n) + 0.5 - n / 2) * dx
-    xx, yy = np.meshgrid(x, x)
-    cap = np.minimum(xx**2 + yy**2, (2.5 * a) ** 2) / (2 * 0.01)
-    periodic = {
-        "body1": {"behaviour": "rigid", "radius": "inf", "surface": HeightMap(x, x, cap, "cap")},
-        "body2": steel,
-        "friction": {"coefficient": mu},
-        "load": {"path": path},
-        "grid": {"n": [n, n, layers], "size": [n * dx, n * dx], "periodic": True,
-                 "depth": 1.5 * a},
-    }  # fmt: skip
     out = []
-    for table in (open_case, periodic):
+    for table in sparse_pair_tables(cells, period_radii, layers, mu):
         result = solver.solve(solver.Case.from_dict(table))
         assert result.status == "converged", result.notes
         fields = result.fields
@@ -350,3 +319,66 @@ def test_a_tangential_force_cycle_in_periodic_mode_is_mindlin_deresiewicz(back):
         np.testing.assert_allclose(expected, -MU * (pressure - p_c(peak)), atol=1e-9 * full)
     error = np.linalg.norm(result.shear_x - expected) / np.linalg.norm(MU * pressure)
     assert error < 0.01, error
+
+
+def _wavy_passes(n: int, p0k: float, passes: int = 4) -> list[float]:
+    """A rigid sinusoid (one crest a period, uniform along y) slid over elastic-perfectly
+    plastic steel (sigma_Y = 1 GPa) at mu = 0.2, ``passes`` passes of one period in
+    increments of a cell: Westergaard's peak pressure p_0 = 2 sqrt(p p*) = ``p0k`` k at the
+    mean pressure p = 0.15 p* (a contact band 0.25 of the period wide); n x n cells a period,
+    0.45 of it deep in layers half a cell thick.  The plastic strain gained in each pass."""
+    sigma_y, mu, ratio, depth = 1e9, 0.2, 0.15, 0.45
+    pair = Pair(Body("rigid"), Body("elastic", E=210e9, nu=0.3))
+    full = p0k * sigma_y / math.sqrt(3) / (2 * math.sqrt(ratio))  # p*
+    amplitude = full * PERIOD / (math.pi * pair.composite_modulus)
+    x = (np.arange(n) + 0.5) * PERIOD / n - PERIOD / 2
+    heights = amplitude * (1 - np.cos(2 * np.pi * x / PERIOD))[None, :] * np.ones((n, 1))
+    from solver.bodies.heights import HeightMap
+
+    table = {
+        "body1": {"behaviour": "rigid", "radius": "inf",
+                  "surface": HeightMap(x, x, heights, "sinusoid")},
+        "body2": {"behaviour": "elastic-plastic", "E": 210e9, "nu": 0.3,
+                  "hardening": {"law": "perfect", "yield_stress": sigma_y}},
+        "friction": {"coefficient": mu},
+        "load": {"path": [{"normal_force": ratio * full * PERIOD**2, "steps": 2},
+                          {"cycles": passes, "stages": [{"slide": [PERIOD, 0.0], "steps": n}]}]},
+        "grid": {"n": [n, n, round(2 * depth * n)], "size": [PERIOD, PERIOD], "periodic": True,
+                 "depth": depth * PERIOD},
+    }  # fmt: skip
+    result = solver.solve(solver.Case.from_dict(table))
+    assert result.status == "converged", result.notes
+    return list(cycle_summary(result.history)["plastic_strain_increment"])
+
+
+def _runs_in(gained: list[float]) -> bool:
+    """Each pass gains less than the one before, the last under a fifth of the first."""
+    return bool(np.all(np.diff(gained) < 0)) and gained[-1] < 0.2 * gained[0]
+
+
+def _keeps_flowing(gained: list[float]) -> bool:
+    """The last pass gains as much as the one before (within 10 %), over half the first."""
+    return gained[-1] > 0.9 * gained[-2] and gained[-1] > 0.5 * gained[0]
+
+
+def _running_in_contrast(n: int) -> tuple[list[float], list[float]]:
+    below, above = _wavy_passes(n, 3.2), _wavy_passes(n, 3.8)
+    assert below[0] > 0  # both loads yield the first pass
+    assert _runs_in(below) and not _keeps_flowing(below), below
+    assert _keeps_flowing(above) and not _runs_in(above), above
+    assert above[-1] > 10 * below[-1]
+    return below, above
+
+
+def test_running_in_stops_below_the_shakedown_load_and_not_above():
+    """The sliding sinusoid four times over its period: at p_0 = 3.2 k the strain gained per
+    pass falls pass by pass (elastic shakedown), at 3.8 k it settles at a constant gain (no
+    shakedown: the strain grows by as much every pass); 32 cells a period."""
+    _running_in_contrast(32)
+
+
+@pytest.mark.slow
+def test_running_in_below_and_above_shakedown_holds_on_finer_meshes():
+    """The same two loads on 48 and 64 cells a period: the same verdicts."""
+    for n in (48, 64):
+        _running_in_contrast(n)

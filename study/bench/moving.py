@@ -11,6 +11,7 @@ track, wall and CPU time, peak memory, plasticity iterations, largest plastic st
 difference from the whole track's, status.  Each row runs in a fresh process.
 
 ``python -m study bench moving [--sizes N ...]`` (N: cells across the contact, default 16 32).
+``--periodic``: sliding in periodic mode instead (:mod:`.sliding_periodic`).
 """
 
 from __future__ import annotations
@@ -77,8 +78,15 @@ def _row(across: int, follow: bool) -> dict:
     }
 
 
-def run_moving(sizes: list[int]) -> int:
-    """Print the table of one pass per size and way; 0 when every row ran."""
+def run_moving(sizes: list[int], periodic: bool = False) -> int:
+    """Print the table of one pass per size and way; 0 when every row ran.
+
+    ``periodic``: the periodic-mode tables (:func:`.sliding_periodic.run_sliding_periodic`).
+    """
+    if periodic:
+        from .sliding_periodic import run_sliding_periodic
+
+        return run_sliding_periodic(sizes)
     rows, failed = [], False
     for across in sizes:
         pair = []

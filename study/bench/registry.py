@@ -17,7 +17,7 @@ SCENES = {
     "slipstick": ("slipstick", "run_slipstick", ()),
     "cycles": ("cycles", "run_cycles", ()),
     "rough": ("rough", "run_rough", ("peers", "periodic", "error")),
-    "moving": ("moving", "run_moving", ()),
+    "moving": ("moving", "run_moving", ("periodic",)),
     "rolling": ("rolling", "run_rolling", ("peers", "steady", "shapes", "repeat")),
     "shakedown": ("shakedown", "run_shakedown", ("incremental",)),
     "hard": ("hard_cases", "run_hard", ()),
@@ -39,6 +39,7 @@ DEFAULT_SIZES = {
     "rough": [128, 256],
     "rough --periodic": [32, 64, 128],
     "moving": [16, 32],
+    "moving --periodic": [64, 128, 256],
     "rolling": [32, 64],
     "shakedown": [],  # the campaign fixes the cases
     "hard": [16, 24, 32],  # the limit's refinement (the scenes' meshes are fixed)
@@ -67,7 +68,9 @@ def run_benchmark(
             f"--error: scene {scene!r} has no error table (only plastic and rough --periodic)"
         )
     if periodic and "periodic" not in takes:
-        raise BenchOptionError(f"--periodic: scene {scene!r} has no periodic form (only rough)")
+        raise BenchOptionError(
+            f"--periodic: scene {scene!r} has no periodic form (only rough, moving)"
+        )
     run = getattr(importlib.import_module(f"{__package__}.{module}"), runner)
     if incremental and "incremental" not in takes:
         raise BenchOptionError(f"--incremental: scene {scene!r} has no such run (only shakedown)")
