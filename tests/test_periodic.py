@@ -632,3 +632,24 @@ def test_friction_on_a_rough_elastic_plastic_interface():
     strains = [r.history["max_plastic_strain"].max() for r in (rough, finer, flat)]
     assert fractions[0] < fractions[1] <= fractions[2] == 1.0
     assert strains[0] > strains[1] >= strains[2] == 0.0
+
+
+def test_a_contact_spot_narrower_than_ten_cells_is_told():
+    """One spherical cap a period (R = 10 mm) pressed to a Hertz radius of a tenth of the
+    period: its spot spans 2a / dx = 6.4 cells on 32 cells a period (told, with the measured
+    diameter), 25.6 on 128 (not told)."""
+    radius, period = 0.01, PERIOD
+    a = 0.1 * period
+    force = 4 * PAIR.composite_modulus * a**3 / (3 * radius)  # Hertz: a^3 = 3 W R / (4 E*)
+    told = {}
+    for n in (32, 128):
+        x = (np.arange(n) + 0.5 - n / 2) * period / n
+        xx, yy = np.meshgrid(x, x)
+        cap = np.minimum(xx**2 + yy**2, (0.3 * period) ** 2) / (2 * radius)
+        table = periodic_case({"surface": HeightMap(x, x, cap, "cap")}, (n, n), force=force)
+        result = solver.solve(solver.Case.from_dict(table))
+        assert result.status == "converged"
+        told[n] = [note for note in result.notes if "largest contact spot" in note]
+    assert len(told[32]) == 1 and not told[128]
+    across = float(re.search(r"spans ([\d.]+) cells", told[32][0]).group(1))
+    assert across == pytest.approx(2 * a / (period / 32), rel=0.05)  # 6.38: cells, images
