@@ -98,6 +98,7 @@ FIGURES: tuple[Figure, ...] = (
     _report("steady_creep_curves", "steady_creep_curves", "rolling", "a 9-case campaign"),
     _report("periodic_rough", "spot_sizes", "rough", "a 4-case campaign"),
     _report("periodic_rough_plastic", "residual_topography", "rough", "a 4-case campaign"),
+    _report("running_in", "topography_spectra", "rough", "a 4-case campaign of passes"),
     _report("sobol_swift_sphere", "saltelli", "global_sensitivity", "a 3072-case campaign"),
     _report("hard_cases", "atlas", "atlas", "a 24-case campaign"),
 )
