@@ -13,7 +13,7 @@ import pytest
 from test_periodic import PERIOD, ROUGH, sinusoid_map, westergaard
 
 import solver
-from solver.bodies.heights import isotropic_spectrum
+from solver.bodies.heights import HeightMap, isotropic_spectrum
 from solver.bodies.materials import Body, Pair
 from solver.result import cycle_summary
 
@@ -333,8 +333,6 @@ def _wavy_passes(n: int, p0k: float, passes: int = 4) -> list[float]:
     amplitude = full * PERIOD / (math.pi * pair.composite_modulus)
     x = (np.arange(n) + 0.5) * PERIOD / n - PERIOD / 2
     heights = amplitude * (1 - np.cos(2 * np.pi * x / PERIOD))[None, :] * np.ones((n, 1))
-    from solver.bodies.heights import HeightMap
-
     table = {
         "body1": {"behaviour": "rigid", "radius": "inf",
                   "surface": HeightMap(x, x, heights, "sinusoid")},
@@ -383,3 +381,20 @@ def test_running_in_below_and_above_shakedown_holds_on_a_finer_mesh():
     stalls in its first increment: not converged, its strain at 0.05 past the small-strain
     range.)"""
     _running_in_contrast(48)
+
+
+def test_a_slid_map_that_is_not_periodic_is_refused_naming_body1():
+    """Body 1's map slid in periodic mode must be one period: a ramp across it (its opposite
+    edges apart) is refused by name before anything is solved."""
+    n, dx = 64, PERIOD / 64
+    whole = sinusoid_map(n)
+    ramp = HeightMap(whole.x, whole.y, whole.height + 1e-7 * np.arange(n)[None, :], "ramp")
+    table = {
+        "body1": {"behaviour": "rigid", "radius": "inf", "surface": ramp},
+        "body2": {"behaviour": "elastic", "E": 210e9, "nu": 0.3},
+        "friction": {"coefficient": MU},
+        "load": {"path": [{"normal_force": 1.0}, {"slide": [PERIOD / 3, 0.0], "steps": 4}]},
+        "grid": {"n": [n, 4], "size": [PERIOD, 4 * dx], "periodic": True},
+    }  # fmt: skip
+    with pytest.raises(solver.SpecError, match=r"^body1\.surface: .*not periodic along x"):
+        solver.Case.from_dict(table)
