@@ -60,6 +60,7 @@ from .record import (
     STEADY_HISTORY,
     WEAR_HISTORY,
     box_faces_reached,
+    cells_across,
     count_iterations,
     cycle_end,
     failure_advice,
@@ -627,7 +628,7 @@ def _solve(case: Case) -> Result:
         if case.grid.periodic_y:  # a line contact: the strip's width along x
             across, measure = largest / (grid.ny * grid.dy) / grid.dx, "width along x"
         else:
-            across = 2.0 * math.sqrt(largest / math.pi) / max(grid.dx, grid.dy)
+            across = cells_across(largest, grid)
             measure = "equivalent diameter"
         if across < MIN_CELLS_ACROSS:
             notes.append(
@@ -636,7 +637,7 @@ def _solve(case: Case) -> Result:
             )
     if case.grid.periodic and step_spots:  # the largest spot at the largest load
         spots = step_spots[int(np.argmax(history["normal_force"]))]
-        across = 2.0 * math.sqrt(spots[0] / math.pi) / grid.dx if spots.size else 0.0
+        across = cells_across(spots[0], grid) if spots.size else 0.0
         if 0.0 < across < MIN_CELLS_ACROSS:
             notes.append(
                 f"the largest contact spot at the largest load spans {across:.3g} cells across "

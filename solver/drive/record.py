@@ -94,6 +94,14 @@ def contact_spots(in_contact: np.ndarray, periodic: bool = False) -> int:
     return spot_labels(in_contact, periodic)[1]
 
 
+def cells_across(area: float, grid) -> float:
+    """Cells across a spot of ``area`` (m^2): its equivalent diameter over the coarser cell.
+
+    ``2 sqrt(area / pi) / max(dx, dy)`` on ``grid`` (anything with ``dx`` and ``dy``, m).
+    """
+    return 2.0 * math.sqrt(area / math.pi) / max(grid.dx, grid.dy)
+
+
 def spot_areas(in_contact: np.ndarray, cell_area: float, periodic: bool = False) -> np.ndarray:
     """Areas (m^2) of the contact spots (:func:`spot_labels`), largest first."""
     labels, count = spot_labels(in_contact, periodic)

@@ -70,19 +70,26 @@ def heights():
     return HeightMap(grid.x, grid.y, initial_gap(case).T, "rough period")
 
 
-def _table(n: int, surface: dict | None = None, elastic: bool = False) -> dict:
+def steel(elastic: bool = False) -> dict:
+    """The scene's flat steel half-space as a body table (linearly hardening unless elastic)."""
     s = SCENE
-    period = s["period"]
-    body2 = {"behaviour": "elastic", "E": s["E"], "nu": s["nu"], "radius": "inf"}
-    body2.update(surface if surface is not None else {"surface": heights()})
-    grid = {"n": [n, n], "size": period, "periodic": True}
+    body = {"behaviour": "elastic", "E": s["E"], "nu": s["nu"], "radius": "inf"}
     if not elastic:
-        body2["behaviour"] = "elastic-plastic"
-        body2["hardening"] = {
+        body["behaviour"] = "elastic-plastic"
+        body["hardening"] = {
             "law": "linear",
             "yield_stress": s["yield_stress"],
             "modulus": s["hardening_modulus"],
         }
+    return body
+
+
+def _table(n: int, surface: dict | None = None, elastic: bool = False) -> dict:
+    s = SCENE
+    period = s["period"]
+    body2 = steel(elastic) | (surface if surface is not None else {"surface": heights()})
+    grid = {"n": [n, n], "size": period, "periodic": True}
+    if not elastic:
         grid.update(n=[n, n, max(4, round(LAYERS * DEPTH * n))], depth=DEPTH * period)
     area = period * period
     path = [{"normal_force": p * area, "steps": 1} for p in s["mean_pressures"]]
@@ -101,6 +108,7 @@ def scene_table(n: int) -> dict:
 
 def _ours(n: int) -> dict:
     import solver
+    from solver.drive.record import cells_across
 
     case = solver.Case.from_dict(scene_table(n))
     with peak_memory() as memory:
@@ -113,9 +121,7 @@ def _ours(n: int) -> dict:
     largest = result.fields["spot_areas"][loads - 1]  # the spots at the largest load
     largest = largest[np.isfinite(largest)]
     return {
-        "spot_cells": 2 * np.sqrt(largest[0] / np.pi) / case.surface_grid.dx
-        if largest.size
-        else 0.0,
+        "spot_cells": cells_across(largest[0], case.surface_grid) if largest.size else 0.0,
         "area": [float(v) for v in h["contact_fraction"][:loads]],
         "ep_max": [float(v) for v in h["max_plastic_strain"][:loads]],
         "residual_rms": float(np.std(residual)),

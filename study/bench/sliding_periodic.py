@@ -44,19 +44,13 @@ def rough_pass_table(n: int) -> dict:
 
     import solver
 
-    from .rough_periodic import SCENE, heights
+    from .rough_periodic import SCENE, heights, steel
 
     period = SCENE["period"]
-    hardening = {
-        "law": "linear",
-        "yield_stress": SCENE["yield_stress"],
-        "modulus": SCENE["hardening_modulus"],
-    }
     press = {"normal_force": MEAN_PRESSURE * period**2, "steps": 2}
     table = {
         "body1": {"behaviour": "rigid", "radius": "inf", "surface": heights()},
-        "body2": {"behaviour": "elastic-plastic", "E": SCENE["E"], "nu": SCENE["nu"],
-                  "radius": "inf", "hardening": hardening},
+        "body2": steel(),
         "friction": {"coefficient": MU, "shear_limit": "yield"},
         "load": {"path": [press, {"slide": [TRAVEL * period, 0.0], "steps": round(TRAVEL * n)}]},
         "grid": {"n": [n, n, 4], "size": period, "periodic": True},

@@ -103,8 +103,12 @@ def _read(out: str | Path, case_id: str, index) -> dict:
 
     with storage.open_case(out, case_id, index=index) as case:
         x, y = case["x"].values, case["y"].values
-        cell = (x[1] - x[0]) * (y[1] - y[0])
-        data = {"cell_area": float(cell), "period_area": float(cell * x.size * y.size)}
+        period = (float((x[1] - x[0]) * x.size), float((y[1] - y[0]) * y.size))
+        data = {
+            "cell_area": period[0] * period[1] / (x.size * y.size),
+            "period_area": period[0] * period[1],
+            "period": period,
+        }
         for name in ("normal_force", "contact_fraction", "mean_separation", "contact_spots",
                      "max_plastic_strain", "plastic_volume"):  # fmt: skip
             if name in case:
@@ -347,10 +351,7 @@ def plot_topography_spectra(dataset, out: str | Path, path: Path) -> Path | None
         colours = plt.get_cmap("viridis")(np.linspace(0.85, 0.0, len(spectra)))
         for k, (spectrum, colour) in enumerate(zip(spectra, colours, strict=True)):
             ax.loglog(q, spectrum, color=colour, label=f"after pass {k + 1}")
-        x0, x1, y0, y1 = data["extent"]
-        shape = data["initial_gap"].shape
-        period = ((x1 - x0) * shape[0] / (shape[0] - 1), (y1 - y0) * shape[1] / (shape[1] - 1))
-        initial = isotropic_spectrum(data["initial_gap"], period)
+        initial = isotropic_spectrum(data["initial_gap"], data["period"])
         ax.loglog(q, initial, "k--", label="initial gap")
         top = max(float(initial.max()), float(spectra.max()))
         floor = max(1e-8 * top, float(spectra[spectra > 0].min(initial=top)))
