@@ -50,3 +50,8 @@ def test_an_option_a_scene_does_not_take_is_one_line_and_status_2(argv, capsys):
     assert main(argv) == 2
     error = capsys.readouterr().err
     assert error.startswith("error: --shapes") and error.count("\n") == 1
+
+
+def test_a_periodic_pass_too_coarse_to_slide_a_cell_is_refused_by_name():
+    with pytest.raises(ValueError, match="^--sizes: .* give 16 cells a period or more, got 8"):
+        registry.run_benchmark("moving", [8, 64], periodic=True)

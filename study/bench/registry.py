@@ -69,7 +69,7 @@ def run_benchmark(
         )
     if periodic and "periodic" not in takes:
         raise BenchOptionError(
-            f"--periodic: scene {scene!r} has no periodic form (only rough, moving)"
+            f"--periodic: scene {scene!r} has no periodic form (only rough and moving)"
         )
     run = getattr(importlib.import_module(f"{__package__}.{module}"), runner)
     if incremental and "incremental" not in takes:

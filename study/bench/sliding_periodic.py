@@ -22,6 +22,8 @@ tests/test_periodic_sliding.py).  Wall, CPU, memory, e_p,max and the deepest res
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .timing import format_table, isolated, machine, timed_solve
@@ -40,8 +42,6 @@ TRAVEL = 1 / 16
 
 def rough_pass_table(n: int) -> dict:
     """The case table of the rough pass on ``n x n`` cells a period."""
-    import math
-
     import solver
 
     from .rough_periodic import SCENE, heights, steel
@@ -118,6 +118,14 @@ def _timed(table: dict) -> dict:
 
 def run_sliding_periodic(sizes: list[int]) -> int:
     """Print both tables (the rough pass over ``sizes``); 0 when every row ran."""
+    smallest = math.ceil(1 / TRAVEL)
+    if min(sizes) < smallest:
+        from .registry import BenchOptionError
+
+        raise BenchOptionError(
+            f"--sizes: the rough pass slides {TRAVEL:g} of the period a cell an increment: give "
+            f"{smallest} cells a period or more, got {min(sizes)}"
+        )
     failed = False
 
     def row(label: dict, table: dict) -> dict:
