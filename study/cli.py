@@ -213,6 +213,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="rolling --steady: the contacts' semi-axis ratios a/b (default 1 0.5 2)",
     )
     bench.add_argument(
+        "--travel",
+        type=float,
+        metavar="FRACTION",
+        help="moving --periodic: the fraction of the period the rough pass slides (default "
+        "1/16; 1 is a whole pass: hours at 256 cells a period)",
+    )
+    bench.add_argument(
         "--table",
         metavar="FILE",
         help="also write what the run prints to FILE (Markdown), headed by the command, the "
@@ -284,7 +291,7 @@ def main(argv: list[str] | None = None) -> int:
             with recorded(args.table, ["python -m study", *(argv or sys.argv[1:])]):
                 return run_benchmark(
                     args.scene, args.sizes, args.peers, args.repeat, args.error, args.periodic,
-                    args.incremental, args.steady, args.shapes,
+                    args.incremental, args.steady, args.shapes, args.travel,
                 )  # fmt: skip
         except BenchOptionError as error:
             print(f"error: {error}", file=sys.stderr)

@@ -78,15 +78,16 @@ def _row(across: int, follow: bool) -> dict:
     }
 
 
-def run_moving(sizes: list[int], periodic: bool = False) -> int:
+def run_moving(sizes: list[int], periodic: bool = False, travel: float | None = None) -> int:
     """Print the table of one pass per size and way; 0 when every row ran.
 
-    ``periodic``: the periodic-mode tables (:func:`.sliding_periodic.run_sliding_periodic`).
+    ``periodic``: the periodic-mode tables (:func:`.sliding_periodic.run_sliding_periodic`,
+    the rough pass sliding ``travel`` of its period).
     """
     if periodic:
         from .sliding_periodic import run_sliding_periodic
 
-        return run_sliding_periodic(sizes)
+        return run_sliding_periodic(sizes, travel)
     rows, failed = [], False
     for across in sizes:
         pair = []

@@ -9,7 +9,7 @@ from __future__ import annotations
 import importlib
 
 #: Scene -> (module, runner, the options it takes of ``peers``, ``repeat``, ``error``,
-#: ``periodic``, ``incremental``, ``steady`` and ``shapes``).
+#: ``periodic``, ``incremental``, ``steady``, ``shapes`` and ``travel``).
 SCENES = {
     "hertz": ("hertz", "run_hertz", ("peers", "repeat")),
     "cattaneo": ("cattaneo", "run_cattaneo", ("peers", "repeat")),
@@ -17,7 +17,7 @@ SCENES = {
     "slipstick": ("slipstick", "run_slipstick", ()),
     "cycles": ("cycles", "run_cycles", ()),
     "rough": ("rough", "run_rough", ("peers", "periodic", "error")),
-    "moving": ("moving", "run_moving", ("periodic",)),
+    "moving": ("moving", "run_moving", ("periodic", "travel")),
     "rolling": ("rolling", "run_rolling", ("peers", "steady", "shapes", "repeat")),
     "shakedown": ("shakedown", "run_shakedown", ("incremental",)),
     "hard": ("hard_cases", "run_hard", ()),
@@ -58,6 +58,7 @@ def run_benchmark(
     incremental: bool = False,
     steady: bool = False,
     shapes: list[float] | None = None,
+    travel: float | None = None,
 ) -> int:
     """Run a benchmark scene, print its table, and return an exit status."""
     module, runner, takes = SCENES[scene]
@@ -78,9 +79,11 @@ def run_benchmark(
         raise BenchOptionError(f"--steady: scene {scene!r} has no steady form (only rolling)")
     if shapes and "shapes" not in takes:
         raise BenchOptionError(f"--shapes: scene {scene!r} has one contact (only rolling has more)")
+    if travel is not None and not ("travel" in takes and periodic):
+        raise BenchOptionError("--travel: only moving --periodic slides a rough pass")
     options = {
         "peers": peers, "repeat": repeat, "error": error, "periodic": periodic,
-        "incremental": incremental, "steady": steady, "shapes": shapes,
+        "incremental": incremental, "steady": steady, "shapes": shapes, "travel": travel,
     }  # fmt: skip
     default = DEFAULT_SIZES[f"{scene} --periodic" if periodic else scene]
     return run(sizes or default, **{k: options[k] for k in takes})

@@ -1,17 +1,19 @@
 """Benchmark: sliding in periodic mode, a rough pass and a sparse asperity against the window.
 
-``python -m study bench moving --periodic [--sizes 64 128 256]``.  Two tables, each row in a
-fresh process (:func:`.timing.isolated`), one thread.
+``python -m study bench moving --periodic [--sizes 64 128 256] [--travel 0.0625]``.  Two
+tables, each row in a fresh process (:func:`.timing.isolated`), one thread.
 
 A rough pass: the rough period of :mod:`.rough_periodic` (L = 100 um, rms 50 nm, the heights
 generated once) as a rigid body 1 slid along x over linearly hardening steel at the mean
 pressure :data:`MEAN_PRESSURE`, mu = :data:`MU` capped at the body's shear yield stress; ``n x n``
 cells a period, the depth sized from the elastic yield region and layers at most
 :data:`LAYER_CELLS` of a cell thick (the rule of :func:`solver.case.notes.layer_note`), in
-increments of a cell over :data:`TRAVEL` of the period (a whole pass is n increments: the
-table gives the CPU an increment, the press's two included, and that times n).  Per size:
-cells, increments, wall, CPU, CPU an increment and a pass, peak memory, plasticity
-iterations, e_p,max, the deepest residual dent, status.
+increments of a cell over ``--travel`` of the period (:data:`TRAVEL` unless told; 1 is a
+whole pass of n increments).  The press alone is solved and timed too, in a process of its own:
+the slide's CPU is the whole run's less the press's, so that a pass (the press and n slide
+increments) is extrapolated from the slide's own cost.  Per size: cells, increments, wall,
+CPU, the press's CPU, CPU a slide increment and a pass, peak memory, plasticity iterations,
+e_p,max, the deepest residual dent, status.
 
 A sparse asperity, both ways: one rigid sphere (R = 10 mm, W = 100 N, p_0 about 1.3 times
 first yield) slid 4 a over hardening steel at 6 cells a contact radius and 15 layers 1.5 a
@@ -35,13 +37,14 @@ MEAN_PRESSURE = 0.1e9
 MU = 0.2
 #: Thickest layer of the rough pass, in cells.
 LAYER_CELLS = 0.6
-#: Travel of the rough pass over the period (a sixteenth: a whole pass at 256 cells a period
-#: would take hours here; the table extrapolates the CPU an increment to the pass).
+#: Travel of the rough pass over the period unless ``--travel`` is given (a sixteenth: a whole
+#: pass at 256 cells a period takes hours here; the table extrapolates the slide's CPU an
+#: increment to the pass).
 TRAVEL = 1 / 16
 
 
-def rough_pass_table(n: int) -> dict:
-    """The case table of the rough pass on ``n x n`` cells a period."""
+def rough_pass_table(n: int, travel: float = TRAVEL) -> dict:
+    """The case table of the rough pass on ``n x n`` cells a period, ``travel`` of it slid."""
     import solver
 
     from .rough_periodic import SCENE, heights, steel
@@ -52,11 +55,11 @@ def rough_pass_table(n: int) -> dict:
         "body1": {"behaviour": "rigid", "radius": "inf", "surface": heights()},
         "body2": steel(),
         "friction": {"coefficient": MU, "shear_limit": "yield"},
-        "load": {"path": [press, {"slide": [TRAVEL * period, 0.0], "steps": round(TRAVEL * n)}]},
+        "load": {"path": [press, {"slide": [travel * period, 0.0], "steps": round(travel * n)}]},
         "grid": {"n": [n, n, 4], "size": period, "periodic": True},
     }  # fmt: skip
     depth = solver.Case.from_dict(table).grid.depth  # sized from the elastic yield region
-    table["grid"]["n"][2] = math.ceil(depth / (LAYER_CELLS * period / n))
+    table["grid"]["n"][2] = max(4, math.ceil(depth / (LAYER_CELLS * period / n)))
     return table
 
 
@@ -116,41 +119,63 @@ def _timed(table: dict) -> dict:
     }
 
 
-def run_sliding_periodic(sizes: list[int]) -> int:
-    """Print both tables (the rough pass over ``sizes``); 0 when every row ran."""
-    smallest = math.ceil(1 / TRAVEL)
-    if min(sizes) < smallest:
-        from .registry import BenchOptionError
+def _press_table(table: dict) -> dict:
+    """The rough pass's press alone (its first stage)."""
+    return table | {"load": {"path": table["load"]["path"][:1]}}
 
+
+def run_sliding_periodic(sizes: list[int], travel: float | None = None) -> int:
+    """Print both tables; 0 when every row ran.
+
+    The rough pass over ``sizes``, ``travel`` of the period slid (1 a whole pass;
+    :data:`TRAVEL` when None).
+    """
+    from .registry import BenchOptionError
+
+    travel = TRAVEL if travel is None else travel
+    if not 0.0 < travel <= 1.0:
         raise BenchOptionError(
-            f"--sizes: the rough pass slides {TRAVEL:g} of the period a cell an increment: give "
+            f"--travel: the fraction of the period the rough pass slides, in (0, 1] (1 a whole "
+            f"pass), got {travel:g}"
+        )
+    smallest = math.ceil(1 / travel)
+    if min(sizes) < smallest:
+        raise BenchOptionError(
+            f"--sizes: the rough pass slides {travel:g} of the period a cell an increment: give "
             f"{smallest} cells a period or more, got {min(sizes)}"
         )
     failed = False
 
-    def row(label: dict, table: dict) -> dict:
+    def row(label: dict, function, *args) -> dict:
         nonlocal failed
-        status, out = isolated(_timed, table, timeout=4 * 3600.0)
+        status, out = isolated(function, *args, timeout=8 * 3600.0)
         if status != "ok":
             failed = True
             return label | {"status": f"error: {out}"}
         return label | out
 
-    rough = [row({"n": n}, rough_pass_table(n)) for n in sizes]
-    for out in rough:  # a whole pass: n increments
-        if "cpu_s" in out:
-            out["cpu_per_pass_s"] = out["cpu_per_increment_s"] * out["n"]
+    rough = []
+    for n in sizes:  # the press alone in a process of its own: the slide's CPU is the rest
+        table = rough_pass_table(n, travel)
+        press = row({}, _timed, _press_table(table))
+        out = row({"n": n}, _timed, table)
+        if "cpu_s" in press and "cpu_s" in out:
+            per_slide = (out["cpu_s"] - press["cpu_s"]) / (out["increments"] - press["increments"])
+            out |= {"press_cpu_s": press["cpu_s"], "cpu_per_slide_s": per_slide,
+                    "cpu_per_pass_s": press["cpu_s"] + n * per_slide}  # fmt: skip
+        rough.append(out)
     print(
         f"# a rough pass in periodic mode: L = 100 um, rms 50 nm, mean pressure "
         f"{MEAN_PRESSURE / 1e9:g} GPa, mu = {MU:g} capped at k, linear hardening; layers at "
-        f"most {LAYER_CELLS:g} cell thick, {TRAVEL:g} of the period in increments of a cell "
-        f"after 2 to press (cpu_per_pass: the CPU an increment times n, a whole pass); "
+        f"most {LAYER_CELLS:g} cell thick, {travel:g} of the period in increments of a cell "
+        f"after 2 to press (press_cpu: the press alone, solved apart; cpu_per_slide: the rest "
+        f"an increment; cpu_per_pass: the press and n slide increments, a whole pass); "
         f"{machine()}"
     )
     print(format_table(rough))
     open_case, periodic = sparse_pair_tables(6, 24.0, 15)
-    pair = [row({"solved on": "window (open)"}, open_case),
-            row({"solved on": "period 24 a"}, periodic)]  # fmt: skip
+    pair = [row({"solved on": "window (open)"}, _timed, open_case),
+            row({"solved on": "period 24 a"}, _timed, periodic)]  # fmt: skip
     if all("cpu_s" in r for r in pair):
         pair[1]["cpu_vs_window"] = pair[1]["cpu_s"] / pair[0]["cpu_s"]
     print("# one sphere slid 4 a, 6 cells a radius: the open window and a sparse period")

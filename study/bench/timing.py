@@ -178,10 +178,10 @@ def isolated(target, *args, timeout: float = 1800.0):
 
 
 def format_table(rows: list[dict]) -> str:
-    """Render benchmark rows as a Markdown table."""
+    """Render benchmark rows as a Markdown table (every row's columns, in order of appearance)."""
     if not rows:
         return "(no rows)"
-    columns = list(rows[0])
+    columns = list(dict.fromkeys(column for row in rows for column in row))
     lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     for row in rows:
         cells = []
