@@ -55,3 +55,28 @@ def test_an_option_a_scene_does_not_take_is_one_line_and_status_2(argv, capsys):
 def test_a_periodic_pass_too_coarse_to_slide_a_cell_is_refused_by_name():
     with pytest.raises(ValueError, match="^--sizes: .* give 16 cells a period or more, got 8"):
         registry.run_benchmark("moving", [8, 64], periodic=True)
+
+
+@pytest.mark.parametrize(
+    ("option", "message"),
+    [
+        ({"travel": 0.5}, "^--travel: only moving --periodic"),
+        ({"periodic": True, "travel": 1.5}, r"^--travel: .* in \(0, 1\] .* got 1.5"),
+        ({"periodic": True, "travel": 0.0}, r"^--travel: .* got 0"),
+        ({"periodic": True, "travel": 0.25}, "^--sizes: .* 0.25 of the period .* give 4 cells"),
+    ],
+)
+def test_the_travel_of_a_periodic_pass_is_checked_by_name(option, message):
+    """A whole pass is --travel 1; any other scene, a travel outside (0, 1], or a travel the
+    sizes cannot slide a cell an increment is refused before anything runs."""
+    with pytest.raises(ValueError, match=message):
+        registry.run_benchmark("moving", [2], **option)
+
+
+def test_a_table_whose_first_row_failed_keeps_the_other_rows_columns():
+    from study.bench.timing import format_table
+
+    table = format_table([{"n": 16, "status": "error: x"}, {"n": 32, "cpu_s": 1.5, "status": "ok"}])
+    header, _, failed, ran = table.splitlines()
+    assert header == "| n | status | cpu_s |"
+    assert failed == "| 16 | error: x | - |" and ran == "| 32 | ok | 1.5 |"
