@@ -220,7 +220,7 @@ def test_the_running_in_campaign_reports_per_pass(tmp_path):
     text = (Path(__file__).parent.parent / "campaigns" / "running_in.toml").read_text()
     for old, new in (('"body1.roughness.rms" = [2.5e-7, 5e-7]', '"body1.roughness.rms" = [5e-7]'),
                      ('"friction.coefficient" = [0.2, 0.5]', '"friction.coefficient" = [0.2]'),
-                     ("cycles = 4", "cycles = 2"), ("steps = 64 }", "steps = 8 }")):  # fmt: skip
+                     ("cycles = 16", "cycles = 2"), ("steps = 64 }", "steps = 8 }")):  # fmt: skip
         assert old in text
         text = text.replace(old, new)
     (tmp_path / "running_in.toml").write_text(text)

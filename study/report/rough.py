@@ -320,12 +320,17 @@ def plot_residual_topography(dataset, out: str | Path, path: Path) -> Path | Non
     return Path(path)
 
 
+#: Passes named in a spectra panel's legend (the first and the last among them).
+LABELLED_PASSES = 4
+
+
 def plot_topography_spectra(dataset, out: str | Path, path: Path) -> Path | None:
     """Per case with passes, the spectrum of body 2's surface after each pass.
 
     One panel per case (at most :data:`figures.MAX_LINES`): ``C(q)`` of each pass's run-in
-    surface, light to dark with the pass, and dashed the initial gap's (the heights being
-    printed), both by :func:`solver.bodies.heights.isotropic_spectrum`.
+    surface, light to dark with the pass (the first, the last and at most
+    :data:`LABELLED_PASSES` in all named in the legend), and dashed the initial gap's (the
+    heights being printed), both by :func:`solver.bodies.heights.isotropic_spectrum`.
 
     Returns
     -------
@@ -349,8 +354,10 @@ def plot_topography_spectra(dataset, out: str | Path, path: Path) -> Path | None
     for ax, (labels, data) in zip(axes, found, strict=True):
         q, spectra = data["wavenumber"], data["cycle_topography_spectrum"]
         colours = plt.get_cmap("viridis")(np.linspace(0.85, 0.0, len(spectra)))
+        named = set(np.linspace(0, len(spectra) - 1, LABELLED_PASSES).round().astype(int))
         for k, (spectrum, colour) in enumerate(zip(spectra, colours, strict=True)):
-            ax.loglog(q, spectrum, color=colour, label=f"after pass {k + 1}")
+            label = f"after pass {k + 1}" if k in named else "_nolegend_"
+            ax.loglog(q, spectrum, color=colour, label=label)
         initial = isotropic_spectrum(data["initial_gap"], data["period"])
         ax.loglog(q, initial, "k--", label="initial gap")
         top = max(float(initial.max()), float(spectra.max()))
@@ -359,7 +366,7 @@ def plot_topography_spectra(dataset, out: str | Path, path: Path) -> Path | None
         ax.set(xlabel="wavenumber q (1/m)", ylabel="C(q) (m^4)")
         ax.set_title(figures.labels_text(labels), fontsize=8)
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=6)
+        ax.legend(fontsize=6, loc="upper right")
     figures.suptitle(fig, "Run-in surface of body 2: power spectral density per pass", "")
     figures.save(plt, fig, path)
     return Path(path)
