@@ -217,7 +217,7 @@ def build_parser() -> argparse.ArgumentParser:
         type=float,
         metavar="FRACTION",
         help="moving --periodic: the fraction of the period the rough pass slides (default "
-        "1/16; 1 is a whole pass: hours at 256 cells a period)",
+        "1/16; 1 is a whole pass: over an hour of CPU at 256 cells a period)",
     )
     bench.add_argument(
         "--table",

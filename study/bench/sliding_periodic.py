@@ -37,9 +37,9 @@ MEAN_PRESSURE = 0.1e9
 MU = 0.2
 #: Thickest layer of the rough pass, in cells.
 LAYER_CELLS = 0.6
-#: Travel of the rough pass over the period unless ``--travel`` is given (a sixteenth: a whole
-#: pass at 256 cells a period takes hours here; the table extrapolates the slide's CPU an
-#: increment to the pass).
+#: Travel of the rough pass over the period unless ``--travel`` is given (a sixteenth: a
+#: whole pass at 256 cells a period takes over an hour of CPU here; the table extrapolates the
+#: CPU a slide increment takes to the pass).
 TRAVEL = 1 / 16
 
 
