@@ -61,13 +61,14 @@ def test_a_periodic_pass_too_coarse_to_slide_a_cell_is_refused_by_name():
     ("option", "message"),
     [
         ({"travel": 0.5}, "^--travel: only moving --periodic"),
-        ({"periodic": True, "travel": 1.5}, r"^--travel: .* in \(0, 1\] .* got 1.5"),
+        ({"periodic": True, "travel": 1.5}, r"^--travel: .* in \[1/8192, 1\] .* got 1.5"),
+        ({"periodic": True, "travel": 5e-324}, r"^--travel: .* got 4.94066e-324"),
         ({"periodic": True, "travel": 0.0}, r"^--travel: .* got 0"),
         ({"periodic": True, "travel": 0.25}, "^--sizes: .* 0.25 of the period .* give 4 cells"),
     ],
 )
 def test_the_travel_of_a_periodic_pass_is_checked_by_name(option, message):
-    """A whole pass is --travel 1; any other scene, a travel outside (0, 1], or a travel the
+    """A whole pass is --travel 1; any other scene, a travel outside [1/8192, 1], or a travel the
     sizes cannot slide a cell an increment is refused before anything runs."""
     with pytest.raises(ValueError, match=message):
         registry.run_benchmark("moving", [2], **option)

@@ -130,13 +130,15 @@ def run_sliding_periodic(sizes: list[int], travel: float | None = None) -> int:
     The rough pass over ``sizes``, ``travel`` of the period slid (1 a whole pass;
     :data:`TRAVEL` when None).
     """
+    from solver.keys import MAX_CELLS
+
     from .registry import BenchOptionError
 
     travel = TRAVEL if travel is None else travel
-    if not 0.0 < travel <= 1.0:
+    if not 1.0 / MAX_CELLS <= travel <= 1.0:  # a cell an increment on at most MAX_CELLS cells
         raise BenchOptionError(
-            f"--travel: the fraction of the period the rough pass slides, in (0, 1] (1 a whole "
-            f"pass), got {travel:g}"
+            f"--travel: the fraction of the period the rough pass slides, in [1/{MAX_CELLS}, 1] "
+            f"(1 a whole pass), got {travel:g}"
         )
     smallest = math.ceil(1 / travel)
     if min(sizes) < smallest:
